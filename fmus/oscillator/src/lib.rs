@@ -1,0 +1,63 @@
+//! `Oscillator`: a single degree of freedom with lumped mass, spring and damper, driven by a
+//! force input and a harmonic force (MIT 2.003 final review, sections 3 and 4).
+//!
+//! `m ẍ + c ẋ + k x = F + F0 sin(ω t)`
+
+use mechfmu::model::{Experiment, Mechanism, Scalar, Variable};
+
+mechfmu::mechanism! {
+    /// A mass on a spring and a damper, driven by an input force F and a harmonic force
+    /// F0 sin(omega t): m x_ddot + c x_dot + k x = F + F0 sin(omega t).
+    pub struct Oscillator / OscillatorValues {
+        /// Mass
+        m: Variable::parameter("kg", 1.0).positive(),
+        /// Damping coefficient
+        c: Variable::tunable("N.s/m", 0.4).min(0.0),
+        /// Spring stiffness
+        k: Variable::tunable("N/m", 4.0).min(0.0),
+        /// Amplitude of the harmonic force F0 sin(omega t)
+        F0: Variable::tunable("N", 0.0),
+        /// Angular frequency of the harmonic force
+        omega: Variable::tunable("rad/s", 1.0),
+        /// External force on the mass
+        F: Variable::input("N", 0.0),
+        /// Position of the mass
+        x: Variable::state("m", 1.0, "x_dot"),
+        /// Velocity of the mass
+        x_dot: Variable::state("m/s", 0.0, "x_ddot"),
+        /// Acceleration of the mass
+        x_ddot: Variable::output("m/s2"),
+        /// Undamped natural frequency sqrt(k/m)
+        omega_n: Variable::calculated("rad/s"),
+        /// Damping ratio c / (2 sqrt(m k))
+        zeta: Variable::calculated("1"),
+    }
+}
+
+impl Mechanism for Oscillator {
+    const EXPERIMENT: Experiment = Experiment {
+        start: 0.0,
+        stop: 20.0,
+        step: 0.01,
+        tolerance: 1e-6,
+    };
+
+    fn calculate(v: &mut OscillatorValues<f64>) -> Result<(), String> {
+        v.omega_n = (v.k / v.m).sqrt();
+        // k = 0 leaves a free mass: no natural frequency, and ζ is infinite (overdamped
+        // when c > 0); report it as such rather than as NaN.
+        v.zeta = if v.k > 0.0 {
+            v.c / (2.0 * (v.m * v.k).sqrt())
+        } else {
+            f64::INFINITY
+        };
+        Ok(())
+    }
+
+    fn evaluate<S: Scalar>(v: &mut OscillatorValues<S>) {
+        let forcing = v.F + v.F0 * (v.omega * v.time).sin();
+        v.x_ddot = (forcing - v.c * v.x_dot - v.k * v.x) / v.m;
+    }
+}
+
+mechfmu::export_fmu!(Oscillator);

@@ -1,0 +1,142 @@
+//! The Oscillator through its FMI functions, against the closed-form solutions.
+
+use mechfmu::fmi2::ffi::*;
+use mechfmu::harness::Harness;
+use oscillator::Oscillator;
+
+type Fmu = Harness<Oscillator>;
+
+/// Free response of m ẍ + c ẋ + k x = 0 (all damping regimes), from x0, v0.
+fn free_response(m: f64, c: f64, k: f64, x0: f64, v0: f64, t: f64) -> f64 {
+    let wn = (k / m).sqrt();
+    let zeta = c / (2.0 * (m * k).sqrt());
+    if (zeta - 1.0).abs() < 1e-12 {
+        x0 * (-wn * t).exp() + (v0 + wn * x0) * t * (-wn * t).exp()
+    } else if zeta < 1.0 {
+        let wd = wn * (1.0 - zeta * zeta).sqrt();
+        (-zeta * wn * t).exp() * (x0 * (wd * t).cos() + (v0 + zeta * wn * x0) / wd * (wd * t).sin())
+    } else {
+        let s = wn * (zeta * zeta - 1.0).sqrt();
+        let (r1, r2) = (-zeta * wn + s, -zeta * wn - s);
+        let a = (v0 - r2 * x0) / (r1 - r2);
+        let b = x0 - a;
+        a * (r1 * t).exp() + b * (r2 * t).exp()
+    }
+}
+
+fn run(params: &[(&str, f64)], tol: f64, h: f64, t_end: f64, exact: impl Fn(f64) -> f64) -> f64 {
+    let mut fmu = Fmu::new();
+    fmu.initialize(Some(tol), 0.0, params).unwrap();
+    let (mut max_err, mut lo, mut hi) = (0.0f64, f64::MAX, f64::MIN);
+    let mut n = 0u64;
+    while fmu.time() < t_end - 1e-9 {
+        let t = n as f64 * h;
+        assert_eq!(fmu.do_step(t, h), fmi2OK, "{:?}", fmu.messages());
+        n += 1;
+        let (x, e) = (fmu.get("x"), exact(n as f64 * h));
+        max_err = max_err.max((x - e).abs());
+        lo = lo.min(e);
+        hi = hi.max(e);
+    }
+    max_err / (hi - lo)
+}
+
+#[test]
+fn free_response_in_every_damping_regime() {
+    // (c, k) with m = 1: ζ = 0, 0.1, 1, 2.5
+    for (c, k) in [(0.0, 4.0), (0.4, 4.0), (4.0, 4.0), (10.0, 4.0)] {
+        for h in [0.01, 0.0137] {
+            let err = run(&[("c", c), ("k", k), ("x", 0.7), ("x_dot", -0.3)], 1e-8, h, 20.0, |t| {
+                free_response(1.0, c, k, 0.7, -0.3, t)
+            });
+            assert!(err < 1e-6, "c = {c}, k = {k}, h = {h}: error {err:e} of range");
+        }
+    }
+}
+
+#[test]
+fn harmonic_forcing_near_resonance() {
+    let (m, c, k, f0, w): (f64, f64, f64, f64, f64) = (1.0, 0.4, 4.0, 1.0, 1.95);
+    let x_amp = f0 / ((k - m * w * w).powi(2) + (c * w).powi(2)).sqrt();
+    let psi = -(c * w).atan2(k - m * w * w);
+    // Transient: the free response that makes x(0) = 1, ẋ(0) = 0 with the steady part.
+    let (xp0, vp0) = (x_amp * psi.sin(), x_amp * w * psi.cos());
+    let exact = |t: f64| x_amp * (w * t + psi).sin() + free_response(m, c, k, 1.0 - xp0, -vp0, t);
+    let err = run(&[("F0", f0), ("omega", w)], 1e-8, 0.01, 20.0, exact);
+    assert!(err < 1e-6, "error {err:e} of range");
+}
+
+#[test]
+fn calculated_parameters_follow_the_parameters() {
+    let mut fmu = Fmu::new();
+    fmu.initialize(None, 0.0, &[("m", 2.0), ("k", 8.0), ("c", 1.0)]).unwrap();
+    assert!((fmu.get("omega_n") - 2.0).abs() < 1e-15);
+    assert!((fmu.get("zeta") - 1.0 / 8.0).abs() < 1e-15);
+    // A tunable change takes effect at once, calculated parameters included.
+    assert_eq!(fmu.set("c", 4.0), fmi2OK);
+    assert!((fmu.get("zeta") - 0.5).abs() < 1e-15);
+}
+
+#[test]
+fn non_positive_mass_is_rejected_at_initialization() {
+    for m in [0.0, -1.0] {
+        let mut fmu = Fmu::new();
+        assert_eq!(fmu.setup_experiment(None, 0.0, None), fmi2OK);
+        assert_eq!(fmu.enter_initialization_mode(), fmi2OK);
+        assert_eq!(fmu.set("m", m), fmi2OK);
+        assert_eq!(fmu.exit_initialization_mode(), fmi2Error);
+        assert!(fmu.logged(&format!("m = {m}")), "{:?}", fmu.messages());
+        assert_eq!(fmu.do_step(0.0, 0.01), fmi2Error);
+    }
+}
+
+#[test]
+fn illegal_call_sequences_are_errors() {
+    let mut fmu = Fmu::new();
+    assert_eq!(fmu.do_step(0.0, 0.1), fmi2Error);
+    assert!(fmu.logged("fmi2DoStep: illegal call sequence"));
+    assert_eq!(fmu.exit_initialization_mode(), fmi2Error);
+    assert_eq!(fmu.terminate(), fmi2Error);
+    fmu.initialize(None, 0.0, &[]).unwrap();
+    assert_eq!(fmu.setup_experiment(None, 0.0, None), fmi2Error);
+    assert_eq!(fmu.set("m", 2.0), fmi2Error, "a fixed parameter after initialization");
+    assert!(fmu.logged("cannot be set after initialization"));
+    assert_eq!(fmu.set("x_ddot", 2.0), fmi2Error, "an output");
+    assert_eq!(fmu.do_step(0.0, 0.1), fmi2OK);
+    assert_eq!(fmu.terminate(), fmi2OK);
+    assert_eq!(fmu.terminate(), fmi2Error);
+    assert_eq!(fmu.do_step(0.1, 0.1), fmi2Error);
+}
+
+#[test]
+fn bad_arguments_are_errors_with_messages() {
+    let mut fmu = Fmu::new();
+    fmu.initialize(None, 0.0, &[]).unwrap();
+    let mut v = [0.0];
+    assert_eq!(fmu.get_real(&[999], &mut v), fmi2Error);
+    assert!(fmu.logged("value reference 999"));
+    assert_eq!(fmu.do_step(0.5, 0.1), fmi2Error, "wrong communication point");
+    assert_eq!(fmu.do_step(0.0, -0.1), fmi2Error);
+    assert_eq!(fmu.do_step(0.0, f64::NAN), fmi2Error);
+    assert_eq!(fmu.set("F", f64::INFINITY), fmi2Error);
+    assert_eq!(fmu.do_step(0.0, 0.1), fmi2OK, "argument errors leave the instance usable");
+    let wrong = Harness::<Oscillator>::instantiate("o", fmi2CoSimulation, "{not-the-guid}");
+    assert!(wrong.is_err_and(|log| log.iter().any(|m| m.2.contains("GUID"))));
+    let me = Harness::<Oscillator>::instantiate("o", fmi2ModelExchange, &mechfmu::guid::guid::<Oscillator>());
+    assert!(me.is_err());
+}
+
+#[test]
+fn tunable_damping_takes_effect_at_the_next_step() {
+    let mut a = Fmu::new();
+    let mut b = Fmu::new();
+    a.initialize(Some(1e-10), 0.0, &[]).unwrap();
+    b.initialize(Some(1e-10), 0.0, &[]).unwrap();
+    a.step_to(1.0, 0.01).unwrap();
+    b.step_to(1.0, 0.01).unwrap();
+    assert_eq!(a.get("x"), b.get("x"));
+    assert_eq!(b.set("c", 2.0), fmi2OK);
+    a.step_to(2.0, 0.01).unwrap();
+    b.step_to(2.0, 0.01).unwrap();
+    assert!((a.get("x") - b.get("x")).abs() > 1e-3);
+}

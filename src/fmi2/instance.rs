@@ -1,0 +1,50 @@
+//! An FMU instance: a simulation, the importer's logger, and where it is in the state
+//! machine.
+
+use super::ffi::*;
+use super::logger::Logger;
+use super::state::ModelState;
+use crate::model::{Layout, Mechanism};
+use crate::simulation::Simulation;
+
+/// Marks live instances, so a stale or foreign pointer is refused rather than used.
+pub(crate) const MAGIC: u64 = 0x6d65_6368_666d_7532; // "mechfmu2"
+
+pub struct Instance<M: Mechanism> {
+    pub(crate) magic: u64,
+    pub logger: Logger,
+    pub state: ModelState,
+    pub sim: Simulation<M>,
+    pub stop_time: Option<f64>,
+    /// The time of the last communication point reached (after a discarded step, the last
+    /// valid time).
+    pub last_successful_time: f64,
+    /// The model asked to stop (a discarded step): `fmi2Terminated` status.
+    pub terminated: bool,
+    pub last_step_status: fmi2Status,
+}
+
+impl<M: Mechanism> Instance<M> {
+    pub fn new(logger: Logger, layout: Layout) -> Self {
+        Instance {
+            magic: MAGIC,
+            logger,
+            state: ModelState::Instantiated,
+            sim: Simulation::new(layout),
+            stop_time: None,
+            last_successful_time: 0.0,
+            terminated: false,
+            last_step_status: fmi2OK,
+        }
+    }
+
+    /// Back to the state right after `fmi2Instantiate`.
+    pub fn reset(&mut self) {
+        self.state = ModelState::Instantiated;
+        self.sim.reset();
+        self.stop_time = None;
+        self.last_successful_time = 0.0;
+        self.terminated = false;
+        self.last_step_status = fmi2OK;
+    }
+}

@@ -1,0 +1,267 @@
+//! An in-process importer for tests: drives a mechanism through the very functions its FMU
+//! exports (`fmi2::api`), with a logger that records every message. Mechanism crates use
+//! it to test their physics through the FMI boundary without building a `.so`.
+//!
+//! ```
+//! # mechfmu::mechanism! {
+//! #     /// Decay.
+//! #     pub struct Decay / DecayValues {
+//! #         /// Rate
+//! #         k: mechfmu::model::Variable::parameter("1/s", 1.0),
+//! #         /// Amount
+//! #         y: mechfmu::model::Variable::state("1", 1.0, "y_dot"),
+//! #         /// Rate of change
+//! #         y_dot: mechfmu::model::Variable::output("1/s"),
+//! #     }
+//! # }
+//! # impl mechfmu::model::Mechanism for Decay {
+//! #     const EXPERIMENT: mechfmu::model::Experiment =
+//! #         mechfmu::model::Experiment { start: 0.0, stop: 1.0, step: 0.1, tolerance: 1e-8 };
+//! #     fn evaluate<S: mechfmu::model::Scalar>(v: &mut DecayValues<S>) { v.y_dot = -v.k * v.y; }
+//! # }
+//! use mechfmu::harness::Harness;
+//! let mut fmu = Harness::<Decay>::new();
+//! fmu.initialize(Some(1e-10), 0.0, &[("k", 2.0)]).unwrap();
+//! fmu.step_to(1.0, 0.1).unwrap();
+//! assert!((fmu.get("y") - (-2.0f64).exp()).abs() < 1e-9);
+//! ```
+
+use crate::fmi2::api;
+use crate::fmi2::ffi::*;
+use crate::model::Mechanism;
+use std::ffi::{c_char, c_void, CStr, CString};
+use std::marker::PhantomData;
+use std::sync::Mutex;
+
+/// A logged message: status, category, text.
+pub type Message = (fmi2Status, String, String);
+
+/// One instance of mechanism `M`, driven through its FMI functions.
+pub struct Harness<M: Mechanism> {
+    component: fmi2Component,
+    log: Box<Mutex<Vec<Message>>>,
+    _callbacks: Box<fmi2CallbackFunctions>,
+    time: f64,
+    _m: PhantomData<M>,
+}
+
+// SAFETY: the component is owned by this harness alone; instances are Send by design.
+unsafe impl<M: Mechanism> Send for Harness<M> {}
+
+/// Receives `"%s", message` from the FMU. Declared with exactly the arguments the FMU
+/// passes (Rust cannot define a C-variadic function on stable), which the x86-64 and
+/// AArch64 C calling conventions make compatible for this call.
+unsafe extern "C" fn record(
+    env: fmi2ComponentEnvironment,
+    _instance: fmi2String,
+    status: fmi2Status,
+    category: fmi2String,
+    _format: fmi2String,
+    message: *const c_char,
+) {
+    // SAFETY: env is the Mutex this harness registered; strings are valid C strings.
+    unsafe {
+        let log = &*(env as *const Mutex<Vec<Message>>);
+        let text = |p: *const c_char| {
+            if p.is_null() {
+                String::new()
+            } else {
+                CStr::from_ptr(p).to_string_lossy().into_owned()
+            }
+        };
+        if let Ok(mut log) = log.lock() {
+            log.push((status, text(category), text(message)));
+        }
+    }
+}
+
+impl<M: Mechanism> Default for Harness<M> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<M: Mechanism> Harness<M> {
+    /// Instantiates with the right GUID, logging on.
+    pub fn new() -> Self {
+        Self::instantiate(M::NAME, fmi2CoSimulation, &crate::guid::guid::<M>())
+            .unwrap_or_else(|log| panic!("fmi2Instantiate failed: {log:?}"))
+    }
+
+    /// Instantiates with the given arguments; `Err` carries the logged messages.
+    pub fn instantiate(name: &str, fmu_type: fmi2Type, guid: &str) -> Result<Self, Vec<Message>> {
+        let log: Box<Mutex<Vec<Message>>> = Box::default();
+        // SAFETY: see `record`.
+        let logger: unsafe extern "C" fn(
+            fmi2ComponentEnvironment,
+            fmi2String,
+            fmi2Status,
+            fmi2String,
+            fmi2String,
+            ...
+        ) = unsafe { std::mem::transmute(record as *const c_void) };
+        let callbacks = Box::new(fmi2CallbackFunctions {
+            logger: Some(logger),
+            allocateMemory: None,
+            freeMemory: None,
+            stepFinished: None,
+            componentEnvironment: &*log as *const Mutex<Vec<Message>> as *mut c_void,
+        });
+        let name = CString::new(name).unwrap_or_default();
+        let guid = CString::new(guid).unwrap_or_default();
+        // SAFETY: valid strings and callbacks that outlive the instance.
+        let component = unsafe {
+            api::instantiate::<M>(
+                name.as_ptr(),
+                fmu_type,
+                guid.as_ptr(),
+                std::ptr::null(),
+                &*callbacks,
+                fmi2False,
+                fmi2True,
+            )
+        };
+        if component.is_null() {
+            return Err(log.lock().map(|l| l.clone()).unwrap_or_default());
+        }
+        Ok(Harness { component, log, _callbacks: callbacks, time: 0.0, _m: PhantomData })
+    }
+
+    /// The raw component, for tests of the C boundary.
+    pub fn component(&self) -> fmi2Component {
+        self.component
+    }
+
+    /// Every message logged so far.
+    pub fn messages(&self) -> Vec<Message> {
+        self.log.lock().map(|l| l.clone()).unwrap_or_default()
+    }
+
+    /// Whether a message containing `text` was logged.
+    pub fn logged(&self, text: &str) -> bool {
+        self.messages().iter().any(|(_, _, m)| m.contains(text))
+    }
+
+    /// The value reference of a variable, by name (panics on an unknown name: a test bug).
+    pub fn vr(name: &str) -> fmi2ValueReference {
+        M::VARIABLES
+            .iter()
+            .position(|v| v.name == name)
+            .unwrap_or_else(|| panic!("{} has no variable `{name}`", M::NAME)) as fmi2ValueReference
+    }
+
+    pub fn setup_experiment(&mut self, tolerance: Option<f64>, start: f64, stop: Option<f64>) -> fmi2Status {
+        self.time = start;
+        // SAFETY: live component.
+        unsafe {
+            api::setup_experiment::<M>(
+                self.component,
+                tolerance.is_some() as fmi2Boolean,
+                tolerance.unwrap_or(0.0),
+                start,
+                stop.is_some() as fmi2Boolean,
+                stop.unwrap_or(0.0),
+            )
+        }
+    }
+
+    pub fn enter_initialization_mode(&mut self) -> fmi2Status {
+        // SAFETY: live component.
+        unsafe { api::enter_initialization_mode::<M>(self.component) }
+    }
+
+    pub fn exit_initialization_mode(&mut self) -> fmi2Status {
+        // SAFETY: live component.
+        unsafe { api::exit_initialization_mode::<M>(self.component) }
+    }
+
+    /// Setup, start values, initialization: the usual importer sequence.
+    pub fn initialize(&mut self, tolerance: Option<f64>, start: f64, values: &[(&str, f64)]) -> Result<(), String> {
+        let check = |s: fmi2Status, what: &str, h: &Self| {
+            if s == fmi2OK {
+                Ok(())
+            } else {
+                Err(format!("{what} returned {s}: {:?}", h.messages()))
+            }
+        };
+        check(self.setup_experiment(tolerance, start, None), "fmi2SetupExperiment", self)?;
+        check(self.enter_initialization_mode(), "fmi2EnterInitializationMode", self)?;
+        for &(name, value) in values {
+            check(self.set_real(&[Self::vr(name)], &[value]), "fmi2SetReal", self)?;
+        }
+        check(self.exit_initialization_mode(), "fmi2ExitInitializationMode", self)
+    }
+
+    pub fn set_real(&mut self, vr: &[fmi2ValueReference], values: &[f64]) -> fmi2Status {
+        assert_eq!(vr.len(), values.len());
+        // SAFETY: live component, arrays of the given length.
+        unsafe { api::set_real::<M>(self.component, vr.as_ptr(), vr.len(), values.as_ptr()) }
+    }
+
+    pub fn get_real(&mut self, vr: &[fmi2ValueReference], values: &mut [f64]) -> fmi2Status {
+        assert_eq!(vr.len(), values.len());
+        // SAFETY: live component, arrays of the given length.
+        unsafe { api::get_real::<M>(self.component, vr.as_ptr(), vr.len(), values.as_mut_ptr()) }
+    }
+
+    /// Sets one variable by name.
+    pub fn set(&mut self, name: &str, value: f64) -> fmi2Status {
+        self.set_real(&[Self::vr(name)], &[value])
+    }
+
+    /// One variable by name (NaN if the call fails).
+    pub fn get(&mut self, name: &str) -> f64 {
+        let mut v = [f64::NAN];
+        self.get_real(&[Self::vr(name)], &mut v);
+        v[0]
+    }
+
+    pub fn do_step(&mut self, t: f64, h: f64) -> fmi2Status {
+        // SAFETY: live component.
+        let status = unsafe { api::do_step::<M>(self.component, t, h, fmi2True) };
+        if status <= fmi2Warning {
+            self.time = t + h;
+        }
+        status
+    }
+
+    /// The communication point the harness has reached.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Steps of size `h` from the current time until `t_end` (the last step shortened to
+    /// land on it), with times `t0 + n·h` as an importer computes them.
+    pub fn step_to(&mut self, t_end: f64, h: f64) -> Result<(), String> {
+        let t0 = self.time;
+        let mut n = 0u64;
+        while self.time < t_end - 1e-12 * t_end.abs().max(1.0) {
+            let t = t0 + n as f64 * h;
+            let step = (t0 + (n + 1) as f64 * h).min(t_end) - t;
+            let status = self.do_step(t, step);
+            if status > fmi2Warning {
+                return Err(format!("fmi2DoStep({t}, {step}) returned {status}: {:?}", self.messages()));
+            }
+            n += 1;
+        }
+        Ok(())
+    }
+
+    pub fn terminate(&mut self) -> fmi2Status {
+        // SAFETY: live component.
+        unsafe { api::terminate::<M>(self.component) }
+    }
+
+    pub fn reset(&mut self) -> fmi2Status {
+        self.time = 0.0;
+        // SAFETY: live component.
+        unsafe { api::reset::<M>(self.component) }
+    }
+}
+
+impl<M: Mechanism> Drop for Harness<M> {
+    fn drop(&mut self) {
+        // SAFETY: the component is live and freed once.
+        unsafe { api::free_instance::<M>(self.component) }
+    }
+}

@@ -1,0 +1,116 @@
+//! Where each kind of variable sits, derived once from a declaration.
+
+use super::{Causality, Variability, Variable};
+
+/// The value references of each kind of variable, in declaration order.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Layout {
+    /// Continuous states (variables with a declared derivative).
+    pub states: Vec<usize>,
+    /// For each state, the variable holding its time derivative.
+    pub derivatives: Vec<usize>,
+    pub inputs: Vec<usize>,
+    pub outputs: Vec<usize>,
+    pub parameters: Vec<usize>,
+    pub calculated: Vec<usize>,
+}
+
+impl Layout {
+    /// Resolves a declaration; `Err` names the first problem (the macro also checks these at
+    /// compile time, see [`check_declaration`]).
+    pub fn new(variables: &[Variable]) -> Result<Self, String> {
+        let mut layout = Layout {
+            states: Vec::new(),
+            derivatives: Vec::new(),
+            inputs: Vec::new(),
+            outputs: Vec::new(),
+            parameters: Vec::new(),
+            calculated: Vec::new(),
+        };
+        for (vr, v) in variables.iter().enumerate() {
+            if variables[..vr].iter().any(|w| w.name == v.name) {
+                return Err(format!("variable `{}` is declared twice", v.name));
+            }
+            if let Some(der) = v.derivative {
+                let Some(d) = variables.iter().position(|w| w.name == der) else {
+                    return Err(format!(
+                        "state `{}` names `{der}` as its derivative, but no variable has that name",
+                        v.name
+                    ));
+                };
+                if d == vr {
+                    return Err(format!("state `{}` is its own derivative", v.name));
+                }
+                if variables[d].variability != Variability::Continuous {
+                    return Err(format!(
+                        "the derivative `{der}` of state `{}` must be continuous",
+                        v.name
+                    ));
+                }
+                layout.states.push(vr);
+                layout.derivatives.push(d);
+            }
+            match v.causality {
+                Causality::Input => layout.inputs.push(vr),
+                Causality::Output => layout.outputs.push(vr),
+                Causality::Parameter => layout.parameters.push(vr),
+                Causality::CalculatedParameter => layout.calculated.push(vr),
+                Causality::Local => {}
+            }
+        }
+        Ok(layout)
+    }
+
+    /// The position of value reference `vr` among the inputs.
+    pub fn input_index(&self, vr: usize) -> Option<usize> {
+        self.inputs.iter().position(|&i| i == vr)
+    }
+}
+
+const fn str_eq(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+/// Compile-time check of a declaration, run by the `mechanism!` macro: a state must name an
+/// existing derivative variable, and every start value must satisfy its bounds.
+pub const fn check_declaration(variables: &[Variable]) {
+    let mut i = 0;
+    while i < variables.len() {
+        let v = &variables[i];
+        if let Some(der) = v.derivative {
+            let mut found = false;
+            let mut j = 0;
+            while j < variables.len() {
+                if str_eq(variables[j].name, der) && j != i {
+                    found = true;
+                }
+                j += 1;
+            }
+            if !found {
+                panic!("mechanism!: a state's derivative names no other declared variable");
+            }
+        }
+        if let (Some(start), Some(min)) = (v.start, v.min) {
+            if start < min || (v.positive && start <= min) {
+                panic!("mechanism!: a start value is below its variable's minimum");
+            }
+        }
+        if let (Some(start), Some(max)) = (v.start, v.max) {
+            if start > max {
+                panic!("mechanism!: a start value is above its variable's maximum");
+            }
+        }
+        i += 1;
+    }
+}

@@ -1,0 +1,203 @@
+//! The mechanism declaration API: what a mechanism author writes.
+//!
+//! A mechanism is declared once with the [`mechanism!`](crate::mechanism) macro (its
+//! variables) and the [`Mechanism`] trait (its equations). The modelDescription, value
+//! references, GUID, FMI functions and documentation are all generated from these two.
+
+mod layout;
+mod scalar;
+mod variable;
+
+pub use layout::{check_declaration, Layout};
+pub use scalar::{lit, Scalar};
+pub use variable::{Causality, Initial, SetPhase, Variability, Variable};
+
+/// The FMU's `DefaultExperiment`, and the tolerance used when the importer gives none.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Experiment {
+    pub start: f64,
+    pub stop: f64,
+    pub step: f64,
+    pub tolerance: f64,
+}
+
+/// What a mechanism's [`Mechanism::monitor`] says about the current state.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Monitor {
+    /// The model holds.
+    Valid,
+    /// The model holds only approximately (e.g. a slack cable): logged as a warning once
+    /// per episode, i.e. when the condition starts.
+    Warning(String),
+    /// The model no longer holds (e.g. a trolley at the pivot): the step ends with
+    /// `fmi2Discard` at the last valid time.
+    Invalid(String),
+}
+
+/// The variables of a mechanism. Implemented by the [`mechanism!`](crate::mechanism) macro;
+/// do not implement it by hand.
+pub trait Declaration: Send + Sync + 'static {
+    /// The model identifier (the FMU's file names).
+    const NAME: &'static str;
+    /// One paragraph describing the mechanism.
+    const DESCRIPTION: &'static str;
+    /// Every variable, in value-reference order (value reference = index).
+    const VARIABLES: &'static [Variable];
+
+    /// One value per variable plus the time, as named fields, generic over the scalar so the
+    /// same equations run on `f64` and on dual numbers.
+    type Values<S: Scalar>: ValueSet<S>;
+
+    /// Values that are all zero.
+    fn zeros<S: Scalar>() -> Self::Values<S>;
+
+    /// The values with every field converted by `f` (e.g. `f64` to a dual number).
+    fn map_values<A: Scalar, B: Scalar>(
+        values: &Self::Values<A>,
+        f: impl Fn(A) -> B,
+    ) -> Self::Values<B>;
+}
+
+/// Access to a mechanism's values by value reference.
+pub trait ValueSet<S>: Clone + Send + 'static {
+    /// Value reference `vr`'s value, or `None` when `vr` is not a variable.
+    fn get(&self, vr: usize) -> Option<S>;
+    /// Sets value reference `vr`; false when `vr` is not a variable.
+    fn set(&mut self, vr: usize, value: S) -> bool;
+    fn time(&self) -> S;
+    fn set_time(&mut self, t: S);
+}
+
+/// The equations of a mechanism.
+///
+/// `evaluate` is generic over the scalar type: it runs on `f64` for simulation and on dual
+/// numbers for exact directional derivatives, so it must only use the operations of
+/// [`Scalar`] (arithmetic, `sin`, `sqrt`, ... and [`lit`] for constants).
+pub trait Mechanism: Declaration {
+    /// The `DefaultExperiment` of the FMU.
+    const EXPERIMENT: Experiment;
+
+    /// Computes the calculated parameters from the parameters, and rejects parameter values
+    /// that the declared bounds cannot express (e.g. an inertia tensor that is not positive
+    /// definite). Called at initialization and whenever a tunable parameter changes; the
+    /// declared bounds (`positive`, `min`, `max`) are checked before it is called.
+    fn calculate(_values: &mut Self::Values<f64>) -> Result<(), String> {
+        Ok(())
+    }
+
+    /// Computes every state derivative and every output from the states, inputs,
+    /// parameters, calculated parameters and time.
+    fn evaluate<S: Scalar>(values: &mut Self::Values<S>);
+
+    /// Whether [`Mechanism::monitor`] has anything to say (saves evaluating it).
+    const MONITORED: bool = false;
+
+    /// Checks the model's validity at every accepted solver step (values evaluated there).
+    fn monitor(_values: &Self::Values<f64>) -> Monitor {
+        Monitor::Valid
+    }
+}
+
+/// Declares a mechanism's variables: a unit struct implementing [`Declaration`] and a
+/// generic struct of named values for the equations.
+///
+/// Each field is one variable; its name is the variable name, its doc comment the
+/// description, its value a [`Variable`] constructor. Value references follow the order of
+/// declaration. A duplicate name does not compile.
+///
+/// ```
+/// use mechfmu::model::{Experiment, Mechanism, Scalar, Variable};
+///
+/// mechfmu::mechanism! {
+///     /// A mass falling under gravity.
+///     pub struct Fall / FallValues {
+///         /// Gravity
+///         g: Variable::parameter("m/s2", 9.81),
+///         /// Height
+///         h: Variable::state("m", 10.0, "v"),
+///         /// Vertical velocity
+///         v: Variable::state("m/s", 0.0, "a"),
+///         /// Vertical acceleration
+///         a: Variable::output("m/s2"),
+///     }
+/// }
+///
+/// impl Mechanism for Fall {
+///     const EXPERIMENT: Experiment = Experiment { start: 0.0, stop: 1.0, step: 0.01, tolerance: 1e-8 };
+///     fn evaluate<S: Scalar>(v: &mut FallValues<S>) {
+///         v.a = -v.g;
+///     }
+/// }
+/// ```
+#[macro_export]
+macro_rules! mechanism {
+    (
+        $(#[doc = $doc:literal])*
+        $vis:vis struct $name:ident / $values:ident {
+            $(
+                $(#[doc = $vdoc:literal])*
+                $var:ident : $decl:expr
+            ),* $(,)?
+        }
+    ) => {
+        $(#[doc = $doc])*
+        #[derive(Clone, Copy, Debug, Default)]
+        $vis struct $name;
+
+        #[doc = concat!("The values of every variable of [`", stringify!($name), "`], and the time.")]
+        #[derive(Clone, Copy, Debug, Default, PartialEq)]
+        #[allow(non_snake_case)]
+        $vis struct $values<S> {
+            /// Simulation time (s).
+            pub time: S,
+            $( $(#[doc = $vdoc])* pub $var: S, )*
+        }
+
+        const _: () = {
+            #[allow(non_camel_case_types, dead_code, clippy::upper_case_acronyms)]
+            #[repr(usize)]
+            enum Vr { $($var,)* }
+
+            impl<S: $crate::model::Scalar> $crate::model::ValueSet<S> for $values<S> {
+                #[inline]
+                fn get(&self, vr: usize) -> Option<S> {
+                    $( if vr == Vr::$var as usize { return Some(self.$var); } )*
+                    None
+                }
+                #[inline]
+                fn set(&mut self, vr: usize, value: S) -> bool {
+                    $( if vr == Vr::$var as usize { self.$var = value; return true; } )*
+                    false
+                }
+                #[inline]
+                fn time(&self) -> S { self.time }
+                #[inline]
+                fn set_time(&mut self, t: S) { self.time = t; }
+            }
+
+            const _: () = $crate::model::check_declaration(
+                <$name as $crate::model::Declaration>::VARIABLES,
+            );
+
+            impl $crate::model::Declaration for $name {
+                const NAME: &'static str = stringify!($name);
+                const DESCRIPTION: &'static str = concat!("" $(, $doc)*);
+                const VARIABLES: &'static [$crate::model::Variable] = &[
+                    $( $crate::model::Variable::named($decl, stringify!($var), concat!("" $(, $vdoc)*)), )*
+                ];
+                type Values<S: $crate::model::Scalar> = $values<S>;
+
+                fn zeros<S: $crate::model::Scalar>() -> $values<S> {
+                    $values { time: S::zero(), $( $var: S::zero(), )* }
+                }
+
+                fn map_values<A: $crate::model::Scalar, B: $crate::model::Scalar>(
+                    v: &$values<A>,
+                    f: impl Fn(A) -> B,
+                ) -> $values<B> {
+                    $values { time: f(v.time), $( $var: f(v.$var), )* }
+                }
+            }
+        };
+    };
+}

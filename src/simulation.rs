@@ -1,0 +1,377 @@
+//! A mechanism being simulated: its values, its states under the ODE solver, and the rules
+//! of setting and getting values. Knows nothing of C or of the FMI state machine.
+
+use crate::model::{Layout, Mechanism, Monitor, SetPhase, ValueSet, Variable};
+use crate::solver::{Dopri5, OdeSystem, SolverError, StepStats, Tolerance};
+
+/// Why a communication step did not complete.
+#[derive(Clone, Debug, PartialEq)]
+pub enum StepFailure {
+    /// The step cannot be done as asked (bad arguments): nothing happened.
+    Rejected(String),
+    /// The model or the solver stopped at `time` (the last valid time): `fmi2Discard`.
+    Stopped { time: f64, message: String },
+}
+
+/// What a completed step has to report besides success.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StepReport {
+    pub stats: StepStats,
+    /// Warnings raised by the mechanism's monitor (each once per episode).
+    pub warnings: Vec<String>,
+}
+
+/// A mechanism's running simulation.
+pub struct Simulation<M: Mechanism> {
+    layout: Layout,
+    values: M::Values<f64>,
+    /// Input values as set at the current communication point (by input index).
+    inputs: Vec<f64>,
+    /// First and second time derivatives of the inputs at the communication point.
+    input_derivatives: Vec<[f64; 2]>,
+    y: Vec<f64>,
+    solver: Dopri5,
+    tolerance: Tolerance,
+    /// Whether the monitor's warning condition holds (so it is logged once per episode).
+    warning_active: bool,
+    /// Values were set since calculated parameters and outputs were last computed.
+    dirty: bool,
+}
+
+impl<M: Mechanism> Clone for Simulation<M> {
+    fn clone(&self) -> Self {
+        let mut solver = Dopri5::new(self.y.len());
+        solver.restore(self.solver.memory());
+        Simulation {
+            layout: self.layout.clone(),
+            values: self.values.clone(),
+            inputs: self.inputs.clone(),
+            input_derivatives: self.input_derivatives.clone(),
+            y: self.y.clone(),
+            solver,
+            tolerance: self.tolerance,
+            warning_active: self.warning_active,
+            dirty: self.dirty,
+        }
+    }
+}
+
+/// The start values of a mechanism (0 where none is declared), at time `t`.
+pub fn start_values<M: Mechanism>(t: f64) -> M::Values<f64> {
+    let mut values = M::zeros::<f64>();
+    for (vr, v) in M::VARIABLES.iter().enumerate() {
+        values.set(vr, v.start.unwrap_or(0.0));
+    }
+    values.set_time(t);
+    values
+}
+
+impl<M: Mechanism> Simulation<M> {
+    pub fn new(layout: Layout) -> Self {
+        let n = layout.states.len();
+        let n_inputs = layout.inputs.len();
+        let mut sim = Simulation {
+            layout,
+            values: start_values::<M>(0.0),
+            inputs: vec![0.0; n_inputs],
+            input_derivatives: vec![[0.0; 2]; n_inputs],
+            y: vec![0.0; n],
+            solver: Dopri5::new(n),
+            tolerance: tolerance(M::EXPERIMENT.tolerance),
+            warning_active: false,
+            dirty: true,
+        };
+        sim.reset();
+        sim
+    }
+
+    /// Back to the start values, start time 0, default tolerance, a fresh solver.
+    pub fn reset(&mut self) {
+        self.values = start_values::<M>(0.0);
+        for (i, &vr) in self.layout.inputs.iter().enumerate() {
+            self.inputs[i] = self.values.get(vr).unwrap_or(0.0);
+        }
+        self.input_derivatives.iter_mut().for_each(|d| *d = [0.0; 2]);
+        self.solver.forget();
+        self.tolerance = tolerance(M::EXPERIMENT.tolerance);
+        self.warning_active = false;
+        self.dirty = true;
+    }
+
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    pub fn time(&self) -> f64 {
+        self.values.time()
+    }
+
+    pub fn values(&self) -> &M::Values<f64> {
+        &self.values
+    }
+
+    /// `fmi2SetupExperiment`: the relative tolerance (None: the DefaultExperiment's) and the
+    /// start time.
+    pub fn setup(&mut self, relative_tolerance: Option<f64>, start_time: f64) -> Result<(), String> {
+        if !start_time.is_finite() {
+            return Err(format!("startTime = {start_time} is not a finite number"));
+        }
+        let tol = relative_tolerance.unwrap_or(M::EXPERIMENT.tolerance);
+        if !(tol.is_finite() && tol > 0.0) {
+            return Err(format!("tolerance = {tol} must be a finite number > 0"));
+        }
+        self.tolerance = tolerance(tol);
+        self.values.set_time(start_time);
+        Ok(())
+    }
+
+    /// Sets value references to values, checking each is settable in `phase` and finite.
+    /// All or nothing: on error no value has changed.
+    pub fn set_real(&mut self, vrs: &[u32], values: &[f64], phase: SetPhase) -> Result<(), String> {
+        for (&vr, &value) in vrs.iter().zip(values) {
+            let var = variable::<M>(vr)?;
+            if !var.settable(phase) {
+                return Err(format!(
+                    "variable `{}` (value reference {vr}) cannot be set {}",
+                    var.name,
+                    match phase {
+                        SetPhase::Running => "after initialization (only inputs and tunable parameters can)",
+                        _ => "(it is computed by the model)",
+                    }
+                ));
+            }
+            if !value.is_finite() {
+                return Err(format!("{} = {value} is not a finite number", var.name));
+            }
+            if phase == SetPhase::Running && var.causality == crate::model::Causality::Parameter {
+                var.check_value(value)?;
+            }
+        }
+        let saved = (phase == SetPhase::Running).then(|| self.values.clone());
+        let mut parameter_changed = false;
+        for (&vr, &value) in vrs.iter().zip(values) {
+            self.values.set(vr as usize, value);
+            if let Some(i) = self.layout.input_index(vr as usize) {
+                self.inputs[i] = value;
+            } else {
+                parameter_changed |= M::VARIABLES[vr as usize].causality == crate::model::Causality::Parameter;
+            }
+        }
+        if let Some(saved) = saved {
+            if parameter_changed {
+                if let Err(e) = M::calculate(&mut self.values) {
+                    self.values = saved;
+                    for (i, &vr) in self.layout.inputs.iter().enumerate() {
+                        self.inputs[i] = self.values.get(vr).unwrap_or(0.0);
+                    }
+                    return Err(e);
+                }
+            }
+        }
+        self.dirty = true;
+        Ok(())
+    }
+
+    /// Reads value references, bringing calculated values up to date first.
+    pub fn get_real(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), String> {
+        for &vr in vrs {
+            variable::<M>(vr)?;
+        }
+        self.update()?;
+        for (&vr, o) in vrs.iter().zip(out.iter_mut()) {
+            *o = self.values.get(vr as usize).unwrap_or(f64::NAN);
+        }
+        Ok(())
+    }
+
+    /// Checks every parameter against its declared bounds and the mechanism's own rules,
+    /// computes the calculated parameters and the outputs.
+    pub fn update(&mut self) -> Result<(), String> {
+        if !self.dirty {
+            return Ok(());
+        }
+        for (vr, var) in M::VARIABLES.iter().enumerate() {
+            let value = self.values.get(vr).unwrap_or(f64::NAN);
+            if var.causality == crate::model::Causality::Parameter {
+                var.check_value(value)?;
+            } else if var.start.is_some() && !value.is_finite() {
+                return Err(format!("{} = {value} is not a finite number", var.name));
+            }
+        }
+        M::calculate(&mut self.values)?;
+        self.evaluate_at_point();
+        self.dirty = false;
+        Ok(())
+    }
+
+    /// Derivatives and outputs at the current time, states and (held) inputs.
+    fn evaluate_at_point(&mut self) {
+        for (i, &vr) in self.layout.inputs.iter().enumerate() {
+            self.values.set(vr, self.inputs[i]);
+        }
+        M::evaluate(&mut self.values);
+    }
+
+    /// Sets the derivatives of inputs for the next step (`order` 1 or 2).
+    pub fn set_input_derivative(&mut self, vr: u32, order: i32, value: f64) -> Result<(), String> {
+        let var = variable::<M>(vr)?;
+        let Some(i) = self.layout.input_index(vr as usize) else {
+            return Err(format!("variable `{}` (value reference {vr}) is not an input", var.name));
+        };
+        if !(1..=2).contains(&order) {
+            return Err(format!("derivative order {order} of `{}` is not supported (1 or 2)", var.name));
+        }
+        if !value.is_finite() {
+            return Err(format!("derivative of `{}` = {value} is not a finite number", var.name));
+        }
+        self.input_derivatives[i][order as usize - 1] = value;
+        Ok(())
+    }
+
+    /// Advances from `t` (which must be the current time) by `h`.
+    pub fn step(&mut self, t: f64, h: f64) -> Result<StepReport, StepFailure> {
+        let now = self.time();
+        if !(h.is_finite() && h > 0.0) {
+            return Err(StepFailure::Rejected(format!(
+                "communicationStepSize = {h} must be a finite number > 0"
+            )));
+        }
+        if !t.is_finite() || (t - now).abs() > 1e-9 * now.abs().max(h).max(1e-300) {
+            return Err(StepFailure::Rejected(format!(
+                "currentCommunicationPoint = {t} does not match the FMU's time {now}"
+            )));
+        }
+        self.update().map_err(StepFailure::Rejected)?;
+        let t_end = t + h;
+        if !t_end.is_finite() || t_end == t {
+            return Err(StepFailure::Rejected(format!(
+                "communicationStepSize = {h} is too small to advance from t = {t}"
+            )));
+        }
+        for (i, &vr) in self.layout.states.iter().enumerate() {
+            self.y[i] = self.values.get(vr).unwrap_or(f64::NAN);
+        }
+        let mut report = StepReport::default();
+        let mut time = t;
+        let mut system = System::<M> {
+            values: &mut self.values,
+            layout: &self.layout,
+            inputs: &self.inputs,
+            input_derivatives: &self.input_derivatives,
+            t0: t,
+            warning_active: &mut self.warning_active,
+            warnings: &mut report.warnings,
+        };
+        let result = self
+            .solver
+            .integrate(&mut system, &mut time, t_end, &mut self.y, self.tolerance);
+        // Whatever happened, the values describe the last accepted point.
+        system.load(time, &self.y);
+        M::evaluate(system.values);
+        for (i, &vr) in self.layout.inputs.iter().enumerate() {
+            self.values.set(vr, self.inputs[i]);
+        }
+        self.values.set_time(if result.is_ok() { t_end } else { time });
+        match result {
+            Ok(stats) => {
+                report.stats = stats;
+                if let Some(name) = self.first_non_finite() {
+                    return Err(StepFailure::Stopped {
+                        time: t,
+                        message: format!("`{name}` became non-finite at t = {t_end}"),
+                    });
+                }
+                Ok(report)
+            }
+            Err(e) => Err(StepFailure::Stopped { time, message: describe(&e) }),
+        }
+    }
+
+    fn first_non_finite(&self) -> Option<&'static str> {
+        M::VARIABLES
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| v.variability == crate::model::Variability::Continuous)
+            .find(|(vr, _)| !self.values.get(*vr).is_some_and(f64::is_finite))
+            .map(|(_, v)| v.name)
+    }
+}
+
+fn describe(e: &SolverError) -> String {
+    match e {
+        SolverError::Stopped { t, message } => format!("at t = {t}: {message}"),
+        other => other.to_string(),
+    }
+}
+
+fn tolerance(rtol: f64) -> Tolerance {
+    Tolerance { rtol, atol: rtol }
+}
+
+/// The variable of value reference `vr`, or a message naming the bad reference.
+pub fn variable<M: Mechanism>(vr: u32) -> Result<&'static Variable, String> {
+    M::VARIABLES.get(vr as usize).ok_or_else(|| {
+        format!(
+            "value reference {vr} is not a variable of {} (it has {} real variables, 0..{})",
+            M::NAME,
+            M::VARIABLES.len(),
+            M::VARIABLES.len().saturating_sub(1)
+        )
+    })
+}
+
+/// The mechanism seen by the ODE solver: states in, derivatives out, inputs interpolated
+/// from the communication point.
+struct System<'a, M: Mechanism> {
+    values: &'a mut M::Values<f64>,
+    layout: &'a Layout,
+    inputs: &'a [f64],
+    input_derivatives: &'a [[f64; 2]],
+    t0: f64,
+    warning_active: &'a mut bool,
+    warnings: &'a mut Vec<String>,
+}
+
+impl<M: Mechanism> System<'_, M> {
+    #[inline]
+    fn load(&mut self, t: f64, y: &[f64]) {
+        self.values.set_time(t);
+        for (&vr, &x) in self.layout.states.iter().zip(y) {
+            self.values.set(vr, x);
+        }
+        let dt = t - self.t0;
+        for ((&vr, &u), d) in self.layout.inputs.iter().zip(self.inputs).zip(self.input_derivatives) {
+            self.values.set(vr, u + dt * (d[0] + 0.5 * dt * d[1]));
+        }
+    }
+}
+
+impl<M: Mechanism> OdeSystem for System<'_, M> {
+    #[inline]
+    fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) {
+        self.load(t, y);
+        M::evaluate(self.values);
+        for (&vr, d) in self.layout.derivatives.iter().zip(dydt.iter_mut()) {
+            *d = self.values.get(vr).unwrap_or(f64::NAN);
+        }
+    }
+
+    fn accepted(&mut self, t: f64, y: &[f64]) -> Result<(), String> {
+        if !M::MONITORED {
+            return Ok(());
+        }
+        self.load(t, y);
+        M::evaluate(self.values);
+        match M::monitor(self.values) {
+            Monitor::Valid => *self.warning_active = false,
+            Monitor::Warning(message) => {
+                if !*self.warning_active {
+                    self.warnings.push(format!("at t = {t}: {message}"));
+                }
+                *self.warning_active = true;
+            }
+            Monitor::Invalid(message) => return Err(message),
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,148 @@
+//! The ODE solver inside every exported FMU: Dormand–Prince 5(4) with error control.
+//!
+//! The method, error norm, PI step-size controller and initial step heuristic follow
+//! Hairer–Nørsett–Wanner, *Solving Ordinary Differential Equations I*, II.4 and IV.2
+//! (the reference code `dopri5.f`), so behaviour can be compared against that code.
+//!
+//! Design constraints that come from the FMU layer:
+//! * `integrate` lands on the communication point exactly and never evaluates the
+//!   right-hand side beyond it, so `fmi2DoStep` can report that time verbatim.
+//! * On failure the last accepted (finite) point is kept, for `fmi2Discard`.
+//! * Everything that influences the future lives in [`SolverMemory`] (plain `Copy`
+//!   data), so FMU state snapshots continue bit-for-bit.
+//! * No allocation after [`Dopri5::new`], no I/O, no `unsafe`, fully deterministic.
+
+mod controller;
+mod dopri5;
+mod initial_step;
+mod norm;
+#[cfg(test)]
+mod tests;
+
+pub use dopri5::Dopri5;
+
+use std::fmt;
+
+/// Relative tolerances below this are raised to it: below ~10 ulp the error estimate
+/// is dominated by rounding and the controller would shrink the step forever.
+pub const MIN_RTOL: f64 = 10.0 * f64::EPSILON;
+
+/// A first-order system dy/dt = f(t, y).
+pub trait OdeSystem {
+    /// dy/dt = f(t, y). Writes dydt (same length as y).
+    ///
+    /// Must be a pure function of `(t, y)` for the duration of one
+    /// [`Dopri5::integrate`] call: the last stage is reused as the first stage of the
+    /// next step (FSAL), so changing behaviour mid-call (e.g. in `accepted`) is not seen
+    /// until the next call. Non-finite outputs are tolerated and make the solver retry
+    /// with a smaller step.
+    fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]);
+    /// Called after every accepted step with the new point. Err(message) stops the
+    /// integration there (the point is kept as the last accepted one) -> SolverError::Stopped.
+    fn accepted(&mut self, _t: f64, _y: &[f64]) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+/// Mixed error tolerance: component i may err by about `atol + rtol·|y_i|`.
+///
+/// `rtol` is raised to [`MIN_RTOL`] if smaller. Both must be finite and non-negative;
+/// `atol == 0` (pure relative control) is allowed but fails on components that cross
+/// zero with a nonzero error.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tolerance {
+    /// Relative tolerance (clamped below at [`MIN_RTOL`]).
+    pub rtol: f64,
+    /// Absolute tolerance, in the units of the state.
+    pub atol: f64,
+}
+
+/// Work done by one [`Dopri5::integrate`] call (not cumulative).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StepStats {
+    /// Steps that passed the error test.
+    pub accepted: u64,
+    /// Steps retried with a smaller size (error too large or NaN/inf).
+    pub rejected: u64,
+    /// Includes the evaluations of the initial step heuristic and of rejected steps.
+    pub rhs_evals: u64,
+}
+
+/// Everything of the solver's own that influences the future: the step size to try next
+/// (None = choose one with the initial-step heuristic), and the PI controller's memory.
+/// Plain data (Copy), so an FMU can snapshot/serialize/restore it and continue bit-for-bit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolverMemory {
+    /// Step size to try first in the next call; `None` runs the initial-step heuristic.
+    pub h_next: Option<f64>,
+    /// Error norm of the last accepted step, floored at 1e-4 (Hairer's `FACOLD`); it
+    /// damps the controller (the "I" of PI). 1e-4 for a fresh solver.
+    pub err_prev: f64,
+}
+
+impl SolverMemory {
+    /// The memory of a freshly constructed solver.
+    pub const FRESH: SolverMemory = SolverMemory {
+        h_next: None,
+        err_prev: controller::ERR_PREV_FLOOR,
+    };
+}
+
+impl Default for SolverMemory {
+    fn default() -> Self {
+        Self::FRESH
+    }
+}
+
+/// Why `integrate` stopped early. In every case `t` is the last accepted time, which
+/// the caller's `t` and `y` were left at (an FMU reports `fmi2Discard` there).
+#[derive(Clone, Debug, PartialEq)]
+pub enum SolverError {
+    /// The error test failed even with the smallest usable step `h` (a singularity,
+    /// a discontinuity the model should handle as an event, or extreme stiffness).
+    StepSizeTooSmall { t: f64, h: f64 },
+    /// rhs produced NaN/inf and shrinking the step did not help.
+    NonFinite { t: f64 },
+    /// More than `max_steps` step attempts in one call (see `Dopri5::set_max_steps`).
+    TooManySteps { t: f64, max_steps: u64 },
+    /// `OdeSystem::accepted` returned `Err(message)` after accepting the point at `t`.
+    Stopped { t: f64, message: String },
+}
+
+impl SolverError {
+    /// Time of the last accepted point, which the solver state was left at.
+    pub fn t(&self) -> f64 {
+        match *self {
+            SolverError::StepSizeTooSmall { t, .. }
+            | SolverError::NonFinite { t }
+            | SolverError::TooManySteps { t, .. }
+            | SolverError::Stopped { t, .. } => t,
+        }
+    }
+}
+
+impl fmt::Display for SolverError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SolverError::StepSizeTooSmall { t, h } => write!(
+                f,
+                "step size {h:e} at t = {t} fell below the minimum; the error tolerance \
+                 cannot be met there (singularity or very stiff dynamics?)"
+            ),
+            SolverError::NonFinite { t } => write!(
+                f,
+                "the right-hand side produced NaN or infinity after t = {t} and reducing \
+                 the step size did not help"
+            ),
+            SolverError::TooManySteps { t, max_steps } => write!(
+                f,
+                "gave up at t = {t} after {max_steps} step attempts in one integration call"
+            ),
+            SolverError::Stopped { t, message } => {
+                write!(f, "integration stopped by the model at t = {t}: {message}")
+            }
+        }
+    }
+}
+
+impl std::error::Error for SolverError {}

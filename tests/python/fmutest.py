@@ -1,0 +1,455 @@
+"""Helpers shared by the FMPy test suite.
+
+* ``fmu_path(name)``: ``fmus/<name>.fmu``; fails (never skips) when it has not been built.
+* ``simulate(path, ...)``: ``fmpy.simulate_fmu`` with the FMU's log messages captured.
+* ``Slave(path)``: a thin wrapper around fmpy's low-level ``FMU2Slave`` that returns raw
+  status codes, captures every message sent to the logger and frees the instance on exit.
+* ``max_error(...)``, ``record_figures(...)``: compare against a reference and keep the
+  achieved errors in ``target/test-figures/<name>.json`` for the lead to quote.
+
+About the logger: FMI 2.0 loggers are variadic, which ctypes cannot receive, so fmpy routes
+messages through a native proxy (``fmpy.logging.addLoggerProxy``) that formats them and
+calls ONE process-wide Python callback (a static pointer in the proxy library). This module
+installs its capturing callback there once, at import, and keeps it alive for the life of
+the process. Never pass ``logger=`` to ``fmpy.simulate_fmu`` in these tests: fmpy would
+repoint the proxy at a temporary callback that is freed after the call, and the next FMU
+message would jump to freed memory.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+import shutil
+import tempfile
+import threading
+from ctypes import byref, c_double, c_uint
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Iterable, Sequence
+
+import numpy as np
+import pytest
+
+import fmpy
+from fmpy import read_model_description
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import (
+    FMU2Slave,
+    fmi2CallbackAllocateMemoryTYPE,
+    fmi2CallbackFreeMemoryTYPE,
+    fmi2CallbackFunctions,
+    fmi2CallbackLoggerTYPE,
+    fmi2Discard,
+    fmi2Error,
+    fmi2Fatal,
+    fmi2OK,
+    fmi2Pending,
+    fmi2Warning,
+)
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
+# MECHFMU_FMU_DIR points the suite at FMUs built elsewhere (`mechfmu build --out DIR`).
+FMU_DIR = Path(os.environ.get("MECHFMU_FMU_DIR") or REPO_ROOT / "fmus").resolve()
+FIGURES_DIR = REPO_ROOT / "target" / "test-figures"
+
+BUILD_HINT = "run `cargo run --release -- build` first"
+
+STATUS_NAMES = {
+    fmi2OK: "fmi2OK",
+    fmi2Warning: "fmi2Warning",
+    fmi2Discard: "fmi2Discard",
+    fmi2Error: "fmi2Error",
+    fmi2Fatal: "fmi2Fatal",
+    fmi2Pending: "fmi2Pending",
+}
+
+
+def status_name(status: int) -> str:
+    return STATUS_NAMES.get(status, f"status {status}")
+
+
+# ---------------------------------------------------------------------------------------
+# FMU files
+
+
+def fmu_path(name: str) -> Path:
+    """``fmus/<name>.fmu``. A missing file is a failure, never a skip."""
+    path = FMU_DIR / f"{name}.fmu"
+    if not path.is_file():
+        pytest.fail(f"{path} does not exist: {BUILD_HINT}", pytrace=False)
+    return path
+
+
+_extract_lock = threading.Lock()
+_extracted: dict[tuple[str, float], tuple[str, Any]] = {}
+_extract_root = tempfile.mkdtemp(prefix="mechfmu-pytest-")
+
+
+def extracted(path: Path) -> tuple[str, Any]:
+    """Extract an FMU once per process; returns (directory, model description)."""
+    path = Path(path)
+    key = (str(path.resolve()), path.stat().st_mtime)
+    with _extract_lock:
+        if key not in _extracted:
+            target = tempfile.mkdtemp(prefix=path.stem + "-", dir=_extract_root)
+            fmpy.extract(str(path), target)
+            md = read_model_description(target, validate=False)
+            _extracted[key] = (target, md)
+        return _extracted[key]
+
+
+def cleanup_extracted() -> None:
+    shutil.rmtree(_extract_root, ignore_errors=True)
+
+
+# ---------------------------------------------------------------------------------------
+# Log capture
+
+
+@dataclass(frozen=True)
+class LogRecord:
+    instance: str
+    status: int
+    category: str
+    message: str
+
+    def __str__(self) -> str:
+        return f"[{status_name(self.status)}|{self.category}] {self.instance}: {self.message}"
+
+
+_records: list[LogRecord] = []
+_raw_records: list[LogRecord] = []
+
+
+def _decode(b: bytes | None) -> str:
+    return "" if b is None else b.decode("utf-8", errors="replace")
+
+
+def _capture(env, instance_name, status, category, message):  # called from C through fmpy's proxy
+    _records.append(LogRecord(_decode(instance_name), int(status), _decode(category), _decode(message)))
+
+
+def _capture_raw(env, instance_name, status, category, message):  # called from C, no proxy
+    _raw_records.append(LogRecord(_decode(instance_name), int(status), _decode(category), _decode(message)))
+
+
+# Kept alive for the life of the process (see the module docstring).
+_LOGGER = fmi2CallbackLoggerTYPE(_capture)
+_RAW_LOGGER = fmi2CallbackLoggerTYPE(_capture_raw)
+_ALLOCATE = fmi2CallbackAllocateMemoryTYPE(fmpy.calloc)
+_FREE = fmi2CallbackFreeMemoryTYPE(fmpy.free)
+
+CALLBACKS = fmi2CallbackFunctions()
+CALLBACKS.logger = _LOGGER
+CALLBACKS.allocateMemory = _ALLOCATE
+CALLBACKS.freeMemory = _FREE
+CALLBACKS.componentEnvironment = None
+
+from fmpy.logging import addLoggerProxy  # noqa: E402
+
+# Formats the variadic message and forwards it to _capture. Since the proxy's target is
+# process-wide, fmpy's default callbacks (used by a plain simulate_fmu) now land here too.
+addLoggerProxy(byref(CALLBACKS))
+
+# Callbacks without the proxy: the Python function sees the *format* argument, so a test
+# can check that messages are passed as ("%s", text), never as the format string itself.
+RAW_CALLBACKS = fmi2CallbackFunctions()
+RAW_CALLBACKS.logger = _RAW_LOGGER
+RAW_CALLBACKS.allocateMemory = _ALLOCATE
+RAW_CALLBACKS.freeMemory = _FREE
+RAW_CALLBACKS.componentEnvironment = None
+
+
+class LogMark:
+    """Collects the records logged after its creation."""
+
+    def __init__(self, raw: bool = False):
+        self._list = _raw_records if raw else _records
+        self._start = len(self._list)
+
+    @property
+    def records(self) -> list[LogRecord]:
+        return list(self._list[self._start :])
+
+    def text(self) -> str:
+        return "\n".join(str(r) for r in self.records) or "(nothing logged)"
+
+    def find(self, pattern: str, *, status: int | None = None, flags: int = re.IGNORECASE) -> list[LogRecord]:
+        rx = re.compile(pattern, flags)
+        return [r for r in self.records if rx.search(r.message) and (status is None or r.status == status)]
+
+
+# ---------------------------------------------------------------------------------------
+# Simulation
+
+
+@dataclass
+class SimResult:
+    result: np.ndarray
+    log: list[LogRecord] = field(default_factory=list)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.result[name]
+
+    @property
+    def time(self) -> np.ndarray:
+        return self.result["time"]
+
+
+def make_input(time: Sequence[float], **signals: Sequence[float]) -> np.ndarray:
+    """A structured input array for ``simulate_fmu(input=...)``.
+
+    Repeat a time point to make a jump: ``make_input([0, 2, 2, 20], F=[0, 0, 1, 1])``.
+    """
+    dtype = [("time", np.float64)] + [(name, np.float64) for name in signals]
+    rows = list(zip(time, *signals.values()))
+    return np.array(rows, dtype=dtype)
+
+
+def simulate(
+    path: Path,
+    *,
+    relative_tolerance: float | None = 1e-8,
+    output_interval: float | None = None,
+    start_values: dict[str, float] | None = None,
+    input: np.ndarray | None = None,
+    stop_time: float | None = None,
+    output: Sequence[str] | None = None,
+    debug_logging: bool = False,
+    **kwargs: Any,
+) -> SimResult:
+    """``fmpy.simulate_fmu`` on the FMU, as an importer would call it; log captured."""
+    mark = LogMark()
+    result = fmpy.simulate_fmu(
+        str(path),
+        relative_tolerance=relative_tolerance,
+        output_interval=output_interval,
+        start_values=dict(start_values or {}),
+        input=input,
+        stop_time=stop_time,
+        output=list(output) if output is not None else None,
+        debug_logging=debug_logging,
+        **kwargs,
+    )
+    return SimResult(result=result, log=mark.records)
+
+
+# ---------------------------------------------------------------------------------------
+# Low-level API
+
+
+class Slave:
+    """One FMU2Slave instance with raw status codes and a captured log.
+
+    Every ``fmi2*`` call goes through :meth:`call`, which returns the status code instead of
+    raising (fmpy raises ``FMICallException`` on Discard, Error and Fatal). The convenience
+    methods (``setup``, ``enter``, ``exit``, ``step``, ``get``, ``set``) assert fmi2OK and
+    show the log when they do not get it.
+    """
+
+    def __init__(
+        self,
+        path: Path,
+        *,
+        logging_on: bool = False,
+        raw_logger: bool = False,
+        instance_name: str | None = None,
+        instantiate: bool = True,
+    ):
+        self.path = Path(path)
+        self.unzipdir, self.md = extracted(self.path)
+        self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
+        self.variables = {v.name: v for v in self.md.modelVariables}
+        self.log = LogMark(raw=raw_logger)
+        self._callbacks = RAW_CALLBACKS if raw_logger else CALLBACKS
+        self.fmu = FMU2Slave(
+            guid=self.md.guid,
+            unzipDirectory=self.unzipdir,
+            modelIdentifier=self.md.coSimulation.modelIdentifier,
+            instanceName=instance_name,
+        )
+        self._freed = False
+        if instantiate:
+            try:
+                self.fmu.instantiate(callbacks=self._callbacks, loggingOn=logging_on)
+            except Exception:
+                self.fmu.freeLibrary()
+                self._freed = True
+                raise
+
+    # context manager -------------------------------------------------------------------
+    def __enter__(self) -> "Slave":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.free()
+
+    def free(self) -> None:
+        if not self._freed:
+            self._freed = True
+            if self.fmu.component:
+                self.fmu.fmi2FreeInstance(self.fmu.component)
+            self.fmu.freeLibrary()
+
+    # raw calls -------------------------------------------------------------------------
+    def call(self, fname: str, *args: Any) -> int:
+        """Call ``fmi2<fname>(component, *args)``; return its status code."""
+        f = getattr(self.fmu, fname if fname.startswith("fmi2") else "fmi2" + fname)
+        try:
+            return int(f(self.fmu.component, *args))
+        except FMICallException as e:
+            return int(e.status)
+
+    def vrs(self, names_or_refs: Iterable[str | int]):
+        refs = [self.vr[n] if isinstance(n, str) else int(n) for n in names_or_refs]
+        return (c_uint * len(refs))(*refs), len(refs)
+
+    def get_real_status(self, names_or_refs: Sequence[str | int]) -> tuple[int, list[float]]:
+        vr, n = self.vrs(names_or_refs)
+        values = (c_double * n)()
+        return self.call("fmi2GetReal", vr, n, values), list(values)
+
+    def set_real_status(self, values: dict[str | int, float]) -> int:
+        vr, n = self.vrs(values.keys())
+        vals = (c_double * n)(*[float(v) for v in values.values()])
+        return self.call("fmi2SetReal", vr, n, vals)
+
+    # asserting helpers -----------------------------------------------------------------
+    def expect_ok(self, what: str, status: int) -> None:
+        assert status in (fmi2OK, fmi2Warning), f"{what} returned {status_name(status)}; log:\n{self.log.text()}"
+
+    def setup(self, tolerance: float | None = 1e-8, start: float = 0.0, stop: float | None = None) -> None:
+        self.expect_ok(
+            "fmi2SetupExperiment",
+            self.call(
+                "fmi2SetupExperiment",
+                1 if tolerance is not None else 0,
+                0.0 if tolerance is None else tolerance,
+                start,
+                1 if stop is not None else 0,
+                0.0 if stop is None else stop,
+            ),
+        )
+
+    def enter(self) -> None:
+        self.expect_ok("fmi2EnterInitializationMode", self.call("fmi2EnterInitializationMode"))
+
+    def exit(self) -> None:
+        self.expect_ok("fmi2ExitInitializationMode", self.call("fmi2ExitInitializationMode"))
+
+    def initialize(self, start_values: dict[str, float] | None = None, tolerance: float | None = 1e-8,
+                   start: float = 0.0, stop: float | None = None) -> None:
+        """setupExperiment, start values, enter and exit initialization mode."""
+        self.setup(tolerance=tolerance, start=start, stop=stop)
+        if start_values:
+            self.set(**start_values)
+        self.enter()
+        self.exit()
+
+    def step(self, t: float, h: float) -> None:
+        self.expect_ok(f"fmi2DoStep(t={t!r}, h={h!r})", self.call("fmi2DoStep", t, h, 1))
+
+    def get(self, *names: str) -> list[float]:
+        status, values = self.get_real_status(names)
+        self.expect_ok(f"fmi2GetReal({', '.join(names)})", status)
+        return values
+
+    def set(self, **values: float) -> None:
+        self.expect_ok(f"fmi2SetReal({values})", self.set_real_status(values))
+
+
+# ---------------------------------------------------------------------------------------
+# Errors and figures
+
+
+def max_error(got: np.ndarray, want: np.ndarray) -> tuple[float, float, int]:
+    """(max |got - want|, range of want, index of the max)."""
+    got = np.asarray(got, dtype=float)
+    want = np.asarray(want, dtype=float)
+    assert got.shape == want.shape, f"shape {got.shape} != {want.shape}"
+    assert np.all(np.isfinite(got)), "non-finite values in the FMU's output"
+    err = np.abs(got - want)
+    i = int(np.argmax(err))
+    rng = float(np.max(want) - np.min(want))
+    return float(err[i]), rng, i
+
+
+_figures_lock = threading.Lock()
+_figures_this_session: list[str] = []
+
+
+def figures_summary() -> list[str]:
+    """Lines for the terminal summary: the worst relative error per figure file and variable."""
+    lines = []
+    for name in _figures_this_session:
+        path = FIGURES_DIR / f"{name}.json"
+        try:
+            cases = json.loads(path.read_text()).get("cases", {})
+        except (OSError, json.JSONDecodeError):
+            continue
+        worst: dict[str, tuple[float, str]] = {}
+        for case, entry in cases.items():
+            for row in entry.get("variables", []):
+                rel = row.get("relative")
+                if isinstance(rel, (int, float)) and rel > worst.get(row["variable"], (-1.0, ""))[0]:
+                    worst[row["variable"]] = (float(rel), case)
+        lines.append(f"{name}: {len(cases)} cases, table in {path.with_suffix('.md').relative_to(REPO_ROOT)}")
+        for var, (rel, case) in sorted(worst.items()):
+            lines.append(f"  worst {var:8s} {rel:.2e} of range  ({case})")
+    return lines
+
+
+def record_figures(name: str, case: str, entry: dict[str, Any]) -> None:
+    """Merge ``entry`` under ``case`` into ``target/test-figures/<name>.json``
+    and re-render ``<name>.md`` (a table the lead can quote)."""
+    FIGURES_DIR.mkdir(parents=True, exist_ok=True)
+    path = FIGURES_DIR / f"{name}.json"
+    with _figures_lock:
+        data: dict[str, Any] = {}
+        if name not in _figures_this_session:
+            # first entry of this run: start afresh so that stale cases do not linger
+            _figures_this_session.append(name)
+        elif path.exists():
+            try:
+                data = json.loads(path.read_text())
+            except json.JSONDecodeError:
+                data = {}
+        data.setdefault("cases", {})[case] = entry
+        data["fmpy"] = fmpy.__version__
+        path.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n")
+        _render_markdown(name, data)
+
+
+def _fmt(v: Any) -> str:
+    if isinstance(v, float):
+        if v == 0 or (1e-3 <= abs(v) < 1e4):
+            return f"{v:.4g}"
+        return f"{v:.2e}"
+    return str(v)
+
+
+def _render_markdown(name: str, data: dict[str, Any]) -> None:
+    cases = data.get("cases", {})
+    cols = ["variable", "output_interval", "max_error", "range", "relative", "limit", "at_t", "pass"]
+    lines = [
+        f"# {name}: FMU against closed-form references (fmpy {data.get('fmpy')})",
+        "",
+        "relative = max |FMU - reference| / (max - min of the reference over the run); limit 1e-6.",
+        "",
+        "| case | " + " | ".join(cols) + " |",
+        "|---|" + "---|" * len(cols),
+    ]
+    for case in sorted(cases):
+        entry = cases[case]
+        for var in entry.get("variables", []):
+            row = [var.get(c, "") for c in cols]
+            lines.append(f"| {case} | " + " | ".join(_fmt(v) for v in row) + " |")
+    (FIGURES_DIR / f"{name}.md").write_text("\n".join(lines) + "\n")
+
+
+def isclose_rel(a: float, b: float, rel: float) -> bool:
+    return math.isclose(a, b, rel_tol=rel, abs_tol=0.0)
+
