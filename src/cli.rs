@@ -8,7 +8,11 @@ use std::process::{Command, ExitCode, Stdio};
 use std::time::{Duration, Instant};
 
 #[derive(Parser)]
-#[command(name = "mechfmu", version, about = "Turns mechanical models into FMI 2.0 Co-Simulation FMUs")]
+#[command(
+    name = "mechfmu",
+    version,
+    about = "Turns mechanical models into FMI 2.0 Co-Simulation FMUs"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Cmd,
@@ -37,7 +41,11 @@ enum Cmd {
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Cmd::Build { names, out, manifest_path } => build(&names, &out, manifest_path.as_deref()),
+        Cmd::Build {
+            names,
+            out,
+            manifest_path,
+        } => build(&names, &out, manifest_path.as_deref()),
         Cmd::List { manifest_path } => list(manifest_path.as_deref()),
     };
     match result {
@@ -64,7 +72,9 @@ pub fn mechanism_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCra
     if let Some(path) = manifest_path {
         cmd.arg("--manifest-path").arg(path);
     }
-    let output = cmd.output().map_err(|e| format!("cannot run cargo metadata: {e}"))?;
+    let output = cmd
+        .output()
+        .map_err(|e| format!("cannot run cargo metadata: {e}"))?;
     if !output.status.success() {
         return Err(format!(
             "cargo metadata failed:\n{}",
@@ -133,7 +143,12 @@ fn build(names: &[String], out: &Path, manifest_path: Option<&Path>) -> Result<(
             .ok_or_else(|| format!("cargo built no shared library for `{}`", c.package))?;
         let path = package_fmu(&c.model, library, out)?;
         let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
-        println!("{:<20} {} ({} KiB)", c.model, path.display(), size.div_ceil(1024));
+        println!(
+            "{:<20} {} ({} KiB)",
+            c.model,
+            path.display(),
+            size.div_ceil(1024)
+        );
     }
     println!(
         "built {} FMU{} in {:.1} s",
@@ -145,16 +160,27 @@ fn build(names: &[String], out: &Path, manifest_path: Option<&Path>) -> Result<(
 }
 
 /// Builds the crates' cdylibs in release mode; returns (package name, path of the .so).
-fn cargo_build(crates: &[MechanismCrate], manifest_path: Option<&Path>) -> Result<Vec<(String, PathBuf)>, String> {
+fn cargo_build(
+    crates: &[MechanismCrate],
+    manifest_path: Option<&Path>,
+) -> Result<Vec<(String, PathBuf)>, String> {
     let mut cmd = Command::new(cargo());
-    cmd.args(["build", "--release", "--lib", "--message-format=json-render-diagnostics"]);
+    cmd.args([
+        "build",
+        "--release",
+        "--lib",
+        "--message-format=json-render-diagnostics",
+    ]);
     if let Some(path) = manifest_path {
         cmd.arg("--manifest-path").arg(path);
     }
     for c in crates {
         cmd.args(["-p", &c.package]);
     }
-    let progress = spinner(&format!("building {} crate(s) with cargo (release)", crates.len()));
+    let progress = spinner(&format!(
+        "building {} crate(s) with cargo (release)",
+        crates.len()
+    ));
     let mut child = cmd
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -169,8 +195,13 @@ fn cargo_build(crates: &[MechanismCrate], manifest_path: Option<&Path>) -> Resul
         lines
     });
     let mut libraries = Vec::new();
-    for line in BufReader::new(child.stdout.take().expect("piped")).lines().map_while(Result::ok) {
-        let Ok(msg) = serde_json::from_str::<serde_json::Value>(&line) else { continue };
+    for line in BufReader::new(child.stdout.take().expect("piped"))
+        .lines()
+        .map_while(Result::ok)
+    {
+        let Ok(msg) = serde_json::from_str::<serde_json::Value>(&line) else {
+            continue;
+        };
         if msg["reason"] == "compiler-artifact" {
             let name = msg["target"]["name"].as_str().unwrap_or("");
             if let Some(p) = &progress {
@@ -186,7 +217,9 @@ fn cargo_build(crates: &[MechanismCrate], manifest_path: Option<&Path>) -> Resul
             }
         }
     }
-    let status = child.wait().map_err(|e| format!("cargo build did not finish: {e}"))?;
+    let status = child
+        .wait()
+        .map_err(|e| format!("cargo build did not finish: {e}"))?;
     let stderr = stderr_thread.join().unwrap_or_default();
     if let Some(p) = progress {
         p.finish_and_clear();
@@ -203,7 +236,11 @@ fn package_name(package_id: &str, crates: &[MechanismCrate]) -> Option<String> {
     crates
         .iter()
         .find(|c| {
-            let dir = c.manifest.parent().map(|d| d.display().to_string()).unwrap_or_default();
+            let dir = c
+                .manifest
+                .parent()
+                .map(|d| d.display().to_string())
+                .unwrap_or_default();
             package_id.contains(&format!("#{}@", c.package))
                 || (package_id.contains(&format!("{dir}#")) && !dir.is_empty())
                 || package_id.starts_with(&format!("{} ", c.package))
@@ -217,7 +254,9 @@ fn spinner(message: &str) -> Option<ProgressBar> {
         return None;
     }
     let p = ProgressBar::new_spinner();
-    p.set_style(ProgressStyle::with_template("{spinner} {msg} [{elapsed}]").expect("valid template"));
+    p.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{elapsed}]").expect("valid template"),
+    );
     p.set_message(message.to_string());
     p.enable_steady_tick(Duration::from_millis(120));
     Some(p)
@@ -227,7 +266,8 @@ fn spinner(message: &str) -> Option<ProgressBar> {
 /// and the binary can never disagree.
 pub fn package_fmu(model: &str, library: &Path, out: &Path) -> Result<PathBuf, String> {
     let xml = model_description_of(library)?;
-    let binary = std::fs::read(library).map_err(|e| format!("cannot read {}: {e}", library.display()))?;
+    let binary =
+        std::fs::read(library).map_err(|e| format!("cannot read {}: {e}", library.display()))?;
     let path = out.join(format!("{model}.fmu"));
     let contents = crate::package::Contents {
         model_identifier: model,
@@ -235,7 +275,8 @@ pub fn package_fmu(model: &str, library: &Path, out: &Path) -> Result<PathBuf, S
         binary: &binary,
         extra: Vec::new(),
     };
-    crate::package::write_fmu(&path, &contents).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    crate::package::write_fmu(&path, &contents)
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     Ok(path)
 }
 
@@ -255,5 +296,12 @@ pub fn model_description_of(library: &Path) -> Result<String, String> {
         return Err(format!("{} gave no modelDescription", library.display()));
     }
     buf.truncate(len);
-    String::from_utf8(buf).map_err(|e| format!("modelDescription is not UTF-8: {e}"))
+    let xml = String::from_utf8(buf).map_err(|e| format!("modelDescription is not UTF-8: {e}"))?;
+    match xml.strip_prefix("error: ") {
+        Some(message) => Err(format!(
+            "{}: cannot generate its modelDescription: {message}",
+            library.display()
+        )),
+        None => Ok(xml),
+    }
 }

@@ -5,7 +5,7 @@ use crate::model::Mechanism;
 
 /// Bump when the modelDescription generator changes what it writes from the same
 /// declaration, so binaries and XML of different generator versions never match.
-const GENERATOR_VERSION: &str = "mechfmu-md-1";
+const GENERATOR_VERSION: &str = "mechfmu-md-2";
 
 /// 64-bit FNV-1a over a stream of fields (each prefixed by its length, so field boundaries
 /// count).
@@ -34,6 +34,7 @@ fn hash<M: Mechanism>(seed: u64) -> u64 {
     h.bytes(GENERATOR_VERSION.as_bytes());
     h.bytes(M::NAME.as_bytes());
     h.bytes(M::DESCRIPTION.as_bytes());
+    h.bytes(format!("{:?}", crate::xml::CAPABILITIES).as_bytes());
     let e = M::EXPERIMENT;
     for x in [e.start, e.stop, e.step, e.tolerance] {
         h.f64(Some(x));

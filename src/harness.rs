@@ -26,6 +26,8 @@
 //! assert!((fmu.get("y") - (-2.0f64).exp()).abs() < 1e-9);
 //! ```
 
+#![allow(non_upper_case_globals)]
+
 use crate::fmi2::api;
 use crate::fmi2::ffi::*;
 use crate::model::Mechanism;
@@ -124,7 +126,13 @@ impl<M: Mechanism> Harness<M> {
         if component.is_null() {
             return Err(log.lock().map(|l| l.clone()).unwrap_or_default());
         }
-        Ok(Harness { component, log, _callbacks: callbacks, time: 0.0, _m: PhantomData })
+        Ok(Harness {
+            component,
+            log,
+            _callbacks: callbacks,
+            time: 0.0,
+            _m: PhantomData,
+        })
     }
 
     /// The raw component, for tests of the C boundary.
@@ -147,10 +155,16 @@ impl<M: Mechanism> Harness<M> {
         M::VARIABLES
             .iter()
             .position(|v| v.name == name)
-            .unwrap_or_else(|| panic!("{} has no variable `{name}`", M::NAME)) as fmi2ValueReference
+            .unwrap_or_else(|| panic!("{} has no variable `{name}`", M::NAME))
+            as fmi2ValueReference
     }
 
-    pub fn setup_experiment(&mut self, tolerance: Option<f64>, start: f64, stop: Option<f64>) -> fmi2Status {
+    pub fn setup_experiment(
+        &mut self,
+        tolerance: Option<f64>,
+        start: f64,
+        stop: Option<f64>,
+    ) -> fmi2Status {
         self.time = start;
         // SAFETY: live component.
         unsafe {
@@ -176,7 +190,12 @@ impl<M: Mechanism> Harness<M> {
     }
 
     /// Setup, start values, initialization: the usual importer sequence.
-    pub fn initialize(&mut self, tolerance: Option<f64>, start: f64, values: &[(&str, f64)]) -> Result<(), String> {
+    pub fn initialize(
+        &mut self,
+        tolerance: Option<f64>,
+        start: f64,
+        values: &[(&str, f64)],
+    ) -> Result<(), String> {
         let check = |s: fmi2Status, what: &str, h: &Self| {
             if s == fmi2OK {
                 Ok(())
@@ -184,12 +203,28 @@ impl<M: Mechanism> Harness<M> {
                 Err(format!("{what} returned {s}: {:?}", h.messages()))
             }
         };
-        check(self.setup_experiment(tolerance, start, None), "fmi2SetupExperiment", self)?;
-        check(self.enter_initialization_mode(), "fmi2EnterInitializationMode", self)?;
+        check(
+            self.setup_experiment(tolerance, start, None),
+            "fmi2SetupExperiment",
+            self,
+        )?;
+        check(
+            self.enter_initialization_mode(),
+            "fmi2EnterInitializationMode",
+            self,
+        )?;
         for &(name, value) in values {
-            check(self.set_real(&[Self::vr(name)], &[value]), "fmi2SetReal", self)?;
+            check(
+                self.set_real(&[Self::vr(name)], &[value]),
+                "fmi2SetReal",
+                self,
+            )?;
         }
-        check(self.exit_initialization_mode(), "fmi2ExitInitializationMode", self)
+        check(
+            self.exit_initialization_mode(),
+            "fmi2ExitInitializationMode",
+            self,
+        )
     }
 
     pub fn set_real(&mut self, vr: &[fmi2ValueReference], values: &[f64]) -> fmi2Status {
@@ -225,6 +260,11 @@ impl<M: Mechanism> Harness<M> {
         status
     }
 
+    /// Moves the harness's clock back to `t` (after restoring an FMU state taken there).
+    pub fn rewind(&mut self, t: f64) {
+        self.time = t;
+    }
+
     /// The communication point the harness has reached.
     pub fn time(&self) -> f64 {
         self.time
@@ -240,7 +280,10 @@ impl<M: Mechanism> Harness<M> {
             let step = (t0 + (n + 1) as f64 * h).min(t_end) - t;
             let status = self.do_step(t, step);
             if status > fmi2Warning {
-                return Err(format!("fmi2DoStep({t}, {step}) returned {status}: {:?}", self.messages()));
+                return Err(format!(
+                    "fmi2DoStep({t}, {step}) returned {status}: {:?}",
+                    self.messages()
+                ));
             }
             n += 1;
         }
@@ -259,9 +302,167 @@ impl<M: Mechanism> Harness<M> {
     }
 }
 
+impl<M: Mechanism> Harness<M> {
+    /// `fmi2GetFMUstate` into a fresh handle.
+    pub fn get_fmu_state(&mut self) -> Result<fmi2FMUstate, fmi2Status> {
+        let mut state: fmi2FMUstate = std::ptr::null_mut();
+        // SAFETY: live component; `state` is a valid out-pointer.
+        match unsafe { api::get_fmu_state::<M>(self.component, &mut state) } {
+            fmi2OK => Ok(state),
+            s => Err(s),
+        }
+    }
+
+    pub fn set_fmu_state(&mut self, state: fmi2FMUstate) -> fmi2Status {
+        // SAFETY: live component; the FMU checks the handle.
+        unsafe { api::set_fmu_state::<M>(self.component, state) }
+    }
+
+    pub fn free_fmu_state(&mut self, mut state: fmi2FMUstate) -> fmi2Status {
+        // SAFETY: live component; the FMU checks the handle.
+        unsafe { api::free_fmu_state::<M>(self.component, &mut state) }
+    }
+
+    /// Serialized bytes of a state handle.
+    pub fn serialize(&mut self, state: fmi2FMUstate) -> Result<Vec<u8>, fmi2Status> {
+        let mut size = 0usize;
+        // SAFETY: live component, valid out-pointers and a buffer of `size` bytes.
+        unsafe {
+            match api::serialized_fmu_state_size::<M>(self.component, state, &mut size) {
+                fmi2OK => {}
+                s => return Err(s),
+            }
+            let mut bytes = vec![0u8; size];
+            match api::serialize_fmu_state::<M>(
+                self.component,
+                state,
+                bytes.as_mut_ptr() as *mut fmi2Byte,
+                size,
+            ) {
+                fmi2OK => Ok(bytes),
+                s => Err(s),
+            }
+        }
+    }
+
+    /// A new state handle from serialized bytes.
+    pub fn deserialize(&mut self, bytes: &[u8]) -> Result<fmi2FMUstate, fmi2Status> {
+        let mut state: fmi2FMUstate = std::ptr::null_mut();
+        // SAFETY: live component; `bytes` is a valid buffer.
+        match unsafe {
+            api::deserialize_fmu_state::<M>(
+                self.component,
+                bytes.as_ptr() as *const fmi2Byte,
+                bytes.len(),
+                &mut state,
+            )
+        } {
+            fmi2OK => Ok(state),
+            s => Err(s),
+        }
+    }
+
+    pub fn directional_derivative(
+        &mut self,
+        unknowns: &[fmi2ValueReference],
+        knowns: &[fmi2ValueReference],
+        dv_known: &[f64],
+        dv_unknown: &mut [f64],
+    ) -> fmi2Status {
+        assert_eq!(knowns.len(), dv_known.len());
+        assert_eq!(unknowns.len(), dv_unknown.len());
+        // SAFETY: live component, arrays of the given lengths.
+        unsafe {
+            api::get_directional_derivative::<M>(
+                self.component,
+                unknowns.as_ptr(),
+                unknowns.len(),
+                knowns.as_ptr(),
+                knowns.len(),
+                dv_known.as_ptr(),
+                dv_unknown.as_mut_ptr(),
+            )
+        }
+    }
+
+    pub fn set_input_derivatives(
+        &mut self,
+        vr: &[fmi2ValueReference],
+        order: &[i32],
+        values: &[f64],
+    ) -> fmi2Status {
+        // SAFETY: live component, arrays of the given lengths.
+        unsafe {
+            api::set_real_input_derivatives::<M>(
+                self.component,
+                vr.as_ptr(),
+                vr.len(),
+                order.as_ptr(),
+                values.as_ptr(),
+            )
+        }
+    }
+
+    pub fn output_derivatives(
+        &mut self,
+        vr: &[fmi2ValueReference],
+        order: &[i32],
+        values: &mut [f64],
+    ) -> fmi2Status {
+        // SAFETY: live component, arrays of the given lengths.
+        unsafe {
+            api::get_real_output_derivatives::<M>(
+                self.component,
+                vr.as_ptr(),
+                vr.len(),
+                order.as_ptr(),
+                values.as_mut_ptr(),
+            )
+        }
+    }
+
+    /// Every variable's value, by value reference.
+    pub fn all_values(&mut self) -> Vec<f64> {
+        let vrs: Vec<fmi2ValueReference> = (0..M::VARIABLES.len() as u32).collect();
+        let mut values = vec![f64::NAN; vrs.len()];
+        self.get_real(&vrs, &mut values);
+        values
+    }
+}
+
 impl<M: Mechanism> Drop for Harness<M> {
     fn drop(&mut self) {
         // SAFETY: the component is live and freed once.
         unsafe { api::free_instance::<M>(self.component) }
+    }
+}
+
+/// Asserts the committed modelDescription at `path` is what the declaration generates now;
+/// with `MECHFMU_BLESS=1` in the environment, (re)writes it instead.
+pub fn check_model_description<M: Mechanism>(path: impl AsRef<std::path::Path>) {
+    let path = path.as_ref();
+    let xml = crate::xml::model_description::<M>().unwrap_or_else(|e| panic!("{e}"));
+    if std::env::var_os("MECHFMU_BLESS").is_some_and(|v| v == "1") {
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir).expect("create the modelDescription folder");
+        }
+        std::fs::write(path, &xml).expect("write the modelDescription");
+        return;
+    }
+    let committed = std::fs::read_to_string(path).unwrap_or_default();
+    if committed != xml {
+        let line = committed
+            .lines()
+            .zip(xml.lines())
+            .position(|(a, b)| a != b)
+            .map_or(
+                committed.lines().count().min(xml.lines().count()) + 1,
+                |i| i + 1,
+            );
+        panic!(
+            "{} is stale (first difference at line {line}): regenerate it with \
+             `MECHFMU_BLESS=1 cargo test -p <crate> model_description` and commit it",
+            path.display()
+        );
     }
 }

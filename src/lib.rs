@@ -17,6 +17,7 @@
 //! See `docs/architecture.md` for how they fit together.
 
 pub mod cli;
+pub mod conformance;
 pub mod fmi2;
 pub mod guid;
 pub mod harness;
@@ -24,4 +25,7 @@ pub mod model;
 pub mod package;
 pub mod simulation;
 pub mod solver;
-// pub mod xml; (pending)
+pub mod xml;
+
+/// nalgebra, re-exported so mechanism crates use the same version as the runtime.
+pub use nalgebra;

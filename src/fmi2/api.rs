@@ -6,6 +6,7 @@
 #![allow(clippy::missing_safety_doc, non_upper_case_globals)]
 
 use super::ffi::*;
+use super::fmu_state::{FmuState, STATE_MAGIC};
 use super::instance::{Instance, MAGIC};
 use super::logger::Logger;
 use super::state::{self, Function, ModelState};
@@ -26,7 +27,10 @@ pub struct Failure {
 type Outcome = Result<fmi2Status, Failure>;
 
 fn error(message: impl Into<String>) -> Failure {
-    Failure { status: fmi2Error, message: message.into() }
+    Failure {
+        status: fmi2Error,
+        message: message.into(),
+    }
 }
 
 impl From<String> for Failure {
@@ -72,7 +76,8 @@ unsafe fn call<M: Mechanism>(
         match body(inst) {
             Ok(status) => status,
             Err(Failure { status, message }) => {
-                inst.logger.log(status, &format!("{}: {message}", function.name));
+                inst.logger
+                    .log(status, &format!("{}: {message}", function.name));
                 status
             }
         }
@@ -89,7 +94,10 @@ unsafe fn call<M: Mechanism>(
                 inst.state = ModelState::Error;
                 inst.logger.log(
                     fmi2Error,
-                    &format!("{}: internal error ({what}); the instance must be reset", function.name),
+                    &format!(
+                        "{}: internal error ({what}); the instance must be reset",
+                        function.name
+                    ),
                 );
             }
         }));
@@ -142,17 +150,18 @@ unsafe fn c_str<'a>(ptr: fmi2String) -> Option<&'a str> {
     unsafe { CStr::from_ptr(ptr) }.to_str().ok()
 }
 
-fn no_variables<T>(function: &str, vr: &[fmi2ValueReference], _values: &[T], kind: &str) -> Outcome {
+fn no_variables<T>(
+    function: &str,
+    vr: &[fmi2ValueReference],
+    _values: &[T],
+    kind: &str,
+) -> Outcome {
     match vr.first() {
         None => Ok(fmi2OK),
         Some(vr) => Err(error(format!(
             "value reference {vr} is not a variable of type {kind} (this FMU has only Real variables); called as {function}"
         ))),
     }
-}
-
-fn unsupported(what: &str) -> Outcome {
-    Err(error(format!("{what} is not supported by this FMU (see its modelDescription capabilities)")))
 }
 
 // ---------------------------------------------------------------------------------------
@@ -184,7 +193,12 @@ pub unsafe fn instantiate<M: Mechanism>(
         // SAFETY: non-NULL, aligned; the importer passes its callback table.
         let functions = unsafe { *functions };
         let name = unsafe { c_str(instance_name) }.unwrap_or("");
-        let logger = Logger::new(functions.logger, functions.componentEnvironment, name, logging_on != 0);
+        let logger = Logger::new(
+            functions.logger,
+            functions.componentEnvironment,
+            name,
+            logging_on != 0,
+        );
         let fail = |message: String| {
             logger.log(fmi2Error, &format!("fmi2Instantiate: {message}"));
             std::ptr::null_mut()
@@ -209,7 +223,9 @@ pub unsafe fn instantiate<M: Mechanism>(
             None => return fail("fmuGUID is NULL".into()),
         }
         match crate::model::Layout::new(M::VARIABLES) {
-            Ok(layout) => Box::into_raw(Box::new(Instance::<M>::new(logger, layout))) as fmi2Component,
+            Ok(layout) => {
+                Box::into_raw(Box::new(Instance::<M>::new(logger, layout))) as fmi2Component
+            }
             Err(message) => fail(message),
         }
     }));
@@ -224,7 +240,10 @@ pub unsafe fn free_instance<M: Mechanism>(c: fmi2Component) {
         if !state::FREE_INSTANCE.allowed.contains(inst.state) {
             inst.logger.log(
                 fmi2Error,
-                &format!("fmi2FreeInstance: illegal call sequence: the instance is {}", inst.state.name()),
+                &format!(
+                    "fmi2FreeInstance: illegal call sequence: the instance is {}",
+                    inst.state.name()
+                ),
             );
             return;
         }
@@ -271,10 +290,13 @@ pub unsafe fn setup_experiment<M: Mechanism>(
             let stop = (stop_time_defined != 0).then_some(stop_time);
             if let Some(stop) = stop {
                 if !(stop.is_finite() && stop >= start_time) {
-                    return Err(error(format!("stopTime = {stop} must be finite and ≥ startTime = {start_time}")));
+                    return Err(error(format!(
+                        "stopTime = {stop} must be finite and ≥ startTime = {start_time}"
+                    )));
                 }
             }
-            inst.sim.setup((tolerance_defined != 0).then_some(tolerance), start_time)?;
+            inst.sim
+                .setup((tolerance_defined != 0).then_some(tolerance), start_time)?;
             inst.stop_time = stop;
             inst.last_successful_time = start_time;
             Ok(fmi2OK)
@@ -300,7 +322,8 @@ pub unsafe fn exit_initialization_mode<M: Mechanism>(c: fmi2Component) -> fmi2St
             }
             inst.last_successful_time = inst.sim.time();
             inst.state = ModelState::StepComplete;
-            inst.logger.log(fmi2OK, &format!("initialized at t = {}", inst.sim.time()));
+            inst.logger
+                .log(fmi2OK, &format!("initialized at t = {}", inst.sim.time()));
             Ok(fmi2OK)
         })
     }
@@ -401,64 +424,160 @@ macro_rules! non_real_accessors {
     };
 }
 
-non_real_accessors!(get_integer, set_integer, fmi2Integer, "Integer", GET_INTEGER, SET_INTEGER);
-non_real_accessors!(get_boolean, set_boolean, fmi2Boolean, "Boolean", GET_BOOLEAN, SET_BOOLEAN);
+non_real_accessors!(
+    get_integer,
+    set_integer,
+    fmi2Integer,
+    "Integer",
+    GET_INTEGER,
+    SET_INTEGER
+);
+non_real_accessors!(
+    get_boolean,
+    set_boolean,
+    fmi2Boolean,
+    "Boolean",
+    GET_BOOLEAN,
+    SET_BOOLEAN
+);
 non_real_accessors!(get_string, set_string, fmi2String, "String", GET_STRING, SET_STRING);
 
 // ---------------------------------------------------------------------------------------
-// FMU state (not yet supported: declared false in the modelDescription)
+// FMU state
 // ---------------------------------------------------------------------------------------
 
-pub unsafe fn get_fmu_state<M: Mechanism>(c: fmi2Component, _s: *mut fmi2FMUstate) -> fmi2Status {
-    unsafe { call::<M>(c, state::GET_FMU_STATE, |_| unsupported("fmi2GetFMUstate")) }
+/// The live FMU state behind an importer's handle.
+unsafe fn fmu_state<'a>(s: fmi2FMUstate) -> Result<&'a mut FmuState, Failure> {
+    let ptr = s as *mut FmuState;
+    if ptr.is_null() || !ptr.is_aligned() {
+        return Err(error("the FMU state is NULL"));
+    }
+    // SAFETY: a handle from fmi2GetFMUstate/fmi2DeSerializeFMUstate (checked by its magic
+    // number, cleared when freed).
+    let state = unsafe { &mut *ptr };
+    if state.magic != STATE_MAGIC {
+        return Err(error(
+            "the FMU state is not a live state of this FMU (freed, or not from fmi2GetFMUstate)",
+        ));
+    }
+    Ok(state)
 }
 
-pub unsafe fn set_fmu_state<M: Mechanism>(c: fmi2Component, _s: fmi2FMUstate) -> fmi2Status {
-    unsafe { call::<M>(c, state::SET_FMU_STATE, |_| unsupported("fmi2SetFMUstate")) }
+/// Hands a state to the importer through `*slot`, reusing the state already there if any.
+unsafe fn store_state(slot: *mut fmi2FMUstate, state: FmuState) -> Outcome {
+    let slot = unsafe { out(slot, "FMUstate")? };
+    if slot.is_null() {
+        *slot = Box::into_raw(Box::new(state)) as fmi2FMUstate;
+    } else {
+        *unsafe { fmu_state(*slot)? } = state;
+    }
+    Ok(fmi2OK)
 }
 
-pub unsafe fn free_fmu_state<M: Mechanism>(c: fmi2Component, _s: *mut fmi2FMUstate) -> fmi2Status {
-    unsafe { call::<M>(c, state::FREE_FMU_STATE, |_| unsupported("fmi2FreeFMUstate")) }
+pub unsafe fn get_fmu_state<M: Mechanism>(c: fmi2Component, s: *mut fmi2FMUstate) -> fmi2Status {
+    unsafe { call::<M>(c, state::GET_FMU_STATE, |inst| store_state(s, inst.save())) }
+}
+
+pub unsafe fn set_fmu_state<M: Mechanism>(c: fmi2Component, s: fmi2FMUstate) -> fmi2Status {
+    unsafe {
+        call::<M>(c, state::SET_FMU_STATE, |inst| {
+            let saved = fmu_state(s)?;
+            inst.restore(saved)?;
+            Ok(fmi2OK)
+        })
+    }
+}
+
+pub unsafe fn free_fmu_state<M: Mechanism>(c: fmi2Component, s: *mut fmi2FMUstate) -> fmi2Status {
+    unsafe {
+        call::<M>(c, state::FREE_FMU_STATE, |_| {
+            let slot = out(s, "FMUstate")?;
+            if slot.is_null() {
+                return Ok(fmi2OK);
+            }
+            fmu_state(*slot)?.magic = 0;
+            // SAFETY: a live state created by Box::into_raw (magic checked, then cleared).
+            drop(Box::from_raw(*slot as *mut FmuState));
+            *slot = std::ptr::null_mut();
+            Ok(fmi2OK)
+        })
+    }
 }
 
 pub unsafe fn serialized_fmu_state_size<M: Mechanism>(
     c: fmi2Component,
-    _s: fmi2FMUstate,
-    _size: *mut usize,
+    s: fmi2FMUstate,
+    size: *mut usize,
 ) -> fmi2Status {
-    unsafe { call::<M>(c, state::SERIALIZED_FMU_STATE_SIZE, |_| unsupported("fmi2SerializedFMUstateSize")) }
+    unsafe {
+        call::<M>(c, state::SERIALIZED_FMU_STATE_SIZE, |_| {
+            let bytes = fmu_state(s)?.to_bytes::<M>();
+            *out(size, "size")? = bytes.len();
+            Ok(fmi2OK)
+        })
+    }
 }
 
 pub unsafe fn serialize_fmu_state<M: Mechanism>(
     c: fmi2Component,
-    _s: fmi2FMUstate,
-    _bytes: *mut fmi2Byte,
-    _size: usize,
+    s: fmi2FMUstate,
+    buffer: *mut fmi2Byte,
+    size: usize,
 ) -> fmi2Status {
-    unsafe { call::<M>(c, state::SERIALIZE_FMU_STATE, |_| unsupported("fmi2SerializeFMUstate")) }
+    unsafe {
+        call::<M>(c, state::SERIALIZE_FMU_STATE, |_| {
+            let bytes = fmu_state(s)?.to_bytes::<M>();
+            if size != bytes.len() {
+                return Err(error(format!(
+                    "size = {size}, but the serialized state has {} bytes (ask fmi2SerializedFMUstateSize)",
+                    bytes.len()
+                )));
+            }
+            let buffer = slice_mut(buffer as *mut u8, size, "serializedState[]")?;
+            buffer.copy_from_slice(&bytes);
+            Ok(fmi2OK)
+        })
+    }
 }
 
 pub unsafe fn deserialize_fmu_state<M: Mechanism>(
     c: fmi2Component,
-    _bytes: *const fmi2Byte,
-    _size: usize,
-    _s: *mut fmi2FMUstate,
+    bytes: *const fmi2Byte,
+    size: usize,
+    s: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    unsafe { call::<M>(c, state::DESERIALIZE_FMU_STATE, |_| unsupported("fmi2DeSerializeFMUstate")) }
+    unsafe {
+        call::<M>(c, state::DESERIALIZE_FMU_STATE, |_| {
+            let bytes = slice(bytes as *const u8, size, "serializedState[]")?;
+            let state = FmuState::from_bytes::<M>(bytes)?;
+            store_state(s, state)
+        })
+    }
 }
 
 pub unsafe fn get_directional_derivative<M: Mechanism>(
     c: fmi2Component,
-    _unknowns: *const fmi2ValueReference,
-    _n_unknowns: usize,
-    _knowns: *const fmi2ValueReference,
-    _n_knowns: usize,
-    _dv_known: *const fmi2Real,
-    _dv_unknown: *mut fmi2Real,
+    unknowns: *const fmi2ValueReference,
+    n_unknowns: usize,
+    knowns: *const fmi2ValueReference,
+    n_knowns: usize,
+    dv_known: *const fmi2Real,
+    dv_unknown: *mut fmi2Real,
 ) -> fmi2Status {
     unsafe {
-        call::<M>(c, state::GET_DIRECTIONAL_DERIVATIVE, |_| {
-            unsupported("fmi2GetDirectionalDerivative")
+        call::<M>(c, state::GET_DIRECTIONAL_DERIVATIVE, |inst| {
+            let unknowns = slice(unknowns, n_unknowns, "vUnknown_ref[]")?;
+            let knowns = slice(knowns, n_knowns, "vKnown_ref[]")?;
+            let dv_known = slice(dv_known, n_knowns, "dvKnown[]")?;
+            let dv_unknown = slice_mut(dv_unknown, n_unknowns, "dvUnknown[]")?;
+            if let Some(x) = dv_known.iter().find(|x| !x.is_finite()) {
+                return Err(error(format!(
+                    "dvKnown contains {x}: every seed must be finite"
+                )));
+            }
+            inst.sim
+                .directional_derivative(unknowns, knowns, dv_known, dv_unknown)?;
+            Ok(fmi2OK)
         })
     }
 }
@@ -469,28 +588,43 @@ pub unsafe fn get_directional_derivative<M: Mechanism>(
 
 pub unsafe fn set_real_input_derivatives<M: Mechanism>(
     c: fmi2Component,
-    _vr: *const fmi2ValueReference,
-    _nvr: usize,
-    _order: *const fmi2Integer,
-    _value: *const fmi2Real,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    order: *const fmi2Integer,
+    value: *const fmi2Real,
 ) -> fmi2Status {
     unsafe {
-        call::<M>(c, state::SET_REAL_INPUT_DERIVATIVES, |_| {
-            unsupported("fmi2SetRealInputDerivatives")
+        call::<M>(c, state::SET_REAL_INPUT_DERIVATIVES, |inst| {
+            let vr = slice(vr, nvr, "vr[]")?;
+            let order = slice(order, nvr, "order[]")?;
+            let value = slice(value, nvr, "value[]")?;
+            // Check all before changing any.
+            let mut probe = inst.sim.clone();
+            for ((&vr, &order), &value) in vr.iter().zip(order).zip(value) {
+                probe.set_input_derivative(vr, order, value)?;
+            }
+            for ((&vr, &order), &value) in vr.iter().zip(order).zip(value) {
+                inst.sim.set_input_derivative(vr, order, value)?;
+            }
+            Ok(fmi2OK)
         })
     }
 }
 
 pub unsafe fn get_real_output_derivatives<M: Mechanism>(
     c: fmi2Component,
-    _vr: *const fmi2ValueReference,
-    _nvr: usize,
-    _order: *const fmi2Integer,
-    _value: *mut fmi2Real,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    order: *const fmi2Integer,
+    value: *mut fmi2Real,
 ) -> fmi2Status {
     unsafe {
-        call::<M>(c, state::GET_REAL_OUTPUT_DERIVATIVES, |_| {
-            unsupported("fmi2GetRealOutputDerivatives")
+        call::<M>(c, state::GET_REAL_OUTPUT_DERIVATIVES, |inst| {
+            let vr = slice(vr, nvr, "vr[]")?;
+            let order = slice(order, nvr, "order[]")?;
+            let value = slice_mut(value, nvr, "value[]")?;
+            inst.sim.output_derivatives(vr, order, value)?;
+            Ok(fmi2OK)
         })
     }
 }
@@ -516,11 +650,16 @@ pub unsafe fn do_step<M: Mechanism>(
             match inst.sim.step(t, h) {
                 Ok(report) => {
                     for warning in &report.warnings {
-                        inst.logger.log(fmi2Warning, &format!("fmi2DoStep: {warning}"));
+                        inst.logger
+                            .log(fmi2Warning, &format!("fmi2DoStep: {warning}"));
                     }
                     inst.last_successful_time = inst.sim.time();
                     inst.last_step_status = fmi2OK;
-                    Ok(if report.warnings.is_empty() { fmi2OK } else { fmi2Warning })
+                    Ok(if report.warnings.is_empty() {
+                        fmi2OK
+                    } else {
+                        fmi2Warning
+                    })
                 }
                 Err(StepFailure::Rejected(message)) => Err(error(message)),
                 Err(StepFailure::Stopped { time, message }) => {
@@ -559,7 +698,8 @@ pub unsafe fn get_status<M: Mechanism>(
                 }
                 fmi2PendingStatus => Err(Failure {
                     status: fmi2Discard,
-                    message: "fmi2PendingStatus: no step is pending (steps run synchronously)".into(),
+                    message: "fmi2PendingStatus: no step is pending (steps run synchronously)"
+                        .into(),
                 }),
                 _ => Err(Failure {
                     status: fmi2Discard,
@@ -585,7 +725,9 @@ pub unsafe fn get_real_status<M: Mechanism>(
                 }
                 _ => Err(Failure {
                     status: fmi2Discard,
-                    message: format!("status kind {kind} is not a real status (fmi2LastSuccessfulTime = 2 is)"),
+                    message: format!(
+                        "status kind {kind} is not a real status (fmi2LastSuccessfulTime = 2 is)"
+                    ),
                 }),
             }
         })
@@ -622,7 +764,9 @@ pub unsafe fn get_boolean_status<M: Mechanism>(
                 }
                 _ => Err(Failure {
                     status: fmi2Discard,
-                    message: format!("status kind {kind} is not a boolean status (fmi2Terminated = 3 is)"),
+                    message: format!(
+                        "status kind {kind} is not a boolean status (fmi2Terminated = 3 is)"
+                    ),
                 }),
             }
         })
@@ -640,7 +784,9 @@ pub unsafe fn get_string_status<M: Mechanism>(
             *value = c"".as_ptr();
             Err(Failure {
                 status: fmi2Discard,
-                message: format!("status kind {kind}: there is no string status (no step is pending)"),
+                message: format!(
+                    "status kind {kind}: there is no string status (no step is pending)"
+                ),
             })
         })
     }
@@ -650,7 +796,9 @@ pub unsafe fn get_string_status<M: Mechanism>(
 /// returns its length. Never fails: a NULL buffer just asks for the length.
 pub unsafe fn model_description<M: Mechanism>(buffer: *mut u8, capacity: usize) -> usize {
     catch_unwind(|| {
-        let xml = String::new(); // XML PENDING
+        // A declaration the generator refuses (e.g. an unknown unit) yields the message
+        // instead, which `mechfmu build` reports.
+        let xml = crate::xml::model_description::<M>().unwrap_or_else(|e| format!("error: {e}"));
         let bytes = xml.as_bytes();
         if !buffer.is_null() && capacity > bytes.len() {
             // SAFETY: the caller gives `capacity` writable bytes at `buffer`.

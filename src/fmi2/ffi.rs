@@ -46,10 +46,12 @@ pub type fmi2CallbackLogger = Option<
         ...
     ),
 >;
-pub type fmi2CallbackAllocateMemory = Option<unsafe extern "C" fn(nobj: usize, size: usize) -> *mut c_void>;
+pub type fmi2CallbackAllocateMemory =
+    Option<unsafe extern "C" fn(nobj: usize, size: usize) -> *mut c_void>;
 pub type fmi2CallbackFreeMemory = Option<unsafe extern "C" fn(obj: *mut c_void)>;
-pub type fmi2StepFinished =
-    Option<unsafe extern "C" fn(componentEnvironment: fmi2ComponentEnvironment, status: fmi2Status)>;
+pub type fmi2StepFinished = Option<
+    unsafe extern "C" fn(componentEnvironment: fmi2ComponentEnvironment, status: fmi2Status),
+>;
 
 /// The importer's callbacks (layout of the header's `fmi2CallbackFunctions`).
 #[repr(C)]

@@ -2,6 +2,7 @@
 //! machine.
 
 use super::ffi::*;
+use super::fmu_state::{FmuState, STATE_MAGIC};
 use super::logger::Logger;
 use super::state::ModelState;
 use crate::model::{Layout, Mechanism};
@@ -46,5 +47,31 @@ impl<M: Mechanism> Instance<M> {
         self.last_successful_time = 0.0;
         self.terminated = false;
         self.last_step_status = fmi2OK;
+    }
+}
+
+impl<M: Mechanism> Instance<M> {
+    /// Captures the instance for `fmi2GetFMUstate`.
+    pub fn save(&self) -> FmuState {
+        FmuState {
+            magic: STATE_MAGIC,
+            sim: self.sim.save(),
+            model_state: self.state,
+            stop_time: self.stop_time,
+            last_successful_time: self.last_successful_time,
+            terminated: self.terminated,
+            last_step_status: self.last_step_status,
+        }
+    }
+
+    /// Restores a captured state (`fmi2SetFMUstate`).
+    pub fn restore(&mut self, saved: &FmuState) -> Result<(), String> {
+        self.sim.restore(&saved.sim)?;
+        self.state = saved.model_state;
+        self.stop_time = saved.stop_time;
+        self.last_successful_time = saved.last_successful_time;
+        self.terminated = saved.terminated;
+        self.last_step_status = saved.last_step_status;
+        Ok(())
     }
 }

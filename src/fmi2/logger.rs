@@ -6,9 +6,18 @@ use std::ffi::CString;
 
 /// The log categories declared in every modelDescription, with their descriptions.
 pub const CATEGORIES: [(&str, &str); 6] = [
-    ("logEvents", "Initialization, parameter changes and solver statistics"),
-    ("logStatusWarning", "Messages of calls that return fmi2Warning"),
-    ("logStatusDiscard", "Messages of calls that return fmi2Discard"),
+    (
+        "logEvents",
+        "Initialization, parameter changes and solver statistics",
+    ),
+    (
+        "logStatusWarning",
+        "Messages of calls that return fmi2Warning",
+    ),
+    (
+        "logStatusDiscard",
+        "Messages of calls that return fmi2Discard",
+    ),
     ("logStatusError", "Messages of calls that return fmi2Error"),
     ("logStatusFatal", "Messages of calls that return fmi2Fatal"),
     ("logAll", "All of the above"),

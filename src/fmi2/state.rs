@@ -109,7 +109,10 @@ pub const ENTER_INITIALIZATION_MODE: Function =
     f("fmi2EnterInitializationMode", mask(&[S::Instantiated]));
 pub const EXIT_INITIALIZATION_MODE: Function =
     f("fmi2ExitInitializationMode", mask(&[S::InitializationMode]));
-pub const TERMINATE: Function = f("fmi2Terminate", mask(&[S::StepComplete, S::StepFailed, S::StepCanceled]));
+pub const TERMINATE: Function = f(
+    "fmi2Terminate",
+    mask(&[S::StepComplete, S::StepFailed, S::StepCanceled]),
+);
 pub const RESET: Function = f("fmi2Reset", FREEABLE);
 pub const GET_REAL: Function = f("fmi2GetReal", READABLE);
 pub const GET_INTEGER: Function = f("fmi2GetInteger", READABLE);
@@ -129,7 +132,13 @@ pub const GET_DIRECTIONAL_DERIVATIVE: Function = f("fmi2GetDirectionalDerivative
 pub const SET_REAL_INPUT_DERIVATIVES: Function = f("fmi2SetRealInputDerivatives", WRITABLE);
 pub const GET_REAL_OUTPUT_DERIVATIVES: Function = f(
     "fmi2GetRealOutputDerivatives",
-    mask(&[S::StepComplete, S::StepFailed, S::StepCanceled, S::Terminated, S::Error]),
+    mask(&[
+        S::StepComplete,
+        S::StepFailed,
+        S::StepCanceled,
+        S::Terminated,
+        S::Error,
+    ]),
 );
 pub const DO_STEP: Function = f("fmi2DoStep", mask(&[S::StepComplete]));
 pub const CANCEL_STEP: Function = f("fmi2CancelStep", mask(&[S::StepInProgress]));

@@ -257,16 +257,25 @@ impl Variable {
             return Err(format!("{} = {value} is not a finite number", self.name));
         }
         if self.positive && value <= 0.0 {
-            return Err(format!("{} = {value} is not allowed: it must be > 0", self.name));
+            return Err(format!(
+                "{} = {value} is not allowed: it must be > 0",
+                self.name
+            ));
         }
         if let Some(min) = self.min {
             if value < min {
-                return Err(format!("{} = {value} is below its minimum {min}", self.name));
+                return Err(format!(
+                    "{} = {value} is below its minimum {min}",
+                    self.name
+                ));
             }
         }
         if let Some(max) = self.max {
             if value > max {
-                return Err(format!("{} = {value} is above its maximum {max}", self.name));
+                return Err(format!(
+                    "{} = {value} is above its maximum {max}",
+                    self.name
+                ));
             }
         }
         Ok(())

@@ -5,9 +5,10 @@
 //! start values and at two pseudo-random points near them (fixed seed, so the result is
 //! deterministic), each known is moved by 1e-3 relative (1e-3 absolute when it is zero),
 //! [`Mechanism::calculate`] and [`Mechanism::evaluate`] are run again, and every unknown
-//! whose value changed depends on that known. The random points also move the time, the
-//! parameters and the states, so that a dependency hidden at the start point (a term
-//! `l sin(phi)` at `phi = 0`, `F0 sin(omega t)` at `t = 0`) still shows.
+//! whose value changed (by more than rounding) depends on that known. The random points
+//! also move the time, the parameters and the states, so that a dependency hidden at the
+//! start point (a term `l sin(phi)` at `phi = 0`, `F0 sin(omega t)` at `t = 0`, a damping
+//! that starts at 0) still shows.
 
 use std::collections::BTreeSet;
 
@@ -60,7 +61,9 @@ fn is_unknown_initially(v: &Variable) -> bool {
 /// Per FMI 2.0.5 (section 2.2.8): for Co-Simulation, `<Derivatives>` is ignored and
 /// `dependencies` do not list the continuous-time states unless
 /// `providesDirectionalDerivative` is true; so both follow that capability.
-pub fn model_structure<M: Mechanism>(capabilities: &Capabilities) -> Result<ModelStructure, String> {
+pub fn model_structure<M: Mechanism>(
+    capabilities: &Capabilities,
+) -> Result<ModelStructure, String> {
     let variables = M::VARIABLES;
     let layout = Layout::new(variables).map_err(|e| format!("{}: {e}", M::NAME))?;
     let with_states = capabilities.provides_directional_derivative;
@@ -204,8 +207,13 @@ fn points<M: Mechanism>() -> Result<Vec<M::Values<f64>>, String> {
         for (vr, v) in M::VARIABLES.iter().enumerate() {
             let Some(x) = v.start else { continue };
             let scale = if x != 0.0 { x.abs() } else { 1.0 };
-            let y = x + 0.1 * scale * rng.symmetric();
-            if v.check_value(y).is_ok() {
+            let dx = 0.1 * scale * rng.symmetric();
+            // Outside its bounds, the other way (a damping that starts at its minimum 0 is
+            // moved up, so that the terms it multiplies show).
+            if let Some(y) = [x + dx, x - dx]
+                .into_iter()
+                .find(|&y| v.check_value(y).is_ok())
+            {
                 p.set(vr, y);
             }
         }
@@ -232,8 +240,14 @@ fn perturbed<M: Mechanism>(p: &M::Values<f64>, vr: usize) -> Option<M::Values<f6
     })
 }
 
+/// Whether an unknown moved: by more than rounding (1e-10 relative), so that an expression
+/// such as `m a / (m g)` does not make a dependency on `m` out of its last bits. A genuine
+/// dependency moves it by about 1e-3 times its relative sensitivity.
 fn changed(a: Option<f64>, b: Option<f64>) -> bool {
     match (a, b) {
+        (Some(a), Some(b)) if a.is_finite() && b.is_finite() => {
+            (a - b).abs() > 1e-10 * a.abs().max(b.abs())
+        }
         (Some(a), Some(b)) => !(a == b || (a.is_nan() && b.is_nan())),
         _ => false,
     }

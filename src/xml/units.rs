@@ -40,10 +40,34 @@ pub const SYMBOLS: &[(&str, BaseUnit)] = &[
     ("kg", base(1, 0, 0, 0)),
     ("m", base(0, 1, 0, 0)),
     ("s", base(0, 0, 1, 0)),
-    ("A", BaseUnit { a: 1, ..base(0, 0, 0, 0) }),
-    ("K", BaseUnit { k: 1, ..base(0, 0, 0, 0) }),
-    ("mol", BaseUnit { mol: 1, ..base(0, 0, 0, 0) }),
-    ("cd", BaseUnit { cd: 1, ..base(0, 0, 0, 0) }),
+    (
+        "A",
+        BaseUnit {
+            a: 1,
+            ..base(0, 0, 0, 0)
+        },
+    ),
+    (
+        "K",
+        BaseUnit {
+            k: 1,
+            ..base(0, 0, 0, 0)
+        },
+    ),
+    (
+        "mol",
+        BaseUnit {
+            mol: 1,
+            ..base(0, 0, 0, 0)
+        },
+    ),
+    (
+        "cd",
+        BaseUnit {
+            cd: 1,
+            ..base(0, 0, 0, 0)
+        },
+    ),
     ("rad", base(0, 0, 0, 1)),
     ("N", base(1, 1, -2, 0)),
     ("J", base(1, 2, -2, 0)),
@@ -302,8 +326,21 @@ mod tests {
     #[test]
     fn errors_name_the_unit() {
         for bad in [
-            "", "furlong", "N.x/m", "m/s/s", "m..s", "/s", "m/", "m.", "2", "m 2", "m2.5", "m-",
-            "kg.m2/", "1.m", "m99999999999",
+            "",
+            "furlong",
+            "N.x/m",
+            "m/s/s",
+            "m..s",
+            "/s",
+            "m/",
+            "m.",
+            "2",
+            "m 2",
+            "m2.5",
+            "m-",
+            "kg.m2/",
+            "1.m",
+            "m99999999999",
         ] {
             let err = parse(bad).expect_err(bad);
             assert!(err.contains(&format!("\"{bad}\"")), "{bad}: {err}");
@@ -340,8 +377,26 @@ mod tests {
         assert_eq!(quantity("kg.m2/s"), Some("AngularMomentum"));
         // Every quantity in the table is for a unit that parses.
         for unit in [
-            "m", "m/s", "m/s2", "kg", "s", "N", "N.m", "N.s", "rad", "rad/s", "rad/s2", "J", "W",
-            "kg.m2", "kg.m/s", "kg.m2/s", "N/m", "N.s/m", "N.m/rad", "N.m.s/rad",
+            "m",
+            "m/s",
+            "m/s2",
+            "kg",
+            "s",
+            "N",
+            "N.m",
+            "N.s",
+            "rad",
+            "rad/s",
+            "rad/s2",
+            "J",
+            "W",
+            "kg.m2",
+            "kg.m/s",
+            "kg.m2/s",
+            "N/m",
+            "N.s/m",
+            "N.m/rad",
+            "N.m.s/rad",
         ] {
             assert!(quantity(unit).is_some() && parse(unit).is_ok(), "{unit}");
         }

@@ -453,6 +453,26 @@ def test_simulate_matches_closed_form(fmu, case: Case, interval: float):
     _check_against_reference(case, interval, res, x_ref, v_ref, a_ref, f"{case.name}@{interval}")
 
 
+@pytest.mark.parametrize("interval", [0.5, 2.5])
+def test_tolerance_is_honoured_over_long_communication_steps(fmu, interval):
+    """With communication steps far longer than the solver's steps, the accuracy must come
+    from the tolerance given to fmi2SetupExperiment: 1e-8 still meets the 1e-6 criterion,
+    and a tighter tolerance gives a smaller error than a looser one."""
+    case = next(c for c in CASES if c.name == "harmonic_w1.9_z0.1")
+    errs = {}
+    for rtol in (1e-4, 1e-8, 1e-11):
+        res = simulate(fmu(NAME), relative_tolerance=rtol, output_interval=interval,
+                       start_values=case.start_values(), stop_time=STOP, output=["x"])
+        assert res.time[-1] == pytest.approx(STOP)
+        x_ref, _, _ = case.reference(res.time)
+        err, rng, _ = max_error(res["x"], x_ref)
+        errs[rtol] = err / rng
+    print(f"long steps {interval}: relative error by tolerance {errs}")
+    assert errs[1e-8] <= REL_LIMIT, f"rtol 1e-8, communication step {interval}: {errs[1e-8]:.3e} of range"
+    assert errs[1e-11] < errs[1e-4], f"a tighter tolerance did not reduce the error: {errs}"
+    assert errs[1e-11] <= 1e-8, f"rtol 1e-11 gives only {errs[1e-11]:.3e} of range"
+
+
 def test_default_experiment_runs_without_arguments(fmu):
     """simulate_fmu with nothing but the file: DefaultExperiment, defaults, free response."""
     res = simulate(fmu(NAME), relative_tolerance=None, output=["x", "x_dot", "x_ddot"])

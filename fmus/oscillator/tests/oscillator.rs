@@ -140,3 +140,16 @@ fn tunable_damping_takes_effect_at_the_next_step() {
     b.step_to(2.0, 0.01).unwrap();
     assert!((a.get("x") - b.get("x")).abs() > 1e-3);
 }
+
+#[test]
+fn model_description_is_current() {
+    mechfmu::harness::check_model_description::<Oscillator>(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../modelDescription/Oscillator.xml"
+    ));
+}
+
+#[test]
+fn conforms() {
+    mechfmu::conformance::check::<Oscillator>();
+}

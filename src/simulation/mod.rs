@@ -1,8 +1,26 @@
 //! A mechanism being simulated: its values, its states under the ODE solver, and the rules
 //! of setting and getting values. Knows nothing of C or of the FMI state machine.
 
+mod derivatives;
+
 use crate::model::{Layout, Mechanism, Monitor, SetPhase, ValueSet, Variable};
-use crate::solver::{Dopri5, OdeSystem, SolverError, StepStats, Tolerance};
+use crate::solver::{Dopri5, OdeSystem, SolverError, SolverMemory, StepStats, Tolerance};
+
+/// Everything that determines a simulation's future, as plain data: what an FMU state
+/// captures and what its serialized form carries.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SavedState {
+    /// Every variable's value (by value reference), then the time.
+    pub values: Vec<f64>,
+    /// Input values at the current communication point, by input index.
+    pub inputs: Vec<f64>,
+    /// Their first and second time derivatives there.
+    pub input_derivatives: Vec<[f64; 2]>,
+    pub solver: SolverMemory,
+    pub tolerance: Tolerance,
+    pub warning_active: bool,
+    pub dirty: bool,
+}
 
 /// Why a communication step did not complete.
 #[derive(Clone, Debug, PartialEq)]
@@ -91,7 +109,9 @@ impl<M: Mechanism> Simulation<M> {
         for (i, &vr) in self.layout.inputs.iter().enumerate() {
             self.inputs[i] = self.values.get(vr).unwrap_or(0.0);
         }
-        self.input_derivatives.iter_mut().for_each(|d| *d = [0.0; 2]);
+        self.input_derivatives
+            .iter_mut()
+            .for_each(|d| *d = [0.0; 2]);
         self.solver.forget();
         self.tolerance = tolerance(M::EXPERIMENT.tolerance);
         self.warning_active = false;
@@ -112,7 +132,11 @@ impl<M: Mechanism> Simulation<M> {
 
     /// `fmi2SetupExperiment`: the relative tolerance (None: the DefaultExperiment's) and the
     /// start time.
-    pub fn setup(&mut self, relative_tolerance: Option<f64>, start_time: f64) -> Result<(), String> {
+    pub fn setup(
+        &mut self,
+        relative_tolerance: Option<f64>,
+        start_time: f64,
+    ) -> Result<(), String> {
         if !start_time.is_finite() {
             return Err(format!("startTime = {start_time} is not a finite number"));
         }
@@ -135,7 +159,8 @@ impl<M: Mechanism> Simulation<M> {
                     "variable `{}` (value reference {vr}) cannot be set {}",
                     var.name,
                     match phase {
-                        SetPhase::Running => "after initialization (only inputs and tunable parameters can)",
+                        SetPhase::Running =>
+                            "after initialization (only inputs and tunable parameters can)",
                         _ => "(it is computed by the model)",
                     }
                 ));
@@ -152,9 +177,12 @@ impl<M: Mechanism> Simulation<M> {
         for (&vr, &value) in vrs.iter().zip(values) {
             self.values.set(vr as usize, value);
             if let Some(i) = self.layout.input_index(vr as usize) {
+                // A new value starts a new polynomial: derivatives set before it are stale.
                 self.inputs[i] = value;
+                self.input_derivatives[i] = [0.0; 2];
             } else {
-                parameter_changed |= M::VARIABLES[vr as usize].causality == crate::model::Causality::Parameter;
+                parameter_changed |=
+                    M::VARIABLES[vr as usize].causality == crate::model::Causality::Parameter;
             }
         }
         if let Some(saved) = saved {
@@ -212,17 +240,74 @@ impl<M: Mechanism> Simulation<M> {
         M::evaluate(&mut self.values);
     }
 
+    /// Captures everything that determines the future.
+    pub fn save(&self) -> SavedState {
+        let n = M::VARIABLES.len();
+        let mut values: Vec<f64> = (0..n)
+            .map(|vr| self.values.get(vr).unwrap_or(f64::NAN))
+            .collect();
+        values.push(self.values.time());
+        SavedState {
+            values,
+            inputs: self.inputs.clone(),
+            input_derivatives: self.input_derivatives.clone(),
+            solver: self.solver.memory(),
+            tolerance: self.tolerance,
+            warning_active: self.warning_active,
+            dirty: self.dirty,
+        }
+    }
+
+    /// Restores a saved state; `Err` if it was not saved from this mechanism's layout.
+    pub fn restore(&mut self, saved: &SavedState) -> Result<(), String> {
+        let n = M::VARIABLES.len();
+        if saved.values.len() != n + 1
+            || saved.inputs.len() != self.inputs.len()
+            || saved.input_derivatives.len() != self.inputs.len()
+        {
+            return Err(format!(
+                "the state has {} values and {} inputs; {} has {} and {}",
+                saved.values.len().saturating_sub(1),
+                saved.inputs.len(),
+                M::NAME,
+                n,
+                self.inputs.len()
+            ));
+        }
+        for (vr, &x) in saved.values[..n].iter().enumerate() {
+            self.values.set(vr, x);
+        }
+        self.values.set_time(saved.values[n]);
+        self.inputs.copy_from_slice(&saved.inputs);
+        self.input_derivatives
+            .copy_from_slice(&saved.input_derivatives);
+        self.solver.restore(saved.solver);
+        self.tolerance = saved.tolerance;
+        self.warning_active = saved.warning_active;
+        self.dirty = saved.dirty;
+        Ok(())
+    }
+
     /// Sets the derivatives of inputs for the next step (`order` 1 or 2).
     pub fn set_input_derivative(&mut self, vr: u32, order: i32, value: f64) -> Result<(), String> {
         let var = variable::<M>(vr)?;
         let Some(i) = self.layout.input_index(vr as usize) else {
-            return Err(format!("variable `{}` (value reference {vr}) is not an input", var.name));
+            return Err(format!(
+                "variable `{}` (value reference {vr}) is not an input",
+                var.name
+            ));
         };
         if !(1..=2).contains(&order) {
-            return Err(format!("derivative order {order} of `{}` is not supported (1 or 2)", var.name));
+            return Err(format!(
+                "derivative order {order} of `{}` is not supported (1 or 2)",
+                var.name
+            ));
         }
         if !value.is_finite() {
-            return Err(format!("derivative of `{}` = {value} is not a finite number", var.name));
+            return Err(format!(
+                "derivative of `{}` = {value} is not a finite number",
+                var.name
+            ));
         }
         self.input_derivatives[i][order as usize - 1] = value;
         Ok(())
@@ -262,16 +347,23 @@ impl<M: Mechanism> Simulation<M> {
             warning_active: &mut self.warning_active,
             warnings: &mut report.warnings,
         };
-        let result = self
-            .solver
-            .integrate(&mut system, &mut time, t_end, &mut self.y, self.tolerance);
+        let result =
+            self.solver
+                .integrate(&mut system, &mut time, t_end, &mut self.y, self.tolerance);
         // Whatever happened, the values describe the last accepted point.
         system.load(time, &self.y);
         M::evaluate(system.values);
+        // The inputs move on along their polynomials to the new communication point (with
+        // no derivatives set, they stay as they were).
+        let dt = time - t;
         for (i, &vr) in self.layout.inputs.iter().enumerate() {
+            let [d1, d2] = self.input_derivatives[i];
+            self.inputs[i] += dt * (d1 + 0.5 * dt * d2);
+            self.input_derivatives[i] = [d1 + dt * d2, d2];
             self.values.set(vr, self.inputs[i]);
         }
-        self.values.set_time(if result.is_ok() { t_end } else { time });
+        self.values
+            .set_time(if result.is_ok() { t_end } else { time });
         match result {
             Ok(stats) => {
                 report.stats = stats;
@@ -283,7 +375,10 @@ impl<M: Mechanism> Simulation<M> {
                 }
                 Ok(report)
             }
-            Err(e) => Err(StepFailure::Stopped { time, message: describe(&e) }),
+            Err(e) => Err(StepFailure::Stopped {
+                time,
+                message: describe(&e),
+            }),
         }
     }
 
@@ -340,7 +435,13 @@ impl<M: Mechanism> System<'_, M> {
             self.values.set(vr, x);
         }
         let dt = t - self.t0;
-        for ((&vr, &u), d) in self.layout.inputs.iter().zip(self.inputs).zip(self.input_derivatives) {
+        for ((&vr, &u), d) in self
+            .layout
+            .inputs
+            .iter()
+            .zip(self.inputs)
+            .zip(self.input_derivatives)
+        {
             self.values.set(vr, u + dt * (d[0] + 0.5 * dt * d[1]));
         }
     }
