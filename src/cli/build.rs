@@ -1,110 +1,13 @@
-//! The `mechfmu` command: build and package FMUs, list mechanisms.
+//! `mechfmu build` and `mechfmu list`: compile mechanism crates and package their FMUs.
 
-use clap::{Parser, Subcommand};
+use super::workspace::{cargo, mechanism_crates, MechanismCrate};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{BufRead, BufReader, IsTerminal};
 use std::path::{Path, PathBuf};
-use std::process::{Command, ExitCode, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-#[derive(Parser)]
-#[command(
-    name = "mechfmu",
-    version,
-    about = "Turns mechanical models into FMI 2.0 Co-Simulation FMUs"
-)]
-struct Cli {
-    #[command(subcommand)]
-    command: Cmd,
-}
-
-#[derive(Subcommand)]
-enum Cmd {
-    /// Build (release) and package FMUs: the named mechanisms, or all of them.
-    Build {
-        /// Model identifiers, e.g. Oscillator Crane (default: every mechanism).
-        names: Vec<String>,
-        /// Where to write the .fmu files.
-        #[arg(long, default_value = "fmus")]
-        out: PathBuf,
-        /// The Cargo.toml of the workspace or crate holding the mechanisms.
-        #[arg(long)]
-        manifest_path: Option<PathBuf>,
-    },
-    /// List the mechanisms of the workspace.
-    List {
-        #[arg(long)]
-        manifest_path: Option<PathBuf>,
-    },
-}
-
-pub fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let result = match cli.command {
-        Cmd::Build {
-            names,
-            out,
-            manifest_path,
-        } => build(&names, &out, manifest_path.as_deref()),
-        Cmd::List { manifest_path } => list(manifest_path.as_deref()),
-    };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("error: {message}");
-            ExitCode::FAILURE
-        }
-    }
-}
-
-/// A crate that builds one FMU (its Cargo.toml has `[package.metadata.mechfmu] model = ...`).
-#[derive(Clone, Debug)]
-pub struct MechanismCrate {
-    pub model: String,
-    pub package: String,
-    pub manifest: PathBuf,
-}
-
-/// The mechanism crates of the workspace (or crate) at `manifest_path`.
-pub fn mechanism_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCrate>, String> {
-    let mut cmd = Command::new(cargo());
-    cmd.args(["metadata", "--format-version", "1", "--no-deps"]);
-    if let Some(path) = manifest_path {
-        cmd.arg("--manifest-path").arg(path);
-    }
-    let output = cmd
-        .output()
-        .map_err(|e| format!("cannot run cargo metadata: {e}"))?;
-    if !output.status.success() {
-        return Err(format!(
-            "cargo metadata failed:\n{}",
-            String::from_utf8_lossy(&output.stderr).trim()
-        ));
-    }
-    let meta: serde_json::Value = serde_json::from_slice(&output.stdout)
-        .map_err(|e| format!("cannot read cargo metadata's output: {e}"))?;
-    let mut crates: Vec<MechanismCrate> = meta["packages"]
-        .as_array()
-        .into_iter()
-        .flatten()
-        .filter_map(|p| {
-            let model = p["metadata"]["mechfmu"]["model"].as_str()?;
-            Some(MechanismCrate {
-                model: model.to_string(),
-                package: p["name"].as_str()?.to_string(),
-                manifest: PathBuf::from(p["manifest_path"].as_str()?),
-            })
-        })
-        .collect();
-    crates.sort_by(|a, b| a.model.cmp(&b.model));
-    Ok(crates)
-}
-
-fn cargo() -> String {
-    std::env::var("CARGO").unwrap_or_else(|_| "cargo".into())
-}
-
-fn list(manifest_path: Option<&Path>) -> Result<(), String> {
+pub(crate) fn list(manifest_path: Option<&Path>) -> Result<(), String> {
     for c in mechanism_crates(manifest_path)? {
         println!("{:<20} {:<24} {}", c.model, c.package, c.manifest.display());
     }
@@ -130,7 +33,7 @@ fn select(all: Vec<MechanismCrate>, names: &[String]) -> Result<Vec<MechanismCra
         .collect()
 }
 
-fn build(names: &[String], out: &Path, manifest_path: Option<&Path>) -> Result<(), String> {
+pub(crate) fn build(names: &[String], out: &Path, manifest_path: Option<&Path>) -> Result<(), String> {
     let started = Instant::now();
     let selected = select(mechanism_crates(manifest_path)?, names)?;
     let libraries = cargo_build(&selected, manifest_path)?;
