@@ -3,8 +3,10 @@
 
 mod bench;
 mod build;
+mod new;
 mod python;
 mod sweep;
+mod validate;
 mod workspace;
 
 pub use build::{model_description_of, package_fmu};
@@ -42,8 +44,12 @@ enum Cmd {
     },
     /// Benchmark FMUs: cost per step, plumbing vs physics, work–precision.
     Bench(bench::Args),
+    /// Scaffold a mechanism crate of your own (a working pendulum to edit).
+    New(new::Args),
     /// Run a parameter sweep of an FMU on Dask.
     Sweep(sweep::Args),
+    /// Validate FMUs: FMPy's and mechfmu's checks, the reference cases under FMPy and libcosim.
+    Validate(validate::Args),
 }
 
 pub fn main() -> ExitCode {
@@ -52,7 +58,9 @@ pub fn main() -> ExitCode {
         Cmd::Build { names, out, manifest_path } => build::build(&names, &out, manifest_path.as_deref()),
         Cmd::List { manifest_path } => build::list(manifest_path.as_deref()),
         Cmd::Bench(args) => bench::run(args),
+        Cmd::New(args) => new::run(args),
         Cmd::Sweep(args) => sweep::run(args),
+        Cmd::Validate(args) => validate::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

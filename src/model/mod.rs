@@ -77,6 +77,12 @@ pub trait Mechanism: Declaration {
     /// The `DefaultExperiment` of the FMU.
     const EXPERIMENT: Experiment;
 
+    /// Notes for the FMU's documentation (`documentation/index.html`): the equations as
+    /// implemented and where, and why, they depart from the source they come from. A small
+    /// Markdown subset: paragraphs, `## headings`, `- ` lists, code blocks (fenced, or
+    /// indented by four spaces: use them for equations) and inline `code`.
+    const NOTES: &'static str = "";
+
     /// Computes the calculated parameters from the parameters, and rejects parameter values
     /// that the declared bounds cannot express (e.g. an inertia tensor that is not positive
     /// definite). Called at initialization and whenever a tunable parameter changes; the
@@ -126,6 +132,47 @@ pub trait Mechanism: Declaration {
 ///     const EXPERIMENT: Experiment = Experiment { start: 0.0, stop: 1.0, step: 0.01, tolerance: 1e-8 };
 ///     fn evaluate<S: Scalar>(v: &mut FallValues<S>) {
 ///         v.a = -v.g;
+///     }
+/// }
+/// ```
+///
+/// Mistakes in a declaration do not compile. A duplicate variable:
+///
+/// ```compile_fail
+/// use mechfmu::model::Variable;
+/// mechfmu::mechanism! {
+///     /// Twice x.
+///     pub struct Twice / TwiceValues {
+///         /// x
+///         x: Variable::parameter("m", 1.0),
+///         /// x again
+///         x: Variable::parameter("m", 2.0),
+///     }
+/// }
+/// ```
+///
+/// A state whose derivative names no variable:
+///
+/// ```compile_fail
+/// use mechfmu::model::Variable;
+/// mechfmu::mechanism! {
+///     /// A state without its rate.
+///     pub struct Lost / LostValues {
+///         /// Position
+///         x: Variable::state("m", 1.0, "x_dot"),
+///     }
+/// }
+/// ```
+///
+/// A start value outside its bounds:
+///
+/// ```compile_fail
+/// use mechfmu::model::Variable;
+/// mechfmu::mechanism! {
+///     /// A negative mass.
+///     pub struct Negative / NegativeValues {
+///         /// Mass
+///         m: Variable::parameter("kg", -1.0).positive(),
 ///     }
 /// }
 /// ```

@@ -95,7 +95,7 @@ def zoh_value(table, defaults: Mapping[str, float], t: float, before: bool = Fal
 
 def run(rhs: Callable, outputs: Callable, state_names: Sequence[str], y0: Sequence[float],
         t_out, p: dict, input_defaults: Mapping[str, float], inputs, rtol: float, atol: float,
-        switch_outputs: str = "after", events=None) -> dict:
+        switch_outputs: str = "after", events=None, max_evals: int = 300_000) -> dict:
     """Integrate rhs(t, y, p, u) with DOP853, restarting at every input row time.
 
     Returns {'time': t_out, state: array, output: array, input: array}. Outputs that
@@ -103,6 +103,8 @@ def run(rhs: Callable, outputs: Callable, state_names: Sequence[str], y0: Sequen
     time (switch_outputs="after"), or with the value held over the step that ends there
     (switch_outputs="before": what fmpy records for a co-simulation FMU, which computes
     the outputs at the end of doStep with the input it was given at the step's start).
+    More than max_evals right-hand-side calls raise RuntimeError (a runaway solution must
+    fail a test, not hang it).
     """
     t_out = np.asarray(t_out, dtype=float)
     if t_out.ndim != 1 or t_out.size < 1 or np.any(np.diff(t_out) < 0):
@@ -116,6 +118,15 @@ def run(rhs: Callable, outputs: Callable, state_names: Sequence[str], y0: Sequen
         cuts += sorted({float(t) for t in table[0] if t0 < t < t1})
     cuts.append(t1)
 
+    count = [0]
+
+    def f(t, y, p_, u_):
+        count[0] += 1
+        if count[0] > max_evals:
+            raise RuntimeError(f"more than {max_evals} right-hand-side calls by t = {t:.9g}: "
+                               "the solution runs away or is very stiff")
+        return rhs(t, y, p_, u_)
+
     n = len(state_names)
     Y = np.empty((n, t_out.size))
     y = np.asarray(y0, dtype=float).copy()
@@ -128,7 +139,7 @@ def run(rhs: Callable, outputs: Callable, state_names: Sequence[str], y0: Sequen
             extra = not (idx.size and te_[-1] == b)
             if extra:
                 te_ = np.append(te_, b)
-            sol = solve_ivp(rhs, (a, b), y, method="DOP853", t_eval=te_,
+            sol = solve_ivp(f, (a, b), y, method="DOP853", t_eval=te_,
                             args=(p, u), rtol=rtol, atol=atol, events=events)
             if sol.status == 1:  # a terminal event fired
                 fired = [len(e) > 0 for e in sol.t_events].index(True)

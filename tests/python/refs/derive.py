@@ -61,8 +61,12 @@ def _lagrange_equations(T, V, qf, Xi):
 
 
 def _linear_system(eqs, unknowns):
-    """A u = b from equations linear in the unknowns."""
-    A, b = sp.linear_eq_to_matrix([sp.expand(e) for e in eqs], unknowns)
+    """A u = b from equations linear in the unknowns (A = d eqs / d unknowns, b = -eqs|u=0)."""
+    E = sp.Matrix(eqs)
+    A = E.jacobian(unknowns)
+    b = -E.xreplace({u: sp.S.Zero for u in unknowns})
+    # linearity check: nothing of the unknowns may remain in A
+    assert not (A.free_symbols & set(unknowns)), "equations are not linear in the unknowns"
     return A, b
 
 
@@ -101,7 +105,7 @@ def pendulum_cart_symbolic():
     # which does not rotate)
     Xi = [(F * I).dot(rD.diff(q)) + (-c1 * x.diff(t) * I).dot(rA.diff(q))
           + (-c2 * w) * sp.diff(w, q.diff(t)) for q in qf]
-    eqs = [_plain(sp.expand(e), qf, q0, q1, q2) for e in _lagrange_equations(Tk, V, qf, Xi)]
+    eqs = [_plain(e, qf, q0, q1, q2) for e in _lagrange_equations(Tk, V, qf, Xi)]
     Mm, f = _linear_system(eqs, q2)
 
     # Newton-Euler. Unknowns: x'', th'', F1, F2 (force of the ROD ON THE CART at A, I and J
@@ -190,7 +194,8 @@ def _crane_symbolic():
     L = sp.Rational(1, 2) * m * vp.dot(vp) - m * g * rp[1]
     eq_phi = sp.diff(sp.diff(L, ph.diff(t)), t) - sp.diff(L, ph)
     eq_phi = _plain(eq_phi, qf, q0, q1, q2)
-    phdd_lag = sp.solve(eq_phi, q2[2])[0]
+    A1, b1 = _linear_system([eq_phi], [q2[2]])
+    phdd_lag = b1[0] / A1[0, 0]
     # Newton-Euler: payload m a_p = -T iB - m g J; massless trolley 0 = F iA + N jA + T iB;
     # massless boom 0 = tau - x N.
     T, N, F, tau = sp.symbols("T N F tau", real=True)
@@ -253,12 +258,10 @@ def crane_dynamics_symbolic():
     r_boom_pt = xs * iA
     Xi = []
     for q in qf:
-        dW = (F * iA).dot(rt.diff(q)) + (-F * iA).dot(r_boom_pt.diff(q)) + tau * (1 if q is th else 0)
-        Xi.append(sp.simplify(dW.subs(xs, x)))
-    eqs = [_plain(sp.expand(e), qf, q0, q1, q2) for e in _lagrange_equations(Tk, V, qf, Xi)]
+        dW = (F * iA).dot(rt.diff(q)) + (-F * iA).dot(r_boom_pt.diff(q)) + tau * sp.diff(w, q.diff(t))
+        Xi.append(sp.trigsimp(dW.subs(xs, x)))
+    eqs = [_plain(e, qf, q0, q1, q2) for e in _lagrange_equations(Tk, V, qf, Xi)]
     Mm, f = _linear_system(eqs, q2)
-    Mm = sp.simplify(Mm)
-    f = sp.simplify(f)
 
     # Newton-Euler: payload, trolley (point mass on the boom, normal force N jA), boom (J about O)
     T, N = sp.symbols("T N", real=True)
@@ -324,41 +327,51 @@ def _rot(axis, a):
     return sp.Matrix([[c, -s, 0], [s, c, 0], [0, 0, 1]])
 
 
+def _dt(expr, q0, q1, q2):
+    """Total time derivative of an expression in plain symbols q, q', (q'') by the chain rule."""
+    return sum(sp.diff(expr, a) * b for a, b in zip(q0 + q1, q1 + q2))
+
+
 @lru_cache(maxsize=None)
 def _rigid_symbolic():
+    # plain symbols and an explicit chain-rule d/dt here: the rotation matrices make the
+    # Function(t) route of the planar mechanisms slow
     Mm, g = sp.symbols("M g", real=True)
     Ixx, Iyy, Izz, Ixy, Ixz, Iyz = sp.symbols("I_xx I_yy I_zz I_xy I_xz I_yz", real=True)
     rx, ry, rz = sp.symbols("r_Cx r_Cy r_Cz", real=True)
     tx, ty, tz = sp.symbols("tau_x tau_y tau_z", real=True)
-    qf, q0, q1, q2 = _coords(["phi", "theta", "psi"])
-    ph, th, ps = qf
+    q0 = list(sp.symbols("phi theta psi", real=True))
+    q1 = list(sp.symbols("phi_dot theta_dot psi_dot", real=True))
+    q2 = list(sp.symbols("phi_ddot theta_ddot psi_ddot", real=True))
+    ph, th, ps = q0
     R = _rot("z", ph) * _rot("x", th) * _rot("z", ps)          # body -> ground, z-x-z
-    W = (R.T * R.diff(t)).applyfunc(sp.expand)                   # skew(w_body)
-    wb = sp.Matrix([W[2, 1], W[0, 2], W[1, 0]]).applyfunc(sp.trigsimp)
+    Rdot = R.applyfunc(lambda e: _dt(e, q0, q1, q2))
+    W = R.T * Rdot                                               # skew(w_body)
+    wb = sp.Matrix([W[2, 1], W[0, 2], W[1, 0]])
     IC = sp.Matrix([[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]])
     r = sp.Matrix([rx, ry, rz])
     IB = IC + Mm * (r.dot(r) * sp.eye(3) - r * r.T)
     Tk = sp.Rational(1, 2) * (wb.T * IB * wb)[0, 0]
     V = Mm * g * (R * r)[2]
     taub = sp.Matrix([tx, ty, tz])
-    Xi = [taub.dot(wb.diff(q.diff(t))) for q in qf]
-    eqs = [_plain(e, qf, q0, q1, q2) for e in _lagrange_equations(Tk, V, qf, Xi)]
+    L = Tk - V
+    eqs = [_dt(sp.diff(L, qd), q0, q1, q2) - sp.diff(L, q) - taub.dot(wb.diff(qd))
+           for q, qd in zip(q0, q1)]
     A, b = _linear_system(eqs, q2)
-    wb_p = _plain(wb, qf, q0, q1, q2)
-    Jw = wb_p.jacobian(q1)                       # d w / d q'
-    dw_rest = wb_p.jacobian(q0) * sp.Matrix(q1)  # (d w / d q) q'
+    Jw = wb.jacobian(q1)                       # d w / d q'
+    dw_rest = wb.jacobian(q0) * sp.Matrix(q1)  # (d w / d q) q'
     # quaternion of R = qz(phi) qx(theta) qz(psi) and its time derivative
+
     def qa(axis, a):
         h = a / 2
         return sp.Quaternion(sp.cos(h), sp.sin(h) if axis == "x" else 0, 0, sp.sin(h) if axis == "z" else 0)
     Q = qa("z", ph) * qa("x", th) * qa("z", ps)
     qv = sp.Matrix([Q.a, Q.b, Q.c, Q.d])
-    qdot = _plain(qv.diff(t), qf, q0, q1, q2)
-    qv_p = _plain(qv, qf, q0, q1, q2)
+    qdot = qv.applyfunc(lambda e: _dt(e, q0, q1, q2))
     params = [Mm, Ixx, Iyy, Izz, Ixy, Ixz, Iyz, rx, ry, rz, g]
-    return {"A": A, "b": b, "Jw": Jw, "dw_rest": dw_rest, "wb": wb_p, "q": q0, "qd": q1,
-            "params": params, "inputs": [tx, ty, tz], "quat": qv_p, "quat_dot": qdot,
-            "energy": _plain(Tk + V, qf, q0, q1, q2)}
+    return {"A": A, "b": b, "Jw": Jw, "dw_rest": dw_rest, "wb": wb, "q": q0, "qd": q1,
+            "params": params, "inputs": [tx, ty, tz], "quat": qv, "quat_dot": qdot,
+            "energy": Tk + V}
 
 
 _RB_PARAMS = ["M", "I_xx", "I_yy", "I_zz", "I_xy", "I_xz", "I_yz", "r_Cx", "r_Cy", "r_Cz", "g"]

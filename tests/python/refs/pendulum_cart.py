@@ -32,7 +32,7 @@ def params(**overrides) -> dict:
 
 def accelerations(y, p, F):
     """(x'', th'') from the two equations of motion (2x2 solve by Cramer's rule)."""
-    x, v, th, w = y
+    x, v, th, w = y[:4]
     M, m, l, g = p["M"], p["m"], p["l"], p["g"]
     s, c = math.sin(th), math.cos(th)
     a11, a12, a22 = M + m, m * l * c, 7.0 / 3.0 * m * l * l
@@ -57,7 +57,7 @@ def normal_force(y, p, theta_ddot):
 
 
 def energy(y, p):
-    x, v, th, w = y
+    x, v, th, w = y[:4]
     M, m, l = p["M"], p["m"], p["l"]
     return (0.5 * (M + m) * v * v + m * l * v * w * math.cos(th) + 7.0 / 6.0 * m * l * l * w * w
             + 0.5 * p["k"] * x * x - m * p["g"] * l * math.cos(th))

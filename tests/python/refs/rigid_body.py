@@ -99,30 +99,42 @@ def rotation(q) -> np.ndarray:
 
 def _prepare(p):
     if "_IB" not in p:
-        IB = inertia_about_pivot({k: v for k, v in p.items() if not k.startswith("_")})
-        p = dict(p, _IB=IB, _IBinv=np.linalg.inv(IB), _r=r_C({k: v for k, v in p.items() if not k.startswith("_")}))
+        pp = {k: v for k, v in p.items() if not k.startswith("_")}
+        IB = inertia_about_pivot(pp)
+        p = dict(p, _IB=IB, _IBinv=np.linalg.inv(IB), _r=r_C(pp),
+                 _IBt=tuple(map(tuple, IB.tolist())), _IBit=tuple(map(tuple, np.linalg.inv(IB).tolist())),
+                 _rt=tuple(r_C(pp).tolist()))
     return p
 
 
 def _rhs_core(y, p, tau):
-    IB, IBi, r = p["_IB"], p["_IBinv"], p["_r"]
-    w = np.array(y[0:3])
-    qw, qx, qy, qz = y[3:7]
+    """Plain-float arithmetic (this is called ~10^5 times per simulation)."""
+    (a11, a12, a13), (a21, a22, a23), (a31, a32, a33) = p["_IBt"]
+    (b11, b12, b13), (b21, b22, b23), (b31, b32, b33) = p["_IBit"]
+    rx, ry, rz = p["_rt"]
+    wx, wy, wz, qw, qx, qy, qz = y[:7]
     # body components of the ground vertical Z: third row of R
-    Zb = np.array([2 * (qx * qz - qw * qy), 2 * (qy * qz + qw * qx), 1 - 2 * (qx * qx + qy * qy)])
+    Zx, Zy, Zz = 2 * (qx * qz - qw * qy), 2 * (qy * qz + qw * qx), 1 - 2 * (qx * qx + qy * qy)
     Mg = p["M"] * p["g"]
-    torque = np.asarray(tau) + np.cross(r, -Mg * Zb) - np.cross(w, IB @ w)
-    wd = IBi @ torque
-    wx, wy, wz = w
-    qd = 0.5 * np.array([-qx * wx - qy * wy - qz * wz,
-                         qw * wx + qy * wz - qz * wy,
-                         qw * wy + qz * wx - qx * wz,
-                         qw * wz + qx * wy - qy * wx])
-    return np.concatenate([wd, qd])
+    Gx, Gy, Gz = -Mg * Zx, -Mg * Zy, -Mg * Zz            # weight in body axes
+    hx = a11 * wx + a12 * wy + a13 * wz                  # I_B w
+    hy = a21 * wx + a22 * wy + a23 * wz
+    hz = a31 * wx + a32 * wy + a33 * wz
+    mx = tau[0] + (ry * Gz - rz * Gy) - (wy * hz - wz * hy)
+    my = tau[1] + (rz * Gx - rx * Gz) - (wz * hx - wx * hz)
+    mz = tau[2] + (rx * Gy - ry * Gx) - (wx * hy - wy * hx)
+    return [b11 * mx + b12 * my + b13 * mz,
+            b21 * mx + b22 * my + b23 * mz,
+            b31 * mx + b32 * my + b33 * mz,
+            0.5 * (-qx * wx - qy * wy - qz * wz),
+            0.5 * (qw * wx + qy * wz - qz * wy),
+            0.5 * (qw * wy + qz * wx - qx * wz),
+            0.5 * (qw * wz + qx * wy - qy * wx)]
 
 
 def rhs(t, y, p, u):
-    p = _prepare(p)
+    if "_IBt" not in p:
+        p = _prepare(p)
     return _rhs_core(y, p, (u["tau_x"], u["tau_y"], u["tau_z"]))
 
 
