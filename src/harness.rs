@@ -302,6 +302,9 @@ impl<M: Mechanism> Harness<M> {
     }
 }
 
+// These take FMU-state handles as the C API does, unchecked, because tests must be able to
+// pass stale or foreign ones: the FMU itself validates every handle it is given.
+#[allow(clippy::not_unsafe_ptr_arg_deref)]
 impl<M: Mechanism> Harness<M> {
     /// `fmi2GetFMUstate` into a fresh handle.
     pub fn get_fmu_state(&mut self) -> Result<fmi2FMUstate, fmi2Status> {

@@ -99,7 +99,7 @@ mod tests {
         assert_ne!(a, archive("<fmiModelDescription />"));
         let mut zip = zip::ZipArchive::new(std::io::Cursor::new(a)).unwrap();
         let names: Vec<String> = (0..zip.len())
-            .map(|i| zip.by_index(i).unwrap().name().to_string())
+            .map(|i| zip.by_index(i).unwrap().name().unwrap().to_string())
             .collect();
         for name in [
             "modelDescription.xml",

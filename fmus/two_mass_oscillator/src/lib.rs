@@ -1,0 +1,191 @@
+//! `TwoMassOscillator`: two masses coupled by springs and dampers, and their vibration modes
+//! (MIT 2.003 final review, section 5 "Vibration Modes").
+//!
+//! Spring `k1` and damper `c1` tie mass 1 to a wall, `k2` and `c2` tie mass 2 to the other
+//! wall, `k3` and `c3` join the masses. Newton's second law on each mass (the coupling spring
+//! pulls mass 1 with `k3 (x2 - x1)` and mass 2 with `k3 (x1 - x2)`, likewise the damper):
+//!
+//! ```text
+//! m1 ẍ1 + (c1+c3) ẋ1 - c3 ẋ2 + (k1+k3) x1 - k3 x2 = F1
+//! m2 ẍ2 + (c2+c3) ẋ2 - c3 ẋ1 + (k2+k3) x2 - k3 x1 = F2
+//! ```
+//!
+//! Checked by a route that does not reuse them: these are Lagrange's equations of
+//! `T = ½ m1 ẋ1² + ½ m2 ẋ2²`, `V = ½ k1 x1² + ½ k2 x2² + ½ k3 (x1 - x2)²` with the
+//! Rayleigh dissipation `D = ½ c1 ẋ1² + ½ c2 ẋ2² + ½ c3 (ẋ1 - ẋ2)²`, so the energy `E = T + V`
+//! obeys `dE/dt = F1 ẋ1 + F2 ẋ2 - 2D` (tested). The notes print the undamped equations only;
+//! they agree with these at `c = 0` and `F = 0`.
+//!
+//! The modes are the generalized eigenpairs of `K a = ω² M a` with `M = diag(m1, m2)` and
+//! `K = [[k1+k3, -k3], [-k3, k2+k3]]`; the notes' closed form for `ω²` (the roots of
+//! `det(K - ω² M) = 0`) is the independent check in the tests.
+
+use mechfmu::model::{Experiment, Mechanism, Scalar, Variable};
+use mechfmu::nalgebra::{Matrix2, SymmetricEigen, Vector2};
+
+mechfmu::mechanism! {
+    /// Two masses on springs and dampers: k1, c1 from a wall to mass 1, k2, c2 from a wall to
+    /// mass 2, k3, c3 between them, forces F1 and F2 on the masses. Gives the undamped natural
+    /// frequencies and mode shapes. m1 x1_ddot + (c1+c3) x1_dot - c3 x2_dot + (k1+k3) x1 - k3 x2
+    /// = F1, m2 x2_ddot + (c2+c3) x2_dot - c3 x1_dot + (k2+k3) x2 - k3 x1 = F2.
+    pub struct TwoMassOscillator / TwoMassOscillatorValues {
+        /// Mass 1
+        m1: Variable::parameter("kg", 1.0).positive(),
+        /// Mass 2
+        m2: Variable::parameter("kg", 1.0).positive(),
+        /// Stiffness of the spring from the wall to mass 1 (0 allowed)
+        k1: Variable::tunable("N/m", 1.0).min(0.0),
+        /// Stiffness of the spring from the wall to mass 2 (0 allowed)
+        k2: Variable::tunable("N/m", 1.0).min(0.0),
+        /// Stiffness of the spring between the masses
+        k3: Variable::tunable("N/m", 1.0).min(0.0),
+        /// Damping coefficient of the damper from the wall to mass 1
+        c1: Variable::tunable("N.s/m", 0.0).min(0.0),
+        /// Damping coefficient of the damper from the wall to mass 2
+        c2: Variable::tunable("N.s/m", 0.0).min(0.0),
+        /// Damping coefficient of the damper between the masses
+        c3: Variable::tunable("N.s/m", 0.0).min(0.0),
+        /// External force on mass 1
+        F1: Variable::input("N", 0.0),
+        /// External force on mass 2
+        F2: Variable::input("N", 0.0),
+        /// Position of mass 1 (from its rest position)
+        x1: Variable::state("m", 1.0, "x1_dot"),
+        /// Position of mass 2 (from its rest position)
+        x2: Variable::state("m", 0.0, "x2_dot"),
+        /// Velocity of mass 1
+        x1_dot: Variable::state("m/s", 0.0, "x1_ddot"),
+        /// Velocity of mass 2
+        x2_dot: Variable::state("m/s", 0.0, "x2_ddot"),
+        /// Acceleration of mass 1
+        x1_ddot: Variable::output("m/s2"),
+        /// Acceleration of mass 2
+        x2_ddot: Variable::output("m/s2"),
+        /// Mechanical energy: kinetic energy of the masses plus the energy stored in the springs
+        E: Variable::output("J"),
+        /// Lower undamped natural frequency
+        omega_n1: Variable::calculated("rad/s"),
+        /// Higher undamped natural frequency
+        omega_n2: Variable::calculated("rad/s"),
+        /// Mode 1 shape, x1 component (the component of largest magnitude is +1; on a tie, x1)
+        mode1_x1: Variable::calculated("1"),
+        /// Mode 1 shape, x2 component
+        mode1_x2: Variable::calculated("1"),
+        /// Mode 2 shape, x1 component (the component of largest magnitude is +1; on a tie, x1)
+        mode2_x1: Variable::calculated("1"),
+        /// Mode 2 shape, x2 component
+        mode2_x2: Variable::calculated("1"),
+    }
+}
+
+impl Mechanism for TwoMassOscillator {
+    const EXPERIMENT: Experiment = Experiment {
+        start: 0.0,
+        stop: 30.0,
+        step: 0.01,
+        tolerance: 1e-6,
+    };
+
+    fn calculate(v: &mut TwoMassOscillatorValues<f64>) -> Result<(), String> {
+        let mass = Matrix2::new(v.m1, 0.0, 0.0, v.m2);
+        let stiffness = Matrix2::new(v.k1 + v.k3, -v.k3, -v.k3, v.k2 + v.k3);
+        let [first, second] = undamped_modes(&mass, &stiffness)?;
+        v.omega_n1 = first.omega;
+        v.omega_n2 = second.omega;
+        (v.mode1_x1, v.mode1_x2) = (first.shape[0], first.shape[1]);
+        (v.mode2_x1, v.mode2_x2) = (second.shape[0], second.shape[1]);
+        Ok(())
+    }
+
+    fn evaluate<S: Scalar>(v: &mut TwoMassOscillatorValues<S>) {
+        // Force of the coupling spring and damper on mass 1 (mass 2 gets its opposite).
+        let coupling = v.k3 * (v.x2 - v.x1) + v.c3 * (v.x2_dot - v.x1_dot);
+        v.x1_ddot = (v.F1 - v.k1 * v.x1 - v.c1 * v.x1_dot + coupling) / v.m1;
+        v.x2_ddot = (v.F2 - v.k2 * v.x2 - v.c2 * v.x2_dot - coupling) / v.m2;
+
+        let half = mechfmu::model::lit::<S>(0.5);
+        let stretch = v.x1 - v.x2;
+        v.E = half
+            * (v.m1 * v.x1_dot * v.x1_dot
+                + v.m2 * v.x2_dot * v.x2_dot
+                + v.k1 * v.x1 * v.x1
+                + v.k2 * v.x2 * v.x2
+                + v.k3 * stretch * stretch);
+    }
+}
+
+mechfmu::export_fmu!(TwoMassOscillator);
+
+/// One undamped mode: natural frequency and shape.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mode {
+    /// Natural frequency ω (rad/s), ≥ 0.
+    pub omega: f64,
+    /// Shape, scaled so that its component of largest magnitude is +1 (on a tie, the first).
+    pub shape: Vector2<f64>,
+}
+
+/// Relative difference under which two components count as equally large when a shape is
+/// scaled: far above the rounding of the eigenvectors (~1e-16), far below any physical
+/// difference.
+const TIE: f64 = 1e-12;
+
+/// The undamped modes of `M q̈ + K q = 0` (`M` symmetric positive definite, `K` symmetric
+/// positive semi-definite), by ascending frequency.
+///
+/// The generalized problem `K a = ω² M a` is made a standard symmetric one with the Cholesky
+/// factor `M = L Lᵀ`: `(L⁻¹ K L⁻ᵀ) y = ω² y`, `a = L⁻ᵀ y`. Its eigenvectors are accurate to
+/// rounding; each `ω²` is then taken as the Rayleigh quotient `aᵀ K a / aᵀ M a` of the scaled
+/// shape, which is exact to second order in the shape's error, so a free-floating pair
+/// (`k1 = k2 = 0`: shape (1, 1)) gets ω = 0 rather than the square root of a rounding error.
+pub fn undamped_modes(mass: &Matrix2<f64>, stiffness: &Matrix2<f64>) -> Result<[Mode; 2], String> {
+    let l = mass
+        .cholesky()
+        .ok_or_else(|| format!("the mass matrix {mass:?} is not positive definite"))?
+        .unpack();
+    let not_solved = || "the mass matrix is singular".to_string();
+    // L⁻¹ K, then L⁻¹ (L⁻¹ K)ᵀ = L⁻¹ K L⁻ᵀ (K is symmetric).
+    let half = l.solve_lower_triangular(stiffness).ok_or_else(not_solved)?;
+    let a = l
+        .solve_lower_triangular(&half.transpose())
+        .ok_or_else(not_solved)?;
+    let a = (a + a.transpose()) * 0.5;
+    let eigen = SymmetricEigen::try_new(a, f64::EPSILON, 1000)
+        .ok_or_else(|| format!("the eigenvalues of {a:?} did not converge"))?;
+    let lt = l.transpose();
+    let mut modes = [Mode {
+        omega: 0.0,
+        shape: Vector2::zeros(),
+    }; 2];
+    for (i, mode) in modes.iter_mut().enumerate() {
+        let y: Vector2<f64> = eigen.eigenvectors.column(i).into_owned();
+        let shape = scale_shape(lt.solve_upper_triangular(&y).ok_or_else(not_solved)?);
+        let omega2 = shape.dot(&(stiffness * shape)) / shape.dot(&(mass * shape));
+        // K ≥ 0 makes ω² ≥ 0; a negative value can only be rounding.
+        *mode = Mode {
+            omega: omega2.max(0.0).sqrt(),
+            shape,
+        };
+    }
+    if modes[0].omega > modes[1].omega {
+        modes.swap(0, 1);
+    }
+    Ok(modes)
+}
+
+/// Scales a shape so that its component of largest magnitude is +1. Components equal in
+/// magnitude to within [`TIE`] count as a tie: the first is then +1 and the other exactly ±1.
+fn scale_shape(a: Vector2<f64>) -> Vector2<f64> {
+    let (big, small) = if a[0].abs() >= a[1].abs() * (1.0 - TIE) {
+        (0, 1)
+    } else {
+        (1, 0)
+    };
+    let mut s = a / a[big];
+    s[big] = 1.0;
+    if (s[small].abs() - 1.0).abs() <= TIE {
+        s[small] = s[small].signum();
+    }
+    s[small] += 0.0; // turns -0.0 into 0.0
+    s
+}
