@@ -240,3 +240,9 @@ fn invalid_parameters_are_rejected_at_initialization() {
         );
     }
 }
+
+/// Reset, FMU state, serialization, derivatives and threads: the checks every FMU passes.
+#[test]
+fn conforms() {
+    mechfmu::conformance::check::<PendulumCart>();
+}
