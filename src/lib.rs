@@ -12,15 +12,18 @@
 //! - [`simulation`]: a mechanism under the solver: values, set/get rules, communication steps;
 //! - [`fmi2`]: the FMI 2.0 Co-Simulation layer (C types, state machine, logger, API);
 //! - [`xml`]: the generated modelDescription.xml; [`guid`]: its GUID;
-//! - [`package`]: the `.fmu` archive; [`cli`]: the `mechfmu` command.
+//! - [`package`]: the `.fmu` archive; [`cli`]: the `mechfmu` command; [`bench`]: `mechfmu bench`.
 //!
 //! See `docs/architecture.md` for how they fit together.
 
+pub mod bench;
 pub mod cli;
 pub mod conformance;
+pub mod docs;
 pub mod fmi2;
 pub mod guid;
 pub mod harness;
+pub mod modal;
 pub mod model;
 pub mod package;
 pub mod simulation;

@@ -36,7 +36,7 @@
 //! swing the rod's centripetal acceleration points up and the cart is pressed down harder.
 
 use mechfmu::model::{lit, Experiment, Mechanism, Scalar, Variable};
-use mechfmu::nalgebra::{Matrix2, SymmetricEigen, Vector2};
+use mechfmu::nalgebra::Matrix2;
 
 mechfmu::mechanism! {
     /// A cart on a spring k and dashpot c1, carrying a rod of mass m and length 4 l pinned a
@@ -98,9 +98,9 @@ impl Mechanism for PendulumCart {
         let ml = v.m * v.l;
         let mass = Matrix2::new(v.M + v.m, ml, ml, 7.0 / 3.0 * ml * v.l);
         let stiffness = Matrix2::new(v.k, 0.0, 0.0, ml * v.g);
-        let [first, second] = undamped_frequencies(&mass, &stiffness)?;
-        v.omega_n1 = first;
-        v.omega_n2 = second;
+        let [first, second] = mechfmu::modal::undamped_modes(&mass, &stiffness)?;
+        v.omega_n1 = first.omega;
+        v.omega_n2 = second.omega;
         Ok(())
     }
 
@@ -134,51 +134,3 @@ impl Mechanism for PendulumCart {
 }
 
 mechfmu::export_fmu!(PendulumCart);
-
-/// The undamped natural frequencies of `M q̈ + K q = 0` (`M` symmetric positive definite,
-/// `K` symmetric positive semi-definite), ascending.
-///
-/// The generalized problem `K a = ω² M a` is made a standard symmetric one with the Cholesky
-/// factor `M = L Lᵀ`: `(L⁻¹ K L⁻ᵀ) y = ω² y`, `a = L⁻ᵀ y`. Each `ω²` is then taken as the
-/// Rayleigh quotient `aᵀ K a / aᵀ M a`, exact to second order in the error of `a`, so a free
-/// cart (`k = 0`: mode `a = (1, 0)`) gets ω = 0 exactly rather than the square root of a
-/// rounding error.
-pub fn undamped_frequencies(
-    mass: &Matrix2<f64>,
-    stiffness: &Matrix2<f64>,
-) -> Result<[f64; 2], String> {
-    let l = mass
-        .cholesky()
-        .ok_or_else(|| format!("the mass matrix {mass:?} is not positive definite"))?
-        .unpack();
-    let singular = || "the mass matrix is singular".to_string();
-    // L⁻¹ K, then L⁻¹ (L⁻¹ K)ᵀ = L⁻¹ K L⁻ᵀ (K is symmetric).
-    let half = l.solve_lower_triangular(stiffness).ok_or_else(singular)?;
-    let a = l
-        .solve_lower_triangular(&half.transpose())
-        .ok_or_else(singular)?;
-    let a = (a + a.transpose()) * 0.5;
-    let eigen = SymmetricEigen::try_new(a, f64::EPSILON, 1000)
-        .ok_or_else(|| format!("the eigenvalues of {a:?} did not converge"))?;
-    let lt = l.transpose();
-    let mut omega = [0.0; 2];
-    for (i, w) in omega.iter_mut().enumerate() {
-        let y: Vector2<f64> = eigen.eigenvectors.column(i).into_owned();
-        let shape = lt.solve_upper_triangular(&y).ok_or_else(singular)?;
-        // Scaled so its largest component is 1: a zero-frequency mode such as (1, 0) comes
-        // out exact, and K (1, 0) = 0 then gives ω² = 0 exactly.
-        let pivot = if shape[0].abs() >= shape[1].abs() {
-            shape[0]
-        } else {
-            shape[1]
-        };
-        let shape = shape / pivot;
-        let omega2 = shape.dot(&(stiffness * shape)) / shape.dot(&(mass * shape));
-        // K ≥ 0 makes ω² ≥ 0; a negative value can only be rounding.
-        *w = omega2.max(0.0).sqrt();
-    }
-    if omega[0] > omega[1] {
-        omega.swap(0, 1);
-    }
-    Ok(omega)
-}

@@ -21,7 +21,7 @@
 //! `det(K - ω² M) = 0`) is the independent check in the tests.
 
 use mechfmu::model::{Experiment, Mechanism, Scalar, Variable};
-use mechfmu::nalgebra::{Matrix2, SymmetricEigen, Vector2};
+use mechfmu::nalgebra::Matrix2;
 
 mechfmu::mechanism! {
     /// Two masses on springs and dampers: k1, c1 from a wall to mass 1, k2, c2 from a wall to
@@ -89,7 +89,7 @@ impl Mechanism for TwoMassOscillator {
     fn calculate(v: &mut TwoMassOscillatorValues<f64>) -> Result<(), String> {
         let mass = Matrix2::new(v.m1, 0.0, 0.0, v.m2);
         let stiffness = Matrix2::new(v.k1 + v.k3, -v.k3, -v.k3, v.k2 + v.k3);
-        let [first, second] = undamped_modes(&mass, &stiffness)?;
+        let [first, second] = mechfmu::modal::undamped_modes(&mass, &stiffness)?;
         v.omega_n1 = first.omega;
         v.omega_n2 = second.omega;
         (v.mode1_x1, v.mode1_x2) = (first.shape[0], first.shape[1]);
@@ -115,77 +115,3 @@ impl Mechanism for TwoMassOscillator {
 }
 
 mechfmu::export_fmu!(TwoMassOscillator);
-
-/// One undamped mode: natural frequency and shape.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Mode {
-    /// Natural frequency ω (rad/s), ≥ 0.
-    pub omega: f64,
-    /// Shape, scaled so that its component of largest magnitude is +1 (on a tie, the first).
-    pub shape: Vector2<f64>,
-}
-
-/// Relative difference under which two components count as equally large when a shape is
-/// scaled: far above the rounding of the eigenvectors (~1e-16), far below any physical
-/// difference.
-const TIE: f64 = 1e-12;
-
-/// The undamped modes of `M q̈ + K q = 0` (`M` symmetric positive definite, `K` symmetric
-/// positive semi-definite), by ascending frequency.
-///
-/// The generalized problem `K a = ω² M a` is made a standard symmetric one with the Cholesky
-/// factor `M = L Lᵀ`: `(L⁻¹ K L⁻ᵀ) y = ω² y`, `a = L⁻ᵀ y`. Its eigenvectors are accurate to
-/// rounding; each `ω²` is then taken as the Rayleigh quotient `aᵀ K a / aᵀ M a` of the scaled
-/// shape, which is exact to second order in the shape's error, so a free-floating pair
-/// (`k1 = k2 = 0`: shape (1, 1)) gets ω = 0 rather than the square root of a rounding error.
-pub fn undamped_modes(mass: &Matrix2<f64>, stiffness: &Matrix2<f64>) -> Result<[Mode; 2], String> {
-    let l = mass
-        .cholesky()
-        .ok_or_else(|| format!("the mass matrix {mass:?} is not positive definite"))?
-        .unpack();
-    let not_solved = || "the mass matrix is singular".to_string();
-    // L⁻¹ K, then L⁻¹ (L⁻¹ K)ᵀ = L⁻¹ K L⁻ᵀ (K is symmetric).
-    let half = l.solve_lower_triangular(stiffness).ok_or_else(not_solved)?;
-    let a = l
-        .solve_lower_triangular(&half.transpose())
-        .ok_or_else(not_solved)?;
-    let a = (a + a.transpose()) * 0.5;
-    let eigen = SymmetricEigen::try_new(a, f64::EPSILON, 1000)
-        .ok_or_else(|| format!("the eigenvalues of {a:?} did not converge"))?;
-    let lt = l.transpose();
-    let mut modes = [Mode {
-        omega: 0.0,
-        shape: Vector2::zeros(),
-    }; 2];
-    for (i, mode) in modes.iter_mut().enumerate() {
-        let y: Vector2<f64> = eigen.eigenvectors.column(i).into_owned();
-        let shape = scale_shape(lt.solve_upper_triangular(&y).ok_or_else(not_solved)?);
-        let omega2 = shape.dot(&(stiffness * shape)) / shape.dot(&(mass * shape));
-        // K ≥ 0 makes ω² ≥ 0; a negative value can only be rounding.
-        *mode = Mode {
-            omega: omega2.max(0.0).sqrt(),
-            shape,
-        };
-    }
-    if modes[0].omega > modes[1].omega {
-        modes.swap(0, 1);
-    }
-    Ok(modes)
-}
-
-/// Scales a shape so that its component of largest magnitude is +1. Components equal in
-/// magnitude to within [`TIE`] count as a tie: the first is then +1 and the other exactly ±1.
-fn scale_shape(a: Vector2<f64>) -> Vector2<f64> {
-    let (big, small) = if a[0].abs() >= a[1].abs() * (1.0 - TIE) {
-        (0, 1)
-    } else {
-        (1, 0)
-    };
-    let mut s = a / a[big];
-    s[big] = 1.0;
-    if (s[small].abs() - 1.0).abs() <= TIE {
-        s[small] = s[small].signum();
-    }
-    s[small] += 0.0; // turns -0.0 into 0.0
-    s
-}
