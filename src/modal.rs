@@ -28,11 +28,11 @@ pub const TIE: f64 = 1e-12;
 /// `K a = 0`) gets ω = 0 rather than the square root of a rounding error.
 ///
 /// ```
-/// use mechfmu::nalgebra::Matrix2;
+/// use mechfmu::nalgebra::{Matrix2, Vector2};
 /// // m1 = m2 = 1, k1 = k2 = k3 = 1: ω = 1 (1 : 1) and sqrt(3) (1 : -1).
 /// let modes = mechfmu::modal::undamped_modes(&Matrix2::identity(), &Matrix2::new(2.0, -1.0, -1.0, 2.0)).unwrap();
-/// assert!((modes[0].omega - 1.0).abs() < 1e-15 && modes[0].shape == [1.0, 1.0].into());
-/// assert!((modes[1].omega - 3f64.sqrt()).abs() < 1e-15 && modes[1].shape == [1.0, -1.0].into());
+/// assert!((modes[0].omega - 1.0).abs() < 1e-15 && modes[0].shape == Vector2::new(1.0, 1.0));
+/// assert!((modes[1].omega - 3f64.sqrt()).abs() < 1e-15 && modes[1].shape == Vector2::new(1.0, -1.0));
 /// ```
 pub fn undamped_modes<const N: usize>(
     mass: &SMatrix<f64, N, N>,
@@ -91,7 +91,7 @@ mod tests {
         // 2 m1 = m2 = 2, k1 = k2 = 0, k3 = 1: ω = 0 (1 : 1) and sqrt(3/2) (1 : -1/2).
         let modes = undamped_modes(&Matrix2::new(1.0, 0.0, 0.0, 2.0), &Matrix2::new(1.0, -1.0, -1.0, 1.0)).unwrap();
         assert_eq!(modes[0].omega, 0.0);
-        assert_eq!(modes[0].shape, [1.0, 1.0].into());
+        assert_eq!(modes[0].shape, SVector::from([1.0, 1.0]));
         assert!((modes[1].omega - 1.5f64.sqrt()).abs() < 1e-15);
         assert!((modes[1].shape - SVector::from([1.0, -0.5])).norm() < 1e-15);
     }
