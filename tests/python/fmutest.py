@@ -366,9 +366,9 @@ class Slave:
 
 
 def max_error(got: np.ndarray, want: np.ndarray) -> tuple[float, float, int]:
-    """(max |got - want|, range of want, index of the max)."""
-    got = np.asarray(got, dtype=float)
-    want = np.asarray(want, dtype=float)
+    """(max |got - want|, range of want, flat index of the max); arrays of any shape."""
+    got = np.asarray(got, dtype=float).ravel()
+    want = np.asarray(want, dtype=float).ravel()
     assert got.shape == want.shape, f"shape {got.shape} != {want.shape}"
     assert np.all(np.isfinite(got)), "non-finite values in the FMU's output"
     err = np.abs(got - want)
