@@ -284,6 +284,11 @@ impl Dopri5 {
                     // step for the next call.
                     h_new = h_new.max(h);
                 }
+                // The system may refuse the new point (the model stops holding there): then
+                // the integration ends at the last point it accepted, which y and t still hold.
+                if let Err(message) = sys.accepted(t_new, &self.y_new) {
+                    return Err(SolverError::Stopped { t: *t, message });
+                }
                 y.copy_from_slice(&self.y_new);
                 std::mem::swap(&mut self.k1, &mut self.k7);
                 *t = t_new;
@@ -291,9 +296,6 @@ impl Dopri5 {
                     h_next: Some(h_new),
                     err_prev,
                 };
-                if let Err(message) = sys.accepted(*t, y) {
-                    return Err(SolverError::Stopped { t: *t, message });
-                }
                 if last {
                     return Ok(());
                 }

@@ -37,8 +37,9 @@ pub trait OdeSystem {
     /// until the next call. Non-finite outputs are tolerated and make the solver retry
     /// with a smaller step.
     fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]);
-    /// Called after every accepted step with the new point. Err(message) stops the
-    /// integration there (the point is kept as the last accepted one) -> SolverError::Stopped.
+    /// Called for every point the error test accepts, before it is committed. Err(message)
+    /// refuses it: the integration stops at the previous point (the last valid one), which
+    /// `t` and `y` keep -> SolverError::Stopped.
     fn accepted(&mut self, _t: f64, _y: &[f64]) -> Result<(), String> {
         Ok(())
     }
@@ -105,7 +106,7 @@ pub enum SolverError {
     NonFinite { t: f64 },
     /// More than `max_steps` step attempts in one call (see `Dopri5::set_max_steps`).
     TooManySteps { t: f64, max_steps: u64 },
-    /// `OdeSystem::accepted` returned `Err(message)` after accepting the point at `t`.
+    /// `OdeSystem::accepted` refused the next point; `t` is the last point it accepted.
     Stopped { t: f64, message: String },
 }
 

@@ -506,8 +506,10 @@ fn blow_up_fails_at_the_numerical_singularity() {
 
 #[test]
 fn accepted_callback_can_stop_the_integration() {
+    /// Refuses points beyond t = 0.5; remembers the last point it accepted.
     struct Stopper {
-        seen: Option<(f64, f64)>,
+        last_valid: (f64, f64),
+        refused: Option<f64>,
     }
     impl OdeSystem for Stopper {
         fn rhs(&mut self, _t: f64, y: &[f64], dydt: &mut [f64]) {
@@ -515,27 +517,31 @@ fn accepted_callback_can_stop_the_integration() {
         }
         fn accepted(&mut self, t: f64, y: &[f64]) -> Result<(), String> {
             if t > 0.5 {
-                self.seen = Some((t, y[0]));
+                self.refused = Some(t);
                 return Err("limit reached".to_string());
             }
+            self.last_valid = (t, y[0]);
             Ok(())
         }
     }
-    let mut sys = Stopper { seen: None };
+    let mut sys = Stopper { last_valid: (0.0, 1.0), refused: None };
     let mut solver = Dopri5::new(1);
     let (mut t, mut y) = (0.0, [1.0]);
     let err = solver
         .integrate(&mut sys, &mut t, 10.0, &mut y, tol(1e-6))
         .unwrap_err();
-    let (ts, ys) = sys.seen.unwrap();
+    let (tv, yv) = sys.last_valid;
+    assert!(sys.refused.is_some_and(|r| r > 0.5));
     assert_eq!(
         err,
         SolverError::Stopped {
-            t: ts,
+            t: tv,
             message: "limit reached".to_string()
         }
     );
-    assert_eq!((t, y[0]), (ts, ys));
+    // The refused point is not kept: the integration ends at the last valid one.
+    assert_eq!((t, y[0]), (tv, yv));
+    assert!(t <= 0.5);
     assert!(err.to_string().contains("limit reached"));
 }
 
