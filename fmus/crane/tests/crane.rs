@@ -404,3 +404,9 @@ fn directional_derivatives_match_finite_differences() {
         }
     }
 }
+
+/// Reset, FMU state, serialization, derivatives and threads: the checks every FMU passes.
+#[test]
+fn conforms() {
+    mechfmu::conformance::check::<crane::Crane>();
+}

@@ -346,3 +346,9 @@ fn directional_derivatives_match_finite_differences() {
     }
     assert!(worst > 0.0);
 }
+
+/// Reset, FMU state, serialization, derivatives and threads: the checks every FMU passes.
+#[test]
+fn conforms() {
+    mechfmu::conformance::check::<crane_dynamics::CraneDynamics>();
+}
