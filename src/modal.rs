@@ -45,20 +45,32 @@ pub fn undamped_modes<const N: usize>(
     let singular = || "the mass matrix is singular".to_string();
     // L⁻¹ K, then L⁻¹ (L⁻¹ K)ᵀ = L⁻¹ K L⁻ᵀ (K is symmetric).
     let half = l.solve_lower_triangular(stiffness).ok_or_else(singular)?;
-    let a = l.solve_lower_triangular(&half.transpose()).ok_or_else(singular)?;
+    let a = l
+        .solve_lower_triangular(&half.transpose())
+        .ok_or_else(singular)?;
     let a = (a + a.transpose()) * 0.5;
     // A dynamically sized copy: nalgebra's eigen-decomposition is not generic over a
     // const dimension (this runs at initialization only).
-    let eigen = SymmetricEigen::try_new(DMatrix::from_column_slice(N, N, a.as_slice()), f64::EPSILON, 1000)
-        .ok_or_else(|| format!("the eigenvalues of {a:?} did not converge"))?;
+    let eigen = SymmetricEigen::try_new(
+        DMatrix::from_column_slice(N, N, a.as_slice()),
+        f64::EPSILON,
+        1000,
+    )
+    .ok_or_else(|| format!("the eigenvalues of {a:?} did not converge"))?;
     let lt = l.transpose();
-    let mut modes = [Mode { omega: 0.0, shape: SVector::zeros() }; N];
+    let mut modes = [Mode {
+        omega: 0.0,
+        shape: SVector::zeros(),
+    }; N];
     for (i, mode) in modes.iter_mut().enumerate() {
         let y = SVector::<f64, N>::from_iterator(eigen.eigenvectors.column(i).iter().copied());
         let shape = scale_shape(lt.solve_upper_triangular(&y).ok_or_else(singular)?);
         let omega2 = shape.dot(&(stiffness * shape)) / shape.dot(&(mass * shape));
         // K ≥ 0 makes ω² ≥ 0; a negative value can only be rounding.
-        *mode = Mode { omega: omega2.max(0.0).sqrt(), shape };
+        *mode = Mode {
+            omega: omega2.max(0.0).sqrt(),
+            shape,
+        };
     }
     modes.sort_by(|a, b| a.omega.total_cmp(&b.omega));
     Ok(modes)
@@ -68,7 +80,9 @@ pub fn undamped_modes<const N: usize>(
 /// magnitude to within [`TIE`] count as a tie: the first is then +1 and the others exactly ±1.
 fn scale_shape<const N: usize>(a: SVector<f64, N>) -> SVector<f64, N> {
     let largest = a.amax();
-    let big = (0..N).find(|&i| a[i].abs() >= largest * (1.0 - TIE)).unwrap_or(0);
+    let big = (0..N)
+        .find(|&i| a[i].abs() >= largest * (1.0 - TIE))
+        .unwrap_or(0);
     let mut s = a / a[big];
     for (i, x) in s.iter_mut().enumerate() {
         if i == big {
@@ -89,7 +103,11 @@ mod tests {
     #[test]
     fn the_notes_examples() {
         // 2 m1 = m2 = 2, k1 = k2 = 0, k3 = 1: ω = 0 (1 : 1) and sqrt(3/2) (1 : -1/2).
-        let modes = undamped_modes(&Matrix2::new(1.0, 0.0, 0.0, 2.0), &Matrix2::new(1.0, -1.0, -1.0, 1.0)).unwrap();
+        let modes = undamped_modes(
+            &Matrix2::new(1.0, 0.0, 0.0, 2.0),
+            &Matrix2::new(1.0, -1.0, -1.0, 1.0),
+        )
+        .unwrap();
         assert_eq!(modes[0].omega, 0.0);
         assert_eq!(modes[0].shape, SVector::from([1.0, 1.0]));
         assert!((modes[1].omega - 1.5f64.sqrt()).abs() < 1e-15);

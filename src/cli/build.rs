@@ -33,7 +33,11 @@ fn select(all: Vec<MechanismCrate>, names: &[String]) -> Result<Vec<MechanismCra
         .collect()
 }
 
-pub(crate) fn build(names: &[String], out: &Path, manifest_path: Option<&Path>) -> Result<(), String> {
+pub(crate) fn build(
+    names: &[String],
+    out: &Path,
+    manifest_path: Option<&Path>,
+) -> Result<(), String> {
     let started = Instant::now();
     let selected = select(mechanism_crates(manifest_path)?, names)?;
     let libraries = cargo_build(&selected, manifest_path)?;
@@ -44,7 +48,7 @@ pub(crate) fn build(names: &[String], out: &Path, manifest_path: Option<&Path>) 
             .find(|(package, _)| package == &c.package)
             .map(|(_, path)| path)
             .ok_or_else(|| format!("cargo built no shared library for `{}`", c.package))?;
-        let path = package_fmu(&c.model, library, out)?;
+        let path = package_fmu(&c.model, library, out, c.manifest.parent())?;
         let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
         println!(
             "{:<20} {} ({} KiB)",
@@ -166,8 +170,14 @@ fn spinner(message: &str) -> Option<ProgressBar> {
 }
 
 /// Packages one built library: asks the binary for its own modelDescription, so the XML
-/// and the binary can never disagree.
-pub fn package_fmu(model: &str, library: &Path, out: &Path) -> Result<PathBuf, String> {
+/// and the binary can never disagree, and for its documentation; adds the reference
+/// results of the default experiment found in `<crate_dir>/reference/` (see [`crate::docs`]).
+pub fn package_fmu(
+    model: &str,
+    library: &Path,
+    out: &Path,
+    crate_dir: Option<&Path>,
+) -> Result<PathBuf, String> {
     let xml = model_description_of(library)?;
     let binary =
         std::fs::read(library).map_err(|e| format!("cannot read {}: {e}", library.display()))?;
@@ -176,7 +186,7 @@ pub fn package_fmu(model: &str, library: &Path, out: &Path) -> Result<PathBuf, S
         model_identifier: model,
         model_description: &xml,
         binary: &binary,
-        extra: Vec::new(),
+        extra: crate::docs::extra_files(model, library, crate_dir)?,
     };
     crate::package::write_fmu(&path, &contents)
         .map_err(|e| format!("cannot write {}: {e}", path.display()))?;

@@ -18,7 +18,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "mechfmu", version, about = "Turns mechanical models into FMI 2.0 Co-Simulation FMUs")]
+#[command(
+    name = "mechfmu",
+    version,
+    about = "Turns mechanical models into FMI 2.0 Co-Simulation FMUs"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Cmd,
@@ -55,7 +59,11 @@ enum Cmd {
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Cmd::Build { names, out, manifest_path } => build::build(&names, &out, manifest_path.as_deref()),
+        Cmd::Build {
+            names,
+            out,
+            manifest_path,
+        } => build::build(&names, &out, manifest_path.as_deref()),
         Cmd::List { manifest_path } => build::list(manifest_path.as_deref()),
         Cmd::Bench(args) => bench::run(args),
         Cmd::New(args) => new::run(args),

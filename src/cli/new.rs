@@ -27,7 +27,10 @@ pub fn run(args: Args) -> Result<(), String> {
     let snake = snake_case(&args.name);
     let dir = args.path.clone().unwrap_or_else(|| PathBuf::from(&snake));
     if dir.exists() && std::fs::read_dir(&dir).map_or(true, |mut d| d.next().is_some()) {
-        return Err(format!("{} already exists and is not empty: choose another --path", dir.display()));
+        return Err(format!(
+            "{} already exists and is not empty: choose another --path",
+            dir.display()
+        ));
     }
     let dependency = match (&args.git, &args.mechfmu_path) {
         (Some(url), _) => format!("git = \"{url}\""),
@@ -46,7 +49,10 @@ pub fn run(args: Args) -> Result<(), String> {
         (dir.join("src/lib.rs"), fill(LIB_RS)),
         (dir.join(format!("tests/{snake}.rs")), fill(TEST_RS)),
         (dir.join("tests/test_fmpy.py"), fill(TEST_FMPY)),
-        (dir.join(".gitignore"), "/target\n/fmu\nCargo.lock\n__pycache__\n".to_string()),
+        (
+            dir.join(".gitignore"),
+            "/target\n/fmu\nCargo.lock\n__pycache__\n".to_string(),
+        ),
     ];
     for (path, text) in &files {
         write(path, text)?;
@@ -54,14 +60,20 @@ pub fn run(args: Args) -> Result<(), String> {
     println!("created {} ({})", args.name, dir.display());
     println!("next:");
     println!("  cd {}", dir.display());
-    println!("  cargo test                                       # physics and conformance, in-process");
-    println!("  mechfmu build --manifest-path Cargo.toml --out fmu  # -> fmu/{}.fmu", args.name);
+    println!(
+        "  cargo test                                       # physics and conformance, in-process"
+    );
+    println!(
+        "  mechfmu build --manifest-path Cargo.toml --out fmu  # -> fmu/{}.fmu",
+        args.name
+    );
     Ok(())
 }
 
 fn write(path: &Path, text: &str) -> Result<(), String> {
     if let Some(parent) = path.parent() {
-        std::fs::create_dir_all(parent).map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
+        std::fs::create_dir_all(parent)
+            .map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
     }
     std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
@@ -73,7 +85,8 @@ fn absolute(path: &Path) -> Result<PathBuf, String> {
 /// A model identifier must be a Rust type name and a C-friendly file name.
 fn check_name(name: &str) -> Result<(), String> {
     let mut chars = name.chars();
-    let ok = chars.next().is_some_and(|c| c.is_ascii_uppercase()) && chars.all(|c| c.is_ascii_alphanumeric());
+    let ok = chars.next().is_some_and(|c| c.is_ascii_uppercase())
+        && chars.all(|c| c.is_ascii_alphanumeric());
     if !ok {
         return Err(format!(
             "`{name}` is not a valid mechanism name: use UpperCamelCase letters and digits, e.g. DoublePendulum"
@@ -103,7 +116,13 @@ mod tests {
         assert_eq!(snake_case("DoublePendulum"), "double_pendulum");
         assert_eq!(snake_case("Crane"), "crane");
         assert!(check_name("DoublePendulum").is_ok());
-        for bad in ["", "doublePendulum", "Double-Pendulum", "Double Pendulum", "Dé"] {
+        for bad in [
+            "",
+            "doublePendulum",
+            "Double-Pendulum",
+            "Double Pendulum",
+            "Dé",
+        ] {
             assert!(check_name(bad).is_err(), "{bad}");
         }
     }

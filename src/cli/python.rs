@@ -21,12 +21,20 @@ pub fn ensure_venv(workspace: &Path) -> Result<PathBuf, String> {
     if python.exists() && std::fs::read(&stamp).is_ok_and(|s| s == wanted) {
         return Ok(python);
     }
-    eprintln!("setting up the Python environment in {} (first use; takes a minute) ...", venv.display());
+    eprintln!(
+        "setting up the Python environment in {} (first use; takes a minute) ...",
+        venv.display()
+    );
     if !python.exists() {
-        run(Command::new("python3").arg("-m").arg("venv").arg(&venv), "create the venv")?;
+        run(
+            Command::new("python3").arg("-m").arg("venv").arg(&venv),
+            "create the venv",
+        )?;
     }
     run(
-        Command::new(&python).args(["-m", "pip", "install", "-q", "-r"]).arg(&requirements),
+        Command::new(&python)
+            .args(["-m", "pip", "install", "-q", "-r"])
+            .arg(&requirements),
         "install the pinned Python packages",
     )?;
     std::fs::write(&stamp, wanted).map_err(|e| format!("cannot write {}: {e}", stamp.display()))?;

@@ -49,4 +49,3 @@ pub fn mechanism_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCra
 pub(crate) fn cargo() -> String {
     std::env::var("CARGO").unwrap_or_else(|_| "cargo".into())
 }
-

@@ -577,6 +577,13 @@ pub unsafe fn get_directional_derivative<M: Mechanism>(
             }
             inst.sim
                 .directional_derivative(unknowns, knowns, dv_known, dv_unknown)?;
+            // Seeds near the overflow limit give inf - inf: refuse, rather than return NaN.
+            if let Some(i) = dv_unknown.iter().position(|x| x.is_nan()) {
+                return Err(error(format!(
+                    "the derivative of value reference {} is not a number (a seed too large to multiply?)",
+                    unknowns[i]
+                )));
+            }
             Ok(fmi2OK)
         })
     }
@@ -624,6 +631,13 @@ pub unsafe fn get_real_output_derivatives<M: Mechanism>(
             let order = slice(order, nvr, "order[]")?;
             let value = slice_mut(value, nvr, "value[]")?;
             inst.sim.output_derivatives(vr, order, value)?;
+            // Input derivatives near the overflow limit give inf - inf: refuse, not NaN.
+            if let Some(i) = value.iter().position(|x| x.is_nan()) {
+                return Err(error(format!(
+                    "the derivative of value reference {} is not a number (input derivatives too large?)",
+                    vr[i]
+                )));
+            }
             Ok(fmi2OK)
         })
     }
@@ -810,4 +824,55 @@ pub unsafe fn model_description<M: Mechanism>(buffer: *mut u8, capacity: usize) 
         bytes.len()
     })
     .unwrap_or(0)
+}
+
+// ---------------------------------------------------------------------------------------
+// Not FMI: work counters and the parts of a step alone, for `mechfmu bench`
+// ---------------------------------------------------------------------------------------
+
+/// Number of counters [`counters`] reports.
+pub const COUNTERS: usize = 4;
+
+/// Copies the instance's cumulative work counters into `out` (at most `n` of them, in the
+/// order: communication steps, accepted solver steps, rejected solver steps, model
+/// evaluations) and returns how many there are ([`COUNTERS`]); 0 if `c` is not a live
+/// instance. Any state; not an FMI function, logs nothing.
+pub unsafe fn counters<M: Mechanism>(c: fmi2Component, out: *mut u64, n: usize) -> usize {
+    catch_unwind(AssertUnwindSafe(|| {
+        let Some(inst) = (unsafe { instance::<M>(c) }) else {
+            return 0;
+        };
+        let k = inst.sim.counters();
+        let all = [k.steps, k.accepted, k.rejected, k.evaluations];
+        if let Ok(out) = unsafe { slice_mut(out, n.min(COUNTERS), "out") } {
+            out.copy_from_slice(&all[..out.len()]);
+        }
+        COUNTERS
+    }))
+    .unwrap_or(0)
+}
+
+/// Repeats one part of a communication step `n` times on a copy of the instance's
+/// simulation (part 0: the model equations alone, 1: the solver's right-hand-side callback,
+/// 2: whole steps of size `h` without the FMI layer; see
+/// [`Simulation::bench`](crate::simulation::Simulation::bench)), so a benchmark can time
+/// the parts from outside, in the FMU's own compiled code. Changes nothing. Not an FMI
+/// function; logs nothing.
+pub unsafe fn bench<M: Mechanism>(c: fmi2Component, part: u32, n: u64, h: f64) -> fmi2Status {
+    catch_unwind(AssertUnwindSafe(|| {
+        let Some(inst) = (unsafe { instance::<M>(c) }) else {
+            return fmi2Error;
+        };
+        let Some(part) = crate::simulation::Part::from_code(part) else {
+            return fmi2Error;
+        };
+        match inst.sim.bench(part, n, h) {
+            Ok(sum) => {
+                std::hint::black_box(sum);
+                fmi2OK
+            }
+            Err(_) => fmi2Error,
+        }
+    }))
+    .unwrap_or(fmi2Error)
 }

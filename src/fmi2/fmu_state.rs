@@ -193,6 +193,30 @@ impl FmuState {
                 "serialized FMU state has an unknown step status {last_step_status}"
             ));
         }
+        // Only what this runtime can produce: a forged state (valid checksum, impossible
+        // content) would otherwise put the instance where it cannot leave (Fatal, step in
+        // progress: not even fmi2FreeInstance is allowed) or return NaN with fmi2OK.
+        if matches!(
+            model_state,
+            ModelState::StepInProgress | ModelState::StepCanceled | ModelState::Fatal
+        ) {
+            return Err(format!(
+                "serialized FMU state has instance state \"{}\", which no saved state of this FMU has",
+                model_state.name()
+            ));
+        }
+        let time = values[n - 1];
+        if values
+            .iter()
+            .chain(&inputs)
+            .chain(input_derivatives.iter().flatten())
+            .any(|x| x.is_nan())
+            || !time.is_finite()
+            || !last_successful_time.is_finite()
+            || stop_time.is_some_and(|s| !s.is_finite())
+        {
+            return Err("serialized FMU state has values that are not numbers".into());
+        }
         if r.at != body.len() {
             return Err(format!(
                 "serialized FMU state has {} unexpected trailing bytes",

@@ -10,7 +10,9 @@ pub mod logger;
 pub mod state;
 
 /// Exports the 34 FMI 2.0 Co-Simulation functions of a mechanism under their C names, plus
-/// `mechfmu_model_description` (the modelDescription.xml this binary belongs to).
+/// `mechfmu_model_description` (the modelDescription.xml this binary belongs to),
+/// `mechfmu_documentation` (its documentation/index.html) and, for
+/// `mechfmu bench`, `mechfmu_counters` and `mechfmu_bench`.
 ///
 /// ```ignore
 /// mechfmu::export_fmu!(Oscillator);
@@ -298,9 +300,43 @@ macro_rules! export_fmu {
                 unsafe { api::get_string_status::<M>(c, kind, value) }
             }
 
+            /// Not FMI: the instance's cumulative work counters (communication steps,
+            /// accepted and rejected solver steps, model evaluations), for `mechfmu bench`.
+            #[no_mangle]
+            pub unsafe extern "C" fn mechfmu_counters(
+                c: fmi2Component,
+                out: *mut u64,
+                n: usize,
+            ) -> usize {
+                unsafe { api::counters::<M>(c, out, n) }
+            }
+            /// Not FMI: repeats one part of a step (0: the model equations, 1: the
+            /// solver's right-hand side, 2: steps without the FMI layer) `n` times on a
+            /// copy of the instance, so `mechfmu bench` can time the parts.
+            #[no_mangle]
+            pub unsafe extern "C" fn mechfmu_bench(
+                c: fmi2Component,
+                part: u32,
+                n: u64,
+                h: fmi2Real,
+            ) -> fmi2Status {
+                unsafe { api::bench::<M>(c, part, n, h) }
+            }
+
             /// The modelDescription.xml of this binary, copied into `buffer` (NUL-terminated)
             /// if it fits; returns the length it needs (without the NUL). Used by
             /// `mechfmu build` to package the XML that matches this very binary.
+            /// Not FMI: this FMU's documentation/index.html (description, notes, variables,
+            /// capabilities, a plot of the default experiment run in-process), same buffer
+            /// protocol as `mechfmu_model_description`. Used by `mechfmu build`.
+            #[no_mangle]
+            pub unsafe extern "C" fn mechfmu_documentation(
+                buffer: *mut u8,
+                capacity: usize,
+            ) -> usize {
+                unsafe { $crate::docs::write_documentation::<M>(buffer, capacity) }
+            }
+
             #[no_mangle]
             pub unsafe extern "C" fn mechfmu_model_description(
                 buffer: *mut u8,

@@ -95,6 +95,14 @@ pub trait Mechanism: Declaration {
     /// parameters, calculated parameters and time.
     fn evaluate<S: Scalar>(values: &mut Self::Values<S>);
 
+    /// Whether [`Mechanism::project`] does anything (saves an evaluation per step).
+    const PROJECTED: bool = false;
+
+    /// Projects the states back onto the manifold they must stay on (e.g. a unit
+    /// quaternion), at the end of every communication step. It must not change the physical
+    /// state, only remove the integration's drift off the manifold.
+    fn project(_values: &mut Self::Values<f64>) {}
+
     /// Whether [`Mechanism::monitor`] has anything to say (saves evaluating it).
     const MONITORED: bool = false;
 
@@ -194,6 +202,9 @@ macro_rules! mechanism {
         #[doc = concat!("The values of every variable of [`", stringify!($name), "`], and the time.")]
         #[derive(Clone, Copy, Debug, Default, PartialEq)]
         #[allow(non_snake_case)]
+        // repr(C): the time, then the variables in value-reference order, without padding
+        // (all fields have the same type), so value reference `vr` is element `vr + 1`.
+        #[repr(C)]
         $vis struct $values<S> {
             /// Simulation time (s).
             pub time: S,
@@ -201,20 +212,42 @@ macro_rules! mechanism {
         }
 
         const _: () = {
-            #[allow(non_camel_case_types, dead_code, clippy::upper_case_acronyms)]
-            #[repr(usize)]
-            enum Vr { $($var,)* }
+            /// The time plus one value per variable.
+            const LEN: usize = 1 + <[&str]>::len(&[$(stringify!($var)),*]);
+            const _: () = assert!(::std::mem::size_of::<$values<f64>>() == LEN * 8);
+
+            impl<S: $crate::model::Scalar> $values<S> {
+                #[inline(always)]
+                fn as_array(&self) -> &[S; LEN] {
+                    // SAFETY: a repr(C) struct of LEN fields of type S has the layout of
+                    // [S; LEN] (same size, alignment and field offsets i·size_of::<S>()).
+                    unsafe { &*(self as *const Self as *const [S; LEN]) }
+                }
+                #[inline(always)]
+                fn as_array_mut(&mut self) -> &mut [S; LEN] {
+                    // SAFETY: as in `as_array`; the borrow is exclusive.
+                    unsafe { &mut *(self as *mut Self as *mut [S; LEN]) }
+                }
+            }
 
             impl<S: $crate::model::Scalar> $crate::model::ValueSet<S> for $values<S> {
+                /// O(1): an index into the values, not a search.
                 #[inline]
                 fn get(&self, vr: usize) -> Option<S> {
-                    $( if vr == Vr::$var as usize { return Some(self.$var); } )*
-                    None
+                    if vr < LEN - 1 {
+                        Some(self.as_array()[vr + 1])
+                    } else {
+                        None
+                    }
                 }
                 #[inline]
                 fn set(&mut self, vr: usize, value: S) -> bool {
-                    $( if vr == Vr::$var as usize { self.$var = value; return true; } )*
-                    false
+                    if vr < LEN - 1 {
+                        self.as_array_mut()[vr + 1] = value;
+                        true
+                    } else {
+                        false
+                    }
                 }
                 #[inline]
                 fn time(&self) -> S { self.time }

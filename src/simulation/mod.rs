@@ -1,7 +1,10 @@
 //! A mechanism being simulated: its values, its states under the ODE solver, and the rules
 //! of setting and getting values. Knows nothing of C or of the FMI state machine.
 
+mod bench;
 mod derivatives;
+
+pub use bench::Part;
 
 use crate::model::{Layout, Mechanism, Monitor, SetPhase, ValueSet, Variable};
 use crate::solver::{Dopri5, OdeSystem, SolverError, SolverMemory, StepStats, Tolerance};
@@ -39,6 +42,20 @@ pub struct StepReport {
     pub warnings: Vec<String>,
 }
 
+/// Work done by a simulation since it was created: cumulative, never reset, not part of
+/// the saved state. For benchmarks and statistics (`mechfmu_counters`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// Communication steps completed.
+    pub steps: u64,
+    /// Solver steps accepted.
+    pub accepted: u64,
+    /// Solver steps rejected (error too large, or NaN/inf).
+    pub rejected: u64,
+    /// Evaluations of the model equations on `f64` (right-hand side, outputs, monitor).
+    pub evaluations: u64,
+}
+
 /// A mechanism's running simulation.
 pub struct Simulation<M: Mechanism> {
     layout: Layout,
@@ -54,6 +71,10 @@ pub struct Simulation<M: Mechanism> {
     warning_active: bool,
     /// Values were set since calculated parameters and outputs were last computed.
     dirty: bool,
+    /// Only inputs changed since the outputs were last computed: the parameters are as
+    /// checked, the calculated parameters current; the outputs need one evaluation.
+    stale: bool,
+    counters: Counters,
 }
 
 impl<M: Mechanism> Clone for Simulation<M> {
@@ -70,6 +91,8 @@ impl<M: Mechanism> Clone for Simulation<M> {
             tolerance: self.tolerance,
             warning_active: self.warning_active,
             dirty: self.dirty,
+            stale: self.stale,
+            counters: self.counters,
         }
     }
 }
@@ -98,6 +121,8 @@ impl<M: Mechanism> Simulation<M> {
             tolerance: tolerance(M::EXPERIMENT.tolerance),
             warning_active: false,
             dirty: true,
+            stale: false,
+            counters: Counters::default(),
         };
         sim.reset();
         sim
@@ -116,6 +141,7 @@ impl<M: Mechanism> Simulation<M> {
         self.tolerance = tolerance(M::EXPERIMENT.tolerance);
         self.warning_active = false;
         self.dirty = true;
+        self.stale = false;
     }
 
     pub fn layout(&self) -> &Layout {
@@ -146,6 +172,8 @@ impl<M: Mechanism> Simulation<M> {
         }
         self.tolerance = tolerance(tol);
         self.values.set_time(start_time);
+        // The outputs (if ever computed) belong to the old time.
+        self.dirty = true;
         Ok(())
     }
 
@@ -172,17 +200,33 @@ impl<M: Mechanism> Simulation<M> {
                 var.check_value(value)?;
             }
         }
-        let saved = (phase == SetPhase::Running).then(|| self.values.clone());
+        let running = phase == SetPhase::Running;
+        let saved = running.then(|| self.values.clone());
         let mut parameter_changed = false;
+        let mut input_changed = false;
         for (&vr, &value) in vrs.iter().zip(values) {
-            self.values.set(vr as usize, value);
             if let Some(i) = self.layout.input_index(vr as usize) {
+                // After initialization an input set to the value it has (and without
+                // derivatives) changes nothing: nothing to recompute (importers set every
+                // input at every step, changed or not).
+                if running
+                    && self.inputs[i].to_bits() == value.to_bits()
+                    && self.input_derivatives[i] == [0.0; 2]
+                    && self.values.get(vr as usize).map(f64::to_bits) == Some(value.to_bits())
+                {
+                    continue;
+                }
+                self.values.set(vr as usize, value);
                 // A new value starts a new polynomial: derivatives set before it are stale.
                 self.inputs[i] = value;
                 self.input_derivatives[i] = [0.0; 2];
+                input_changed = true;
             } else {
+                self.values.set(vr as usize, value);
                 parameter_changed |=
                     M::VARIABLES[vr as usize].causality == crate::model::Causality::Parameter;
+                // Before initialization anything settable may have changed.
+                input_changed = true;
             }
         }
         if let Some(saved) = saved {
@@ -196,7 +240,13 @@ impl<M: Mechanism> Simulation<M> {
                 }
             }
         }
-        self.dirty = true;
+        if running && !parameter_changed {
+            // Inputs only: the parameters passed `update` and are unchanged, so the outputs
+            // need an evaluation, not the whole update.
+            self.stale |= input_changed;
+        } else {
+            self.dirty = true;
+        }
         Ok(())
     }
 
@@ -216,6 +266,16 @@ impl<M: Mechanism> Simulation<M> {
     /// computes the calculated parameters and the outputs.
     pub fn update(&mut self) -> Result<(), String> {
         if !self.dirty {
+            if self.stale {
+                // As the full update below, without what only parameters change.
+                let before = self.values.clone();
+                self.evaluate_at_point();
+                if let Err(message) = self.check_computed() {
+                    self.values = before;
+                    return Err(message);
+                }
+                self.stale = false;
+            }
             return Ok(());
         }
         for (vr, var) in M::VARIABLES.iter().enumerate() {
@@ -226,9 +286,40 @@ impl<M: Mechanism> Simulation<M> {
                 return Err(format!("{} = {value} is not a finite number", var.name));
             }
         }
-        M::calculate(&mut self.values)?;
-        self.evaluate_at_point();
+        // All or nothing: computed values that are not numbers are refused, not returned.
+        let before = self.values.clone();
+        let result = M::calculate(&mut self.values).and_then(|()| {
+            self.evaluate_at_point();
+            self.check_computed()
+        });
+        if let Err(message) = result {
+            self.values = before;
+            return Err(message);
+        }
         self.dirty = false;
+        self.stale = false;
+        Ok(())
+    }
+
+    /// The values computed at the current point are numbers: continuous variables finite
+    /// (as a step requires), calculated parameters not NaN (an infinite one, such as the
+    /// damping ratio of a free mass, means something).
+    fn check_computed(&self) -> Result<(), String> {
+        for (vr, var) in M::VARIABLES.iter().enumerate() {
+            let x = self.values.get(vr).unwrap_or(f64::NAN);
+            let bad = if var.variability == crate::model::Variability::Continuous {
+                !x.is_finite()
+            } else {
+                x.is_nan()
+            };
+            if bad {
+                return Err(format!(
+                    "`{}` evaluates to {x} at t = {} with these parameters and inputs",
+                    var.name,
+                    self.time()
+                ));
+            }
+        }
         Ok(())
     }
 
@@ -238,6 +329,12 @@ impl<M: Mechanism> Simulation<M> {
             self.values.set(vr, self.inputs[i]);
         }
         M::evaluate(&mut self.values);
+        self.counters.evaluations += 1;
+    }
+
+    /// Work done so far (cumulative since the simulation was created).
+    pub fn counters(&self) -> Counters {
+        self.counters
     }
 
     /// Captures everything that determines the future.
@@ -254,7 +351,9 @@ impl<M: Mechanism> Simulation<M> {
             solver: self.solver.memory(),
             tolerance: self.tolerance,
             warning_active: self.warning_active,
-            dirty: self.dirty,
+            // A state saved with stale outputs is restored for a full update: the same
+            // values, one check more.
+            dirty: self.dirty || self.stale,
         }
     }
 
@@ -285,6 +384,7 @@ impl<M: Mechanism> Simulation<M> {
         self.tolerance = saved.tolerance;
         self.warning_active = saved.warning_active;
         self.dirty = saved.dirty;
+        self.stale = false;
         Ok(())
     }
 
@@ -333,6 +433,13 @@ impl<M: Mechanism> Simulation<M> {
                 "communicationStepSize = {h} is too small to advance from t = {t}"
             )));
         }
+        // The values at t (numbers: checked by `update`), to go back to if the step ends
+        // on values that are not.
+        let (start, memory, warning_active) = (
+            self.values.clone(),
+            self.solver.memory(),
+            self.warning_active,
+        );
         for (i, &vr) in self.layout.states.iter().enumerate() {
             self.y[i] = self.values.get(vr).unwrap_or(f64::NAN);
         }
@@ -346,13 +453,31 @@ impl<M: Mechanism> Simulation<M> {
             t0: t,
             warning_active: &mut self.warning_active,
             warnings: &mut report.warnings,
+            evaluations: &mut self.counters.evaluations,
         };
         let result =
             self.solver
                 .integrate(&mut system, &mut time, t_end, &mut self.y, self.tolerance);
-        // Whatever happened, the values describe the last accepted point.
-        system.load(time, &self.y);
-        M::evaluate(system.values);
+        // Whatever happened, the values describe the last accepted point (after a successful
+        // step they already do: the solver's last stage was evaluated there).
+        system.evaluate_at(time, &self.y);
+        if M::PROJECTED {
+            M::project(system.values);
+            M::evaluate(system.values);
+        }
+        if let Some(name) = self.first_non_finite() {
+            self.values = start;
+            self.solver.restore(memory);
+            self.warning_active = warning_active;
+            let why = result.err().map(|e| format!(" ({})", describe(&e)));
+            return Err(StepFailure::Stopped {
+                time: t,
+                message: format!(
+                    "`{name}` became non-finite before t = {t_end}{}; the step is undone, the values are those at t = {t}",
+                    why.unwrap_or_default()
+                ),
+            });
+        }
         // The inputs move on along their polynomials to the new communication point (with
         // no derivatives set, they stay as they were).
         let dt = time - t;
@@ -367,12 +492,9 @@ impl<M: Mechanism> Simulation<M> {
         match result {
             Ok(stats) => {
                 report.stats = stats;
-                if let Some(name) = self.first_non_finite() {
-                    return Err(StepFailure::Stopped {
-                        time: t,
-                        message: format!("`{name}` became non-finite at t = {t_end}"),
-                    });
-                }
+                self.counters.steps += 1;
+                self.counters.accepted += stats.accepted;
+                self.counters.rejected += stats.rejected;
                 Ok(report)
             }
             Err(e) => Err(StepFailure::Stopped {
@@ -425,9 +547,52 @@ struct System<'a, M: Mechanism> {
     t0: f64,
     warning_active: &'a mut bool,
     warnings: &'a mut Vec<String>,
+    /// The simulation's count of model evaluations.
+    evaluations: &'a mut u64,
 }
 
 impl<M: Mechanism> System<'_, M> {
+    /// Whether the values hold exactly the point (t, y) with the inputs there. The values
+    /// are always evaluated at the point they hold (every load is followed by an
+    /// evaluation, and `Simulation::update` leaves them so), so then there is nothing to
+    /// evaluate: this is how the solver's first stage reuses the evaluation at the end of
+    /// the previous step (FSAL across communication steps), and how the evaluation after
+    /// the last stage and the monitor's are saved. Bit-for-bit: the same point gives the
+    /// same evaluation (`Mechanism::evaluate` is a function of the values it reads).
+    #[inline]
+    fn holds(&self, t: f64, y: &[f64]) -> bool {
+        if self.values.time().to_bits() != t.to_bits() {
+            return false;
+        }
+        let same = |vr: usize, x: f64| self.values.get(vr).map(f64::to_bits) == Some(x.to_bits());
+        if !self
+            .layout
+            .states
+            .iter()
+            .zip(y)
+            .all(|(&vr, &x)| same(vr, x))
+        {
+            return false;
+        }
+        let dt = t - self.t0;
+        self.layout
+            .inputs
+            .iter()
+            .zip(self.inputs)
+            .zip(self.input_derivatives)
+            .all(|((&vr, &u), d)| same(vr, u + dt * (d[0] + 0.5 * dt * d[1])))
+    }
+
+    /// Loads (t, y) and evaluates the model there, unless the values already hold it.
+    #[inline]
+    fn evaluate_at(&mut self, t: f64, y: &[f64]) {
+        if !self.holds(t, y) {
+            self.load(t, y);
+            M::evaluate(self.values);
+            *self.evaluations += 1;
+        }
+    }
+
     #[inline]
     fn load(&mut self, t: f64, y: &[f64]) {
         self.values.set_time(t);
@@ -450,8 +615,7 @@ impl<M: Mechanism> System<'_, M> {
 impl<M: Mechanism> OdeSystem for System<'_, M> {
     #[inline]
     fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) {
-        self.load(t, y);
-        M::evaluate(self.values);
+        self.evaluate_at(t, y);
         for (&vr, d) in self.layout.derivatives.iter().zip(dydt.iter_mut()) {
             *d = self.values.get(vr).unwrap_or(f64::NAN);
         }
@@ -461,8 +625,7 @@ impl<M: Mechanism> OdeSystem for System<'_, M> {
         if !M::MONITORED {
             return Ok(());
         }
-        self.load(t, y);
-        M::evaluate(self.values);
+        self.evaluate_at(t, y);
         match M::monitor(self.values) {
             Monitor::Valid => *self.warning_active = false,
             Monitor::Warning(message) => {

@@ -524,7 +524,10 @@ fn accepted_callback_can_stop_the_integration() {
             Ok(())
         }
     }
-    let mut sys = Stopper { last_valid: (0.0, 1.0), refused: None };
+    let mut sys = Stopper {
+        last_valid: (0.0, 1.0),
+        refused: None,
+    };
     let mut solver = Dopri5::new(1);
     let (mut t, mut y) = (0.0, [1.0]);
     let err = solver

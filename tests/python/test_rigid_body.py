@@ -369,9 +369,6 @@ def test_quaternion_stays_unit_with_the_stabilization(fmu, case, interval):
         assert np.max(np.abs(q_on - q_off)) < 1e-5, "the stabilization changed the rotation"
 
 
-@pytest.mark.xfail(strict=True, reason="|q| = 1 to 1e-12 at rtol 1e-8 needs a projection of the states after "
-                   "each step (a runtime hook, requested); the ODE-level stabilization reaches 2.5e-12..7e-12 "
-                   "for ~5 rad/s spins at 0.01 s steps, 1.4e-9 at 20 rad/s, ~1e-8 with 0.1 s steps")
 def test_quaternion_is_unit_to_1e_12(fmu):
     worst = 0.0
     for start in QUATERNION_CASES.values():

@@ -42,6 +42,25 @@ impl Mechanism for Oscillator {
         tolerance: 1e-6,
     };
 
+    const NOTES: &'static str = "
+        Newton's second law on the mass (MIT 2.003 final review, sections 3 and 4):
+
+            m ẍ + c ẋ + k x = F + F0 sin(ω t)
+
+        with the calculated parameters `omega_n = sqrt(k/m)` and `zeta = c / (2 sqrt(m k))`
+        (`zeta` is reported as infinite when `k = 0`: a free mass).
+
+        The notes' closed forms are the references `mechfmu validate` runs: the free response
+        for `ζ > 1`, `ζ = 1`, `0 < ζ < 1` and `ζ = 0`, the step response to a constant `F`, and
+        the complete response to `F0 sin(ω t)`, whose steady part has amplitude
+        `X = F0 / sqrt((k - m ω²)² + (c ω)²)` and phase `ψ = -atan2(c ω, k - m ω²)`.
+
+        ## Departures from the notes
+        None in the equation. The FMU adds the input force `F` (held over a communication
+        step, or following its derivatives when the importer sets them) beside the notes'
+        harmonic forcing.
+    ";
+
     fn calculate(v: &mut OscillatorValues<f64>) -> Result<(), String> {
         v.omega_n = (v.k / v.m).sqrt();
         // k = 0 leaves a free mass: no natural frequency, and ζ is infinite (overdamped

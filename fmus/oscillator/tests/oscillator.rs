@@ -46,10 +46,17 @@ fn free_response_in_every_damping_regime() {
     // (c, k) with m = 1: ζ = 0, 0.1, 1, 2.5
     for (c, k) in [(0.0, 4.0), (0.4, 4.0), (4.0, 4.0), (10.0, 4.0)] {
         for h in [0.01, 0.0137] {
-            let err = run(&[("c", c), ("k", k), ("x", 0.7), ("x_dot", -0.3)], 1e-8, h, 20.0, |t| {
-                free_response(1.0, c, k, 0.7, -0.3, t)
-            });
-            assert!(err < 1e-6, "c = {c}, k = {k}, h = {h}: error {err:e} of range");
+            let err = run(
+                &[("c", c), ("k", k), ("x", 0.7), ("x_dot", -0.3)],
+                1e-8,
+                h,
+                20.0,
+                |t| free_response(1.0, c, k, 0.7, -0.3, t),
+            );
+            assert!(
+                err < 1e-6,
+                "c = {c}, k = {k}, h = {h}: error {err:e} of range"
+            );
         }
     }
 }
@@ -69,7 +76,8 @@ fn harmonic_forcing_near_resonance() {
 #[test]
 fn calculated_parameters_follow_the_parameters() {
     let mut fmu = Fmu::new();
-    fmu.initialize(None, 0.0, &[("m", 2.0), ("k", 8.0), ("c", 1.0)]).unwrap();
+    fmu.initialize(None, 0.0, &[("m", 2.0), ("k", 8.0), ("c", 1.0)])
+        .unwrap();
     assert!((fmu.get("omega_n") - 2.0).abs() < 1e-15);
     assert!((fmu.get("zeta") - 1.0 / 8.0).abs() < 1e-15);
     // A tunable change takes effect at once, calculated parameters included.
@@ -99,7 +107,11 @@ fn illegal_call_sequences_are_errors() {
     assert_eq!(fmu.terminate(), fmi2Error);
     fmu.initialize(None, 0.0, &[]).unwrap();
     assert_eq!(fmu.setup_experiment(None, 0.0, None), fmi2Error);
-    assert_eq!(fmu.set("m", 2.0), fmi2Error, "a fixed parameter after initialization");
+    assert_eq!(
+        fmu.set("m", 2.0),
+        fmi2Error,
+        "a fixed parameter after initialization"
+    );
     assert!(fmu.logged("cannot be set after initialization"));
     assert_eq!(fmu.set("x_ddot", 2.0), fmi2Error, "an output");
     assert_eq!(fmu.do_step(0.0, 0.1), fmi2OK);
@@ -115,14 +127,26 @@ fn bad_arguments_are_errors_with_messages() {
     let mut v = [0.0];
     assert_eq!(fmu.get_real(&[999], &mut v), fmi2Error);
     assert!(fmu.logged("value reference 999"));
-    assert_eq!(fmu.do_step(0.5, 0.1), fmi2Error, "wrong communication point");
+    assert_eq!(
+        fmu.do_step(0.5, 0.1),
+        fmi2Error,
+        "wrong communication point"
+    );
     assert_eq!(fmu.do_step(0.0, -0.1), fmi2Error);
     assert_eq!(fmu.do_step(0.0, f64::NAN), fmi2Error);
     assert_eq!(fmu.set("F", f64::INFINITY), fmi2Error);
-    assert_eq!(fmu.do_step(0.0, 0.1), fmi2OK, "argument errors leave the instance usable");
+    assert_eq!(
+        fmu.do_step(0.0, 0.1),
+        fmi2OK,
+        "argument errors leave the instance usable"
+    );
     let wrong = Harness::<Oscillator>::instantiate("o", fmi2CoSimulation, "{not-the-guid}");
     assert!(wrong.is_err_and(|log| log.iter().any(|m| m.2.contains("GUID"))));
-    let me = Harness::<Oscillator>::instantiate("o", fmi2ModelExchange, &mechfmu::guid::guid::<Oscillator>());
+    let me = Harness::<Oscillator>::instantiate(
+        "o",
+        fmi2ModelExchange,
+        &mechfmu::guid::guid::<Oscillator>(),
+    );
     assert!(me.is_err());
 }
 

@@ -92,6 +92,31 @@ impl Mechanism for PendulumCart {
         tolerance: 1e-6,
     };
 
+    const NOTES: &'static str = "
+        Cart `M` on a spring `k` and dashpot `c1`; thin rod `m`, length `4l`, pinned at `A` a
+        distance `l` from its centre of mass (`I_A = 7/3 m l²`), rotary damper `c2`; horizontal
+        force `F` at the rod's far end `D`, `3l` below `A`; `θ` from the downward vertical.
+        By Lagrange, with `T = ½ (M+m) ẋ² + m l ẋ θ̇ cos θ + 7/6 m l² θ̇²`,
+        `V = ½ k x² - m g l cos θ` and the virtual work of `F` at `D`:
+
+            (M+m) ẍ + c1 ẋ + k x + m l (θ̈ cos θ - θ̇² sin θ) = F
+            m l ẍ cos θ + 7/3 m l² θ̈ + c2 θ̇ + m g l sin θ    = 3 F l cos θ
+            F_N = (M+m) g + m l (θ̈ sin θ + θ̇² cos θ)
+            E   = ½ (M+m) ẋ² + m l ẋ θ̇ cos θ + 7/6 m l² θ̇² + ½ k x² - m g l cos θ
+
+        Checked against Newton–Euler (rod and cart separately, the pin force eliminated) and
+        the energy balance `dE/dt = F (ẋ + 3 l θ̇ cos θ) - c1 ẋ² - c2 θ̇²`. `omega_n1`,
+        `omega_n2` are the frequencies of the motion linearized about `x = 0, θ = 0`: mass
+        matrix `[[M+m, m l], [m l, 7/3 m l²]]`, stiffness `diag(k, m g l)`.
+
+        ## Departures from the notes
+        - Normal force: the notes print `F_N = (M+m) g - m l (θ̈ sin θ + θ̇² cos θ)`. Vertical
+          Newton on the rod and on the cart gives a `+`: at the bottom of a swing the rod's
+          centripetal acceleration points up and the cart is pressed down harder.
+        - The notes' Euler step writes `r_C × v_A = -ẋ l cos θ K`; it is `+ẋ l cos θ K`. Their
+          final equations of motion are right and are the ones above.
+    ";
+
     fn calculate(v: &mut PendulumCartValues<f64>) -> Result<(), String> {
         // Linearized about x = 0, θ = 0 (cos θ → 1, sin θ → θ, θ̇² θ dropped): the mass matrix
         // at θ = 0 and the stiffness diag(k, m g l).

@@ -74,7 +74,8 @@ CASES = [
          description="A large swing (theta0 = 1.2 rad, x_dot0 = 0.3 m/s), no damping, no force, 20 s at "
                      "relative tolerance 1e-10: the drift of E relative to |E(0)| (E(0) from the start values).",
          start_values=LARGE, stop_time=20.0, output_interval=0.01, relative_tolerance=1e-10,
-         outputs=["E"], reference=constant_energy(LARGE), tolerance=1e-8),
+         outputs=["E"], reference=constant_energy(LARGE), tolerance=1e-8,
+         record=["x", "theta"], plot=["theta", "x", "E"]),
     Case("damped_forced",
          description="Dashpot c1 = 0.5, pin damping c2 = 0.02 and a step force F at D (switching at 1, 4, 7 s): "
                      "DOP853 restarted at every switch; E then follows dE/dt = F (x' + 3 l th' cos th) - c1 x'^2 "

@@ -87,7 +87,7 @@ CASES = [
          description="A general body (products of inertia, tilted start) spinning freely: H in ground axes, E_kin "
                      "and |q| keep their initial values (relative drift; H scaled by |H(0)|), rtol 1e-10.",
          start_values=GENERAL, stop_time=20.0, output_interval=0.01, relative_tolerance=1e-10,
-         outputs=[*H, "E_kin"], record=Q, derived={"|q|": q_norm},
+         outputs=[*H, "E_kin"], record=[*Q, *W], derived={"|q|": q_norm}, plot=[*W, *H, "E_kin"],
          reference=torque_free_invariants(GENERAL), scale={n: H0 for n in H}, tolerance=1e-8),
     Case("axisymmetric_precession",
          description="A body symmetric about z (I_xx = I_yy): w_z constant and (w_x, w_y) turning at "
@@ -99,5 +99,6 @@ CASES = [
                      "precesses and nutates; H_Z (the weight's moment is horizontal) and E_kin + E_pot stay "
                      "constant, rtol 1e-10.",
          start_values=TOP, stop_time=20.0, output_interval=0.01, relative_tolerance=1e-10,
-         outputs=["H_Z", "E"], reference=heavy_top_invariants(TOP), tolerance=1e-8),
+         outputs=["H_Z", "E"], reference=heavy_top_invariants(TOP), tolerance=1e-8,
+         record=["r_CX", "r_CY", "r_CZ"], plot=["r_CX", "r_CY", "r_CZ", "H_Z", "E"]),
 ]

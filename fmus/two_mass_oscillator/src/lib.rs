@@ -86,6 +86,30 @@ impl Mechanism for TwoMassOscillator {
         tolerance: 1e-6,
     };
 
+    const NOTES: &'static str = "
+        Newton's second law on each mass (MIT 2.003 final review, section 5); the coupling
+        spring pulls mass 1 with `k3 (x2 - x1)` and mass 2 with `k3 (x1 - x2)`, likewise the
+        coupling damper:
+
+            m1 ẍ1 + (c1+c3) ẋ1 - c3 ẋ2 + (k1+k3) x1 - k3 x2 = F1
+            m2 ẍ2 + (c2+c3) ẋ2 - c3 ẋ1 + (k2+k3) x2 - k3 x1 = F2
+
+        These are Lagrange's equations of `T = ½ m1 ẋ1² + ½ m2 ẋ2²`,
+        `V = ½ k1 x1² + ½ k2 x2² + ½ k3 (x1 - x2)²` with Rayleigh's dissipation
+        `D = ½ c1 ẋ1² + ½ c2 ẋ2² + ½ c3 (ẋ1 - ẋ2)²`, so `E = T + V` obeys
+        `dE/dt = F1 ẋ1 + F2 ẋ2 - 2 D`.
+
+        The undamped modes are the generalized eigenpairs of `K a = ω² M a`,
+        `M = diag(m1, m2)`, `K = [[k1+k3, -k3], [-k3, k2+k3]]`, frequencies ascending, each
+        shape scaled so that its component of largest magnitude is +1 (on a tie, `x1`).
+
+        ## Departures from the notes
+        The notes print the undamped, unforced equations only; these agree with them at
+        `c = 0`, `F = 0`. The dampers and forces are additions, checked by the energy balance
+        above. The notes' closed form for `ω²` is used as the independent check of the
+        eigen-solver.
+    ";
+
     fn calculate(v: &mut TwoMassOscillatorValues<f64>) -> Result<(), String> {
         let mass = Matrix2::new(v.m1, 0.0, 0.0, v.m2);
         let stiffness = Matrix2::new(v.k1 + v.k3, -v.k3, -v.k3, v.k2 + v.k3);

@@ -91,7 +91,10 @@ mod tests {
         assert_eq!(o::fmi2Fatal, h::fmi2Status_fmi2Fatal);
         assert_eq!(o::fmi2Pending, h::fmi2Status_fmi2Pending);
         assert_eq!(o::fmi2CoSimulation, h::fmi2Type_fmi2CoSimulation);
-        assert_eq!(o::fmi2LastSuccessfulTime, h::fmi2StatusKind_fmi2LastSuccessfulTime);
+        assert_eq!(
+            o::fmi2LastSuccessfulTime,
+            h::fmi2StatusKind_fmi2LastSuccessfulTime
+        );
         assert_eq!(o::fmi2Terminated, h::fmi2StatusKind_fmi2Terminated);
     }
 }

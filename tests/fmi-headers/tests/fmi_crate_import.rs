@@ -19,7 +19,8 @@ fn fmu_path(name: &str) -> PathBuf {
 
 #[test]
 fn fmi_crate_runs_the_oscillator_and_matches_the_closed_form() {
-    let import: Fmi2Import = fmi::import::from_path(fmu_path("Oscillator")).expect("import Oscillator.fmu");
+    let import: Fmi2Import =
+        fmi::import::from_path(fmu_path("Oscillator")).expect("import Oscillator.fmu");
     let md = import.model_description();
     assert_eq!(md.model_name, "Oscillator");
     let vr = |name: &str| md.model_variable_by_name(name).expect(name).value_reference;
@@ -27,7 +28,9 @@ fn fmi_crate_runs_the_oscillator_and_matches_the_closed_form() {
     let exp = md.default_experiment.as_ref().expect("DefaultExperiment");
     assert_eq!(exp.stop_time(), 20.0);
 
-    let mut fmu = import.instantiate_cs("Oscillator", false, true).expect("instantiate");
+    let mut fmu = import
+        .instantiate_cs("Oscillator", false, true)
+        .expect("instantiate");
     assert_eq!(fmu.get_version(), "2.0");
     fmu.setup_experiment(Some(1e-8), 0.0, None).expect("setup");
     fmu.enter_initialization_mode().expect("enter init");
@@ -37,7 +40,8 @@ fn fmi_crate_runs_the_oscillator_and_matches_the_closed_form() {
 
     let (wn, zeta) = (2.0f64, 0.1f64);
     let wd = wn * (1.0 - zeta * zeta).sqrt();
-    let exact = |t: f64| (-zeta * wn * t).exp() * ((wd * t).cos() + zeta * wn / wd * (wd * t).sin());
+    let exact =
+        |t: f64| (-zeta * wn * t).exp() * ((wd * t).cos() + zeta * wn / wd * (wd * t).sin());
     let h = 0.01;
     let mut max_err = 0.0f64;
     let mut value = [0.0];

@@ -1,0 +1,409 @@
+"""``python -m mechfmu_sweep FMU --param NAME=SPEC ...`` (what ``mechfmu sweep`` runs).
+
+Exit status: 0 when the sweep ran (whatever became of individual cases: their status is in
+the results), 2 for a usage error (the message names it), 1 when the sweep machinery
+failed (the cluster, the FMU file, writing the results).
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import json
+import math
+import sys
+import time
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from .design import (
+    Design,
+    Schedule,
+    SHAPES,
+    Spec,
+    SpecError,
+    build_design,
+    parse_schedule,
+    parse_spec,
+    split_assignment,
+)
+from .runner import CaseSetup, Summary, parse_summary
+
+SETTABLE_TYPES = ("Real", "Integer", "Enumeration")
+
+
+def make_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="mechfmu sweep",
+        description="Parameter sweep of an FMI 2.0 Co-Simulation FMU on Dask distributed.",
+    )
+    p.add_argument("fmu", type=Path, help="the FMU")
+    p.add_argument("--param", action="append", default=[], metavar="NAME=SPEC",
+                   help="a design variable: a parameter, a start value or an input schedule's "
+                        "argument (NAME.arg); SPEC is a value, a:b:n, v1,v2,..., uniform(a,b), "
+                        "normal(mu,sigma) or loguniform(a,b)")
+    p.add_argument("--cases", type=int, help="random draws per grid point (default 100 when a spec is random)")
+    p.add_argument("--seed", type=int, help="seed of the random draws (default: a fresh one, reported)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, e.g. tcp://127.0.0.1:8786")
+    p.add_argument("--workers", type=int, help="worker processes of the local cluster (default: one per core)")
+    p.add_argument("--chunk-size", type=int, help="cases per Dask task (default: about 8 tasks per worker, at most 16 cases)")
+    p.add_argument("--start-time", type=float, help="default: the FMU's DefaultExperiment, or 0")
+    p.add_argument("--stop-time", type=float, help="default: the FMU's DefaultExperiment")
+    p.add_argument("--output-interval", type=float,
+                   help="communication step, the sampling of the summaries (default: as fmpy.simulate_fmu)")
+    p.add_argument("--tolerance", type=float, help="relative tolerance (default: the FMU's DefaultExperiment)")
+    p.add_argument("--input", type=Path, metavar="FILE.csv",
+                   help="time-varying inputs for every case: fmpy-style CSV, time then one column per input")
+    p.add_argument("--input-schedule", action="append", default=[], metavar="NAME=SHAPE(args)",
+                   help=f"a per-case input signal; shapes: {', '.join(SHAPES)}")
+    p.add_argument("--summary", action="append", default=[], metavar="EXPR",
+                   help="a summary column besides the final outputs: max(v), min(v), max_abs(v) (or max|v|), "
+                        "mean(v), rms(v), final(v)")
+    p.add_argument("--out", type=Path, metavar="FILE", help="results, .parquet or .csv (default: CSV on stdout)")
+    p.add_argument("--plot", type=Path, metavar="PNG", help="plot a swept parameter against a summary")
+    p.add_argument("--plot-x", metavar="NAME", help="the design column on the x axis (default: the first swept one)")
+    p.add_argument("--plot-y", metavar="COLUMN", help="the summary on the y axis (default: the first --summary)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar or progress lines")
+    return p
+
+
+# ---------------------------------------------------------------------------------------
+# Checking the request against the model description
+
+
+def _variables(md) -> dict[str, Any]:
+    return {v.name: v for v in md.modelVariables}
+
+
+def _settable(v) -> bool:
+    if v.type not in SETTABLE_TYPES or v.variability == "constant" or v.causality == "independent":
+        return False
+    return v.causality == "input" or (v.causality in ("parameter", "output", "local") and v.initial in ("exact", "approx"))
+
+
+def _close_names(name: str, names: Sequence[str]) -> str:
+    import difflib
+
+    near = difflib.get_close_matches(name, names, n=3)
+    return f" (did you mean {', '.join(near)}?)" if near else ""
+
+
+def default_output_interval(md, start: float, stop: float) -> float:
+    """What ``fmpy.simulate_fmu`` uses for a Co-Simulation FMU when given none."""
+    from fmpy.util import auto_interval
+
+    cs, ex = md.coSimulation, md.defaultExperiment
+    h = None
+    if cs is not None and cs.fixedInternalStepSize is not None:
+        h = float(cs.fixedInternalStepSize)
+    elif ex is not None and ex.stepSize is not None:
+        h = float(ex.stepSize)
+    if h is not None:
+        while (stop - start) / h > 1000:
+            h *= 2
+        return h
+    return float(auto_interval(stop - start))
+
+
+class Plan:
+    """The validated request: design, per-case setup and what to write."""
+
+    def __init__(self, args: argparse.Namespace):
+        from fmpy import read_model_description
+
+        self.args = args
+        fmu: Path = args.fmu
+        if not fmu.is_file():
+            raise SpecError(f"{fmu}: no such FMU file")
+        try:
+            md = read_model_description(str(fmu), validate=False)
+        except Exception as e:  # noqa: BLE001
+            raise SpecError(f"{fmu}: not a readable FMU ({e})") from None
+        if md.fmiVersion != "2.0" or md.coSimulation is None:
+            raise SpecError(f"{fmu}: an FMI 2.0 Co-Simulation FMU is needed (this one: FMI {md.fmiVersion}, "
+                            f"{'Co-Simulation' if md.coSimulation else 'no Co-Simulation'})")
+        self.md = md
+        self.model = md.coSimulation.modelIdentifier
+        variables = _variables(md)
+        names = list(variables)
+        outputs = [v.name for v in md.modelVariables if v.causality == "output"]
+
+        # input schedules and the CSV
+        schedules: dict[str, Schedule] = {}
+        for text in args.input_schedule:
+            s = parse_schedule(text)
+            v = variables.get(s.input)
+            if v is None:
+                raise SpecError(f"--input-schedule {text}: {self.model} has no variable `{s.input}`"
+                                f"{_close_names(s.input, names)}")
+            if v.causality != "input" or v.type != "Real":
+                raise SpecError(f"--input-schedule {text}: `{s.input}` is not a Real input of {self.model} "
+                                f"(inputs: {', '.join(n for n, w in variables.items() if w.causality == 'input') or 'none'})")
+            if s.input in schedules:
+                raise SpecError(f"--input-schedule given twice for {s.input}")
+            schedules[s.input] = s
+        base_input = None
+        if args.input is not None:
+            base_input = self._read_csv(args.input, variables)
+            both = sorted(set(base_input.dtype.names[1:]) & set(schedules))
+            if both:
+                raise SpecError(f"{', '.join(both)} given both by --input {args.input} and by --input-schedule")
+
+        # design variables
+        specs: list[Spec] = []
+        start_columns: dict[str, str] = {}
+        schedule_args: dict[str, dict[str, str]] = {}
+        base_scales: dict[str, str] = {}
+        csv_inputs = set(base_input.dtype.names[1:]) if base_input is not None else set()
+        for text in args.param:
+            name, spec_text = split_assignment(text, "--param")
+            spec = parse_spec(name, spec_text)
+            specs.append(spec)
+            v = variables.get(name)
+            if v is not None:
+                if not _settable(v):
+                    raise SpecError(f"--param {text}: `{name}` cannot be set (causality {v.causality}, "
+                                    f"variability {v.variability}, initial {v.initial}); a design variable is a "
+                                    "parameter, a start value (initial exact/approx) or an input")
+                if name in schedules or name in csv_inputs:
+                    raise SpecError(f"--param {text}: input `{name}` already has a time signal; sweep its "
+                                    f"arguments instead ({name}.value, {name}.scale, ...)")
+                start_columns[name] = name
+                continue
+            base, _, arg = name.rpartition(".")
+            if base in schedules:
+                allowed = list(SHAPES[schedules[base].shape].args) + ["scale"]
+                if arg not in allowed:
+                    raise SpecError(f"--param {text}: the schedule of {base} ({schedules[base].shape}) has no "
+                                    f"argument `{arg}` (it has {', '.join(allowed)})")
+                schedule_args.setdefault(base, {})[arg] = name
+            elif base in csv_inputs:
+                if arg != "scale":
+                    raise SpecError(f"--param {text}: an input read from {args.input} has only `scale`")
+                base_scales[base] = name
+            else:
+                raise SpecError(f"--param {text}: {self.model} has no variable `{name}`{_close_names(name, names)}")
+        if not specs:
+            raise SpecError("nothing to sweep: give at least one --param NAME=SPEC")
+        seed = args.seed
+        if seed is None and any(s.is_random for s in specs):
+            seed = int(np.random.SeedSequence().entropy % (2**32))
+        self.design: Design = build_design(specs, args.cases, seed)
+        self.specs = specs
+        for j, col in enumerate(self.design.columns):
+            v = variables.get(col)
+            if v is not None and col in start_columns and v.type != "Real":
+                vals = self.design.values[:, j]
+                if not np.all(vals == np.round(vals)):
+                    raise SpecError(f"--param {col}: `{col}` is an {v.type}; its spec gives non-integer values")
+
+        # experiment
+        ex = md.defaultExperiment
+        start = args.start_time if args.start_time is not None else (
+            float(ex.startTime) if ex is not None and ex.startTime is not None else 0.0)
+        stop = args.stop_time if args.stop_time is not None else (
+            float(ex.stopTime) if ex is not None and ex.stopTime is not None else start + 1.0)
+        if not (math.isfinite(stop) and stop > start):
+            raise SpecError(f"--stop-time {stop} must be after the start time {start}")
+        interval = args.output_interval if args.output_interval is not None else default_output_interval(md, start, stop)
+        if not (math.isfinite(interval) and interval > 0):
+            raise SpecError(f"--output-interval {interval} must be > 0")
+        tol = args.tolerance if args.tolerance is not None else (
+            float(ex.tolerance) if ex is not None and ex.tolerance is not None else None)
+        if tol is not None and not tol > 0:
+            raise SpecError(f"--tolerance {tol} must be > 0")
+
+        # summaries: the final value of every output, then the chosen ones
+        summaries = [Summary("final", o) for o in outputs]
+        for text in args.summary:
+            s = parse_summary(text)
+            v = variables.get(s.var)
+            if v is None:
+                raise SpecError(f"--summary {text}: {self.model} has no variable `{s.var}`{_close_names(s.var, names)}")
+            if v.type != "Real":
+                raise SpecError(f"--summary {text}: `{s.var}` is not a Real variable")
+            if s not in summaries:
+                summaries.append(s)
+        self.chosen = [parse_summary(t).column for t in args.summary]
+
+        self.setup = CaseSetup(
+            columns=list(self.design.columns),
+            start_columns=start_columns,
+            schedules=schedules,
+            schedule_args=schedule_args,
+            base_input=base_input,
+            base_scales=base_scales,
+            start_time=start,
+            stop_time=stop,
+            tolerance=tol,
+            output_interval=interval,
+            summaries=summaries,
+        )
+        if args.out is not None and args.out.suffix.lower() not in (".parquet", ".csv"):
+            raise SpecError(f"--out {args.out}: the extension says the format, .parquet or .csv")
+        if args.plot is not None and args.plot.suffix.lower() != ".png":
+            raise SpecError(f"--plot {args.plot}: a .png file")
+        if args.workers is not None and args.workers < 1:
+            raise SpecError("--workers must be >= 1")
+        if args.workers is not None and args.scheduler:
+            raise SpecError("--workers sizes the local cluster; with --scheduler the cluster is given")
+        if args.chunk_size is not None and args.chunk_size < 1:
+            raise SpecError("--chunk-size must be >= 1")
+        if args.plot_x is not None and args.plot_x not in self.design.columns:
+            raise SpecError(f"--plot-x {args.plot_x}: not a design column ({', '.join(self.design.columns)})")
+        if args.plot_y is not None and args.plot_y not in self.setup.result_columns:
+            raise SpecError(f"--plot-y {args.plot_y}: not a summary column ({', '.join(self.setup.result_columns)})")
+
+    def _read_csv(self, path: Path, variables) -> np.ndarray:
+        from fmpy.util import read_csv
+
+        if not path.is_file():
+            raise SpecError(f"--input {path}: no such file")
+        try:
+            table = read_csv(str(path))
+        except Exception as e:  # noqa: BLE001
+            raise SpecError(f"--input {path}: not an fmpy-style CSV (time, then one column per input): {e}") from None
+        cols = table.dtype.names
+        if len(cols) < 2:
+            raise SpecError(f"--input {path}: no input columns after the time column")
+        t = table[cols[0]]
+        if np.any(np.diff(t) < 0):
+            raise SpecError(f"--input {path}: the time column ({cols[0]}) must not decrease")
+        for c in cols[1:]:
+            v = variables.get(c)
+            if v is None or not (v.causality == "input" or v.variability == "tunable"):
+                raise SpecError(f"--input {path}: column `{c}` is not an input of {self.model}"
+                                f"{_close_names(c, list(variables))}")
+        return table
+
+    def metadata(self, fmu_sha: str) -> dict[str, Any]:
+        a = self.args
+        return {
+            "fmu": str(a.fmu), "fmu_sha256": fmu_sha, "model": self.model,
+            "params": a.param, "input_schedules": a.input_schedule,
+            "input": str(a.input) if a.input else None, "summaries": a.summary,
+            "cases": len(self.design), "seed": self.design.seed,
+            "start_time": self.setup.start_time, "stop_time": self.setup.stop_time,
+            "output_interval": self.setup.output_interval, "tolerance": self.setup.tolerance,
+        }
+
+
+# ---------------------------------------------------------------------------------------
+# Results
+
+
+def results_table(plan: Plan, rows: list[dict[str, Any]], meta: dict[str, Any]):
+    import pyarrow as pa
+
+    n = len(plan.design)
+    cols: dict[str, Any] = {"case": pa.array(np.arange(n), pa.int64())}
+    for j, c in enumerate(plan.design.columns):
+        cols[c] = pa.array(plan.design.values[:, j], pa.float64())
+    cols["status"] = pa.array([r["status"] for r in rows], pa.string())
+    cols["message"] = pa.array([r.get("message", "") for r in rows], pa.string())
+    for c in plan.setup.result_columns:
+        cols[c] = pa.array([float(r.get(c, math.nan)) for r in rows], pa.float64())
+    cols["elapsed_s"] = pa.array([float(r.get("elapsed_s", math.nan)) for r in rows], pa.float64())
+    cols["cpu_s"] = pa.array([float(r.get("cpu_s", math.nan)) for r in rows], pa.float64())
+    cols["worker"] = pa.array([r.get("worker", "") for r in rows], pa.string())
+    table = pa.table(cols)
+    return table.replace_schema_metadata({"mechfmu_sweep": json.dumps(meta)})
+
+
+def write_results(table, out: Path | None) -> None:
+    import pyarrow.csv as pcsv
+    import pyarrow.parquet as pq
+
+    if out is None:
+        sink = sys.stdout.buffer
+        pcsv.write_csv(table, sink)
+        sink.flush()
+        return
+    out.parent.mkdir(parents=True, exist_ok=True)
+    if out.suffix.lower() == ".parquet":
+        pq.write_table(table, out)
+    else:
+        pcsv.write_csv(table, out)
+
+
+def read_results(path: Path | str):
+    """The results file as a pyarrow Table (the sweep's settings in its metadata for Parquet)."""
+    import pyarrow.csv as pcsv
+    import pyarrow.parquet as pq
+
+    path = Path(path)
+    return pq.read_table(path) if path.suffix.lower() == ".parquet" else pcsv.read_csv(path)
+
+
+# ---------------------------------------------------------------------------------------
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = make_parser()
+    args = parser.parse_args(argv)
+    try:
+        plan = Plan(args)
+    except SpecError as e:
+        print(f"mechfmu sweep: error: {e}", file=sys.stderr)
+        return 2
+
+    from .engine import run_on_dask
+
+    try:
+        fmu_bytes = args.fmu.read_bytes()
+    except OSError as e:
+        print(f"mechfmu sweep: error: cannot read {args.fmu}: {e}", file=sys.stderr)
+        return 1
+    sha = hashlib.sha256(fmu_bytes).hexdigest()
+    meta = plan.metadata(sha)
+    n = len(plan.design)
+    seed_note = f", seed {plan.design.seed}" if plan.design.seed is not None else ""
+    progress = not args.no_progress
+    if progress:
+        print(f"sweep {plan.model}: {n} cases ({', '.join(f'{s.name}={s.text}' for s in plan.specs)}{seed_note}), "
+              f"t = {plan.setup.start_time:g}..{plan.setup.stop_time:g} s every {plan.setup.output_interval:g} s",
+              file=sys.stderr)
+    t0 = time.perf_counter()
+    try:
+        run = run_on_dask(fmu_bytes, plan.setup, plan.design, scheduler=args.scheduler, workers=args.workers,
+                          chunk_size=args.chunk_size, progress=progress)
+    except KeyboardInterrupt:
+        print("mechfmu sweep: interrupted; nothing written", file=sys.stderr)
+        return 130
+    except Exception as e:  # noqa: BLE001 - the machinery failed: say so, exit 1
+        print(f"mechfmu sweep: error: the sweep could not run: {type(e).__name__}: {e}", file=sys.stderr)
+        return 1
+    meta.update(workers=run.workers, chunk_size=run.chunk_size, wall_s=run.wall_s, scheduler=run.address,
+                shipped_package=run.shipped_package)
+    table = results_table(plan, run.rows, meta)
+    try:
+        write_results(table, args.out)
+        if args.plot is not None:
+            from .plot import plot_sweep
+
+            plot_sweep(table, plan, args.plot, x=args.plot_x, y=args.plot_y)
+    except Exception as e:  # noqa: BLE001
+        print(f"mechfmu sweep: error: cannot write the results: {type(e).__name__}: {e}", file=sys.stderr)
+        return 1
+
+    statuses = [r["status"] for r in run.rows]
+    counts = {s: statuses.count(s) for s in dict.fromkeys(statuses)}
+    total = time.perf_counter() - t0
+    print(f"swept {n} cases in {run.wall_s:.2f} s ({n / max(run.wall_s, 1e-9):.1f} cases/s) on {run.workers} "
+          f"worker{'s' if run.workers != 1 else ''} ({total:.1f} s with the cluster's start): "
+          + ", ".join(f"{k} {v}" for k, v in counts.items()), file=sys.stderr)
+    failed = [r for r in run.rows if r["status"] not in ("ok", "warning")]
+    for r in failed[:5]:
+        case = plan.design.case(r["case"])
+        print(f"  case {r['case']} ({', '.join(f'{k}={v:g}' for k, v in case.items())}): {r['status']}: "
+              f"{r['message']}", file=sys.stderr)
+    if len(failed) > 5:
+        print(f"  ... and {len(failed) - 5} more failed cases (see the status column)", file=sys.stderr)
+    for e in run.errors[:3]:
+        print(f"  note: {e}", file=sys.stderr)
+    where = f" to {args.out}" if args.out else ""
+    if args.out or args.plot:
+        print(f"wrote{where}{' and ' + str(args.plot) if args.plot else ''}", file=sys.stderr)
+    return 0

@@ -1,0 +1,209 @@
+"""Running a design on Dask distributed: a LocalCluster of one single-threaded worker
+process per core, or an existing cluster given by its scheduler address."""
+
+from __future__ import annotations
+
+import logging
+import math
+import os
+import sys
+import tempfile
+import time
+import uuid
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable
+
+from .design import Design
+from .runner import CaseSetup, SweepPlugin, run_chunk
+
+PACKAGE_DIR = Path(__file__).resolve().parent
+
+
+@dataclass
+class SweepRun:
+    rows: list[dict[str, Any]]
+    wall_s: float
+    workers: int
+    chunk_size: int
+    address: str
+    errors: list[str] = field(default_factory=list)  # machinery problems (not failed cases)
+    shipped_package: bool = False  # the workers lacked mechfmu_sweep: it was uploaded
+
+
+def default_workers() -> int:
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def default_chunk_size(n_cases: int, n_workers: int) -> int:
+    """Cases per Dask task: about 8 tasks per worker (load balance, a live progress bar)
+    but at most 16 cases each, so the scheduler's per-task cost is shared."""
+    return max(1, min(16, -(-n_cases // (8 * max(1, n_workers)))))
+
+
+def _package_zip() -> str:
+    """This package as a zip, for workers of an external cluster that lack it."""
+    fd, path = tempfile.mkstemp(prefix="mechfmu_sweep-", suffix=".zip")
+    with os.fdopen(fd, "wb") as f, zipfile.ZipFile(f, "w") as z:
+        for p in sorted(PACKAGE_DIR.glob("*.py")):
+            z.write(p, f"mechfmu_sweep/{p.name}")
+    return path
+
+
+# Run on the workers through the builtin eval: a function of this package could not be
+# unpickled by a worker that lacks the package, which is what this asks.
+_HAS_PACKAGE = "__import__('importlib.util').util.find_spec('mechfmu_sweep') is not None"
+
+
+class Progress:
+    """A tqdm bar with the rate in cases/s on a terminal; plain lines otherwise."""
+
+    def __init__(self, total: int, enabled: bool = True, stream=None):
+        self.total, self.done, self.failed = total, 0, 0
+        self.stream = stream or sys.stderr
+        self.start = time.perf_counter()
+        self.last_line = self.start
+        self.bar = None
+        self.enabled = enabled
+        if enabled and hasattr(self.stream, "isatty") and self.stream.isatty():
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=total, unit="case", file=self.stream, dynamic_ncols=True,
+                            smoothing=0.1, desc="sweep")
+
+    def update(self, n: int, failed: int) -> None:
+        self.done += n
+        self.failed += failed
+        if self.bar is not None:
+            self.bar.update(n)
+            if self.failed:
+                self.bar.set_postfix(failed=self.failed, refresh=False)
+        elif self.enabled:
+            now = time.perf_counter()
+            if now - self.last_line >= 10.0 and self.done < self.total:
+                self.last_line = now
+                self._line(now)
+
+    def _line(self, now: float) -> None:
+        rate = self.done / max(now - self.start, 1e-9)
+        print(f"sweep: {self.done}/{self.total} cases, {rate:.1f} cases/s, {self.failed} failed",
+              file=self.stream, flush=True)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
+def _local_cluster(n: int):
+    from distributed import LocalCluster
+
+    return LocalCluster(
+        n_workers=n,
+        threads_per_worker=1,
+        processes=True,
+        host="127.0.0.1",
+        scheduler_port=0,
+        # no dashboard; the scheduler's HTTP routes on a free loopback port, not 8787
+        dashboard_address="127.0.0.1:0",
+        scheduler_kwargs={"dashboard": False},
+        silence_logs=logging.ERROR,
+    )
+
+
+def run_on_dask(
+    fmu_bytes: bytes,
+    setup: CaseSetup,
+    design: Design,
+    *,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    chunk_size: int | None = None,
+    progress: bool = True,
+    probe: Callable[[str], None] | None = None,
+) -> SweepRun:
+    """Runs every case of ``design``; failed cases come back as rows with their status."""
+    import dask
+    from distributed import Client, as_completed
+
+    cluster = client = None
+    if scheduler:
+        client = Client(scheduler, timeout="30s")
+    else:
+        n = workers or default_workers()
+        # Spawned worker processes must find this package: put it on their PYTHONPATH.
+        parent = str(PACKAGE_DIR.parent)
+        paths = [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
+        if parent not in paths:
+            os.environ["PYTHONPATH"] = os.pathsep.join([parent, *paths])
+        # Queue every task on the workers at once: with the default (1.1 tasks per
+        # thread) a worker idles for a round trip to the scheduler after each task, which
+        # costs more than a case on a busy machine. Work stealing still balances the load.
+        with dask.config.set({"distributed.scheduler.worker-saturation": math.inf}):
+            cluster = _local_cluster(n)
+    plugin_name = f"mechfmu-sweep-{uuid.uuid4().hex[:12]}"
+    bar = None
+    try:
+        if client is None:
+            client = Client(cluster)
+        info = client.scheduler_info()
+        n_workers = len(info.get("workers", {}))
+        if n_workers == 0:
+            client.wait_for_workers(1, timeout=60)
+            n_workers = len(client.scheduler_info().get("workers", {}))
+        shipped = False
+        if scheduler and not all(client.run(eval, _HAS_PACKAGE).values()):
+            path = _package_zip()
+            try:
+                client.upload_file(path)
+                shipped = True
+            finally:
+                os.unlink(path)
+        client.register_plugin(SweepPlugin(plugin_name, fmu_bytes, setup), name=plugin_name)
+
+        n = len(design)
+        cs = chunk_size or default_chunk_size(n, n_workers)
+        chunks = [[(i, [float(v) for v in design.values[i]]) for i in range(a, min(a + cs, n))]
+                  for a in range(0, n, cs)]
+        rows: list[dict[str, Any] | None] = [None] * n
+        errors: list[str] = []
+        bar = Progress(n, enabled=progress)
+        if probe is not None:
+            probe("start")  # measurements (bench.py): the cluster is up, nothing submitted
+        t_submit = time.perf_counter()
+        futures = client.map(run_chunk, [plugin_name] * len(chunks), chunks, pure=False,
+                             key=[f"{plugin_name}-chunk-{k}" for k in range(len(chunks))])
+        chunk_of = {f.key: c for f, c in zip(futures, chunks)}
+        for future, result in as_completed(futures, with_results=True, raise_errors=False):
+            chunk = chunk_of[future.key]
+            if isinstance(result, BaseException) or future.status != "finished":
+                # the task itself died (a worker killed by a crashing FMU, ...)
+                exc = result if isinstance(result, BaseException) else future.exception()
+                message = f"{type(exc).__name__}: {exc}"
+                errors.append(message)
+                result = [{"case": i, "status": "crashed", "message": message} for i, _ in chunk]
+            for row in result:
+                rows[row["case"]] = row
+            bar.update(len(result), sum(r["status"] not in ("ok", "warning") for r in result))
+            future.release()
+        bar.close()
+        wall = time.perf_counter() - t_submit
+        if probe is not None:
+            probe("end")
+        if scheduler:
+            try:
+                client.unregister_worker_plugin(plugin_name)  # frees instances, temp files
+            except Exception as e:  # noqa: BLE001
+                errors.append(f"could not remove the worker plugin: {e}")
+        return SweepRun(rows=rows, wall_s=wall, workers=n_workers, chunk_size=cs,
+                        address=client.scheduler.address, errors=errors, shipped_package=shipped)
+    finally:
+        if bar is not None:
+            bar.close()
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()

@@ -1,0 +1,276 @@
+"""``python -m mechfmu_validate`` (what ``mechfmu validate`` runs).
+
+    python -m mechfmu_validate FMU [FMU ...] [--cases MODEL=cases.py ...] [--case TEXT ...]
+                               [--report DIR] [--json FILE] [--readme DIR] [--no-libcosim]
+    python -m mechfmu_validate references FMU [FMU ...] --cases MODEL=cases.py ...
+
+Exit status: 0 when everything passes, 1 when a check or a case fails, 2 for a usage error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import platform
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import fmpy
+
+from .case import Case, describe, evaluate
+from .checks import run_checks
+from .importers import (LIBCOSIM_NOTE, Fmu, agreement, capture_fmu_log, libcosim_available,
+                        run_fmpy, run_libcosim)
+from .loader import default_case, load_cases
+from .reference import write_references
+
+#: libcosim must agree with FMPy to this, relative (max |a - b| / max |b|), at the same settings
+LIBCOSIM_TOLERANCE = 1e-9
+
+
+def make_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="mechfmu validate", description=__doc__.split("\n\n")[0])
+    p.add_argument("fmus", nargs="+", type=Path, help="the FMU files")
+    p.add_argument("--cases", action="append", default=[], metavar="MODEL=PATH",
+                   help="the validation/cases.py of a model identifier (repeatable)")
+    p.add_argument("--case", action="append", default=[], metavar="TEXT",
+                   help="only the cases whose name contains TEXT (repeatable)")
+    p.add_argument("--report", type=Path, metavar="DIR", help="write DIR/index.md, DIR/index.html and the plots")
+    p.add_argument("--json", type=Path, metavar="FILE", help="write the results as JSON")
+    p.add_argument("--readme", type=Path, metavar="DIR",
+                   help="write DIR/validation.md and the highlighted cases' plots (README material)")
+    p.add_argument("--no-libcosim", action="store_true", help="run the cases under FMPy only")
+    return p
+
+
+def _cases_map(items: list[str]) -> dict[str, Path]:
+    out = {}
+    for item in items:
+        model, sep, path = item.partition("=")
+        if not sep or not model or not path:
+            raise SystemExit(f"mechfmu validate: --cases takes MODEL=PATH, not {item!r}")
+        out[model] = Path(path)
+    return out
+
+
+def _progress(msg: str) -> None:
+    if sys.stderr.isatty():
+        sys.stderr.write(f"\r\033[K{msg}")
+        sys.stderr.flush()
+
+
+def _settings(case: Case) -> str:
+    parts = [f"stop {case.stop_time:g} s", f"output interval {case.output_interval:g} s",
+             "relative tolerance " + ("DefaultExperiment" if case.relative_tolerance is None
+                                      else f"{case.relative_tolerance:g}")]
+    if case.start_values:
+        parts.append("start values " + ", ".join(f"{k}={v:g}" for k, v in case.start_values.items()))
+    if case.input is not None:
+        parts.append("input table " + ", ".join(case.input_table().dtype.names[1:]))
+    return "; ".join(parts)
+
+
+def validate_fmu(path: Path, cases_file: Path | None, only: list[str], use_libcosim: bool,
+                 rows: list[dict], plots: list[dict], details: list[dict]) -> None:
+    fmu = Fmu(path)
+    name = fmu.model
+    try:
+        cases: list[Case] = load_cases(cases_file, name) if cases_file else []
+        selected = [c for c in cases if not only or any(o in c.name for o in only)]
+        _progress(f"{name}: checks")
+        for check in run_checks(fmu, default_case(cases)):
+            rows.append(dict(kind="check", fmu=name, case=f"check: {check.name}",
+                             importer="fmpy" if check.name == "fmpy validate" else "mechfmu",
+                             max_error=float(len(check.problems)) if check.max_error is None else check.max_error,
+                             tolerance=0.0 if check.tolerance is None else check.tolerance,
+                             passed=check.passed, problems=check.problems, notes=check.notes))
+        if cases_file is None:
+            rows.append(dict(kind="note", fmu=name, case="(no validation/cases.py: no reference cases)",
+                             importer="-", max_error=None, tolerance=None, passed=True, problems=[], notes=[]))
+        units = {}
+        for v in fmu.md.modelVariables:
+            u = v.unit or (v.declaredType.unit if v.declaredType is not None else None)
+            units[v.name] = u or ""
+        for case in selected:
+            _progress(f"{name}: {case.name} (FMPy)")
+            anchor = f"{name}-{case.name}".replace(" ", "-")
+            entry: dict[str, Any] = dict(fmu=name, case=case.name, anchor=anchor, description=case.description,
+                                         settings=_settings(case), highlight=case.highlight, plot=list(case.plot),
+                                         units={**units, **{d: "derived" for d in case.derived}})
+            t0 = time.perf_counter()
+            fmpy_result = None
+            try:
+                fmpy_result = run_fmpy(fmu, case)
+                ev = evaluate(case, fmpy_result)
+            except Exception as e:
+                ev = None
+                problem = f"FMPy run failed: {type(e).__name__}: {e}"
+            if ev is not None:
+                problem = ev.problem
+                worst = ev.worst
+                rows.append(dict(kind="case", fmu=name, case=case.name, importer="FMPy", anchor=anchor,
+                                 max_error=None if worst is None else worst.max_error,
+                                 tolerance=None if worst is None else worst.tolerance,
+                                 passed=ev.passed, problems=[problem] if problem else [],
+                                 notes=[f"worst signal {worst.name} at t = {worst.at_time:g}"] if worst else [],
+                                 signals={s.name: dict(max_error=s.max_error, at_time=s.at_time, scale=s.scale,
+                                                       tolerance=s.tolerance, passed=s.passed) for s in ev.signals},
+                                 seconds=time.perf_counter() - t0,
+                                 log=fmpy_result.log[-20:] if fmpy_result else []))
+            else:
+                rows.append(dict(kind="case", fmu=name, case=case.name, importer="FMPy", anchor=anchor,
+                                 max_error=math.inf, tolerance=None, passed=False, problems=[problem], notes=[]))
+            entry["evaluation"] = ev
+            entry["result"] = fmpy_result
+            entry["passed"] = ev is not None and ev.passed
+            if use_libcosim:
+                _progress(f"{name}: {case.name} (libcosim)")
+                lc_row = dict(kind="case", fmu=name, case=case.name, importer="libcosim", anchor=anchor,
+                              tolerance=LIBCOSIM_TOLERANCE, problems=[], notes=[LIBCOSIM_NOTE])
+                try:
+                    same = fmpy_result if (case.relative_tolerance is None and fmpy_result is not None) \
+                        else run_fmpy(fmu, case, relative_tolerance=None)
+                    lc = run_libcosim(fmu, case)
+                    floors = {s.name: s.scale for s in ev.signals} if ev is not None else {}
+                    worst, where, when, over_time = agreement(lc, same, case.recorded(), floors)
+                    lc_row.update(max_error=worst, passed=bool(worst <= LIBCOSIM_TOLERANCE),
+                                  notes=[f"worst signal {where} at t = {when:g}", LIBCOSIM_NOTE])
+                    entry["libcosim"] = dict(time=lc.time, error_over_time=over_time, tolerance=LIBCOSIM_TOLERANCE,
+                                             max_error=worst)
+                except Exception as e:
+                    lc_row.update(max_error=math.inf, passed=False,
+                                  problems=[f"libcosim run failed: {type(e).__name__}: {e}"])
+                rows.append(lc_row)
+                entry["passed"] = entry["passed"] and lc_row["passed"]
+            if ev is not None and ev.signals:
+                plots.append(entry)
+            details.append(dict(fmu=name, **describe(case)))
+    finally:
+        fmu.cleanup()
+        _progress("")
+
+
+def print_table(rows: list[dict]) -> None:
+    def fmt(x):
+        if x is None:
+            return "-"
+        if isinstance(x, float) and (x == 0 or not math.isfinite(x)):
+            return "0" if x == 0 else str(x)
+        return f"{x:.2e}"
+
+    head = ("FMU", "case", "importer", "max error", "tolerance", "result")
+    table = [head] + [(r["fmu"], r["case"], r["importer"], fmt(r["max_error"]), fmt(r["tolerance"]),
+                       "PASS" if r["passed"] else "FAIL") for r in rows]
+    widths = [max(len(str(row[i])) for row in table) for i in range(len(head))]
+    for k, row in enumerate(table):
+        print("  ".join(str(c).ljust(w) if i < 3 else str(c).rjust(w) if i < 5 else str(c)
+                        for i, (c, w) in enumerate(zip(row, widths))))
+        if k == 0:
+            print("  ".join("-" * w for w in widths))
+    failed = [r for r in rows if not r["passed"]]
+    for r in failed:
+        print(f"\nFAIL {r['fmu']} / {r['case']} / {r['importer']}:")
+        for p in r["problems"][:20]:
+            print(f"  - {p}")
+        for n in r.get("notes", []):
+            print(f"  ({n})")
+        for name, s in (r.get("signals") or {}).items():
+            if not s["passed"]:
+                print(f"  - {name}: {s['max_error']:.3e} of scale {s['scale']:.4g} at t = {s['at_time']:g} "
+                      f"(tolerance {s['tolerance']:.0e})")
+    n_fail = len(failed)
+    print(f"\n{len(rows) - n_fail} passed, {n_fail} failed")
+
+
+def _jsonable(x):
+    if isinstance(x, dict):
+        return {k: _jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_jsonable(v) for v in x]
+    if isinstance(x, (np.floating, float)):
+        x = float(x)
+        return x if math.isfinite(x) else str(x)
+    if isinstance(x, (np.integer,)):
+        return int(x)
+    return x
+
+
+def references_main(argv: list[str]) -> int:
+    p = argparse.ArgumentParser(prog="mechfmu validate --write-references")
+    p.add_argument("fmus", nargs="+", type=Path)
+    p.add_argument("--cases", action="append", default=[], metavar="MODEL=PATH")
+    args = p.parse_args(argv)
+    cases_map = _cases_map(args.cases)
+    status = 0
+    for path in args.fmus:
+        fmu = Fmu(path)
+        try:
+            if fmu.model not in cases_map:
+                print(f"{fmu.model}: no validation/cases.py", file=sys.stderr)
+                status = 1
+                continue
+            cases_file = cases_map[fmu.model]
+            case = default_case(load_cases(cases_file, fmu.model))
+            if case is None:
+                print(f"{fmu.model}: no case in {cases_file} is marked default_experiment=True", file=sys.stderr)
+                status = 1
+                continue
+            directory = cases_file.resolve().parent.parent / "reference"
+            for written in write_references(fmu, case, directory):
+                print(f"{fmu.model:<20} {written}")
+        finally:
+            fmu.cleanup()
+    return status
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and argv[0] == "references":
+        return references_main(argv[1:])
+    args = make_parser().parse_args(argv)
+    cases_map = _cases_map(args.cases)
+    capture_fmu_log()
+    use_libcosim = not args.no_libcosim
+    libcosim_info = "libcosim not used"
+    if use_libcosim:
+        ok, libcosim_info = libcosim_available()
+        if not ok:
+            print(f"mechfmu validate: libcosim cannot run here ({libcosim_info}); the cases run under FMPy only "
+                  "and the libcosim rows fail", file=sys.stderr)
+    rows: list[dict] = []
+    plots: list[dict] = []
+    details: list[dict] = []
+    for path in args.fmus:
+        if not path.is_file():
+            print(f"mechfmu validate: {path} does not exist", file=sys.stderr)
+            return 2
+        md_model = None
+        try:
+            md_model = fmpy.read_model_description(str(path), validate=False).coSimulation.modelIdentifier
+        except Exception:
+            pass
+        validate_fmu(path, cases_map.get(md_model or path.stem), args.case, use_libcosim, rows, plots, details)
+    header = dict(fmpy=fmpy.__version__, libcosim=libcosim_info, python=platform.python_version())
+    print_table(rows)
+    if args.report:
+        from .report import write_report
+
+        write_report(args.report, rows, plots, header)
+        for e in plots:
+            e["png_path"] = args.report / e["png"]
+        print(f"report: {args.report / 'index.html'} (and index.md)")
+    if args.readme:
+        from .report import write_readme
+
+        for path in write_readme(args.readme, rows, plots, header):
+            print(f"readme: {path}")
+    if args.json:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps(_jsonable(dict(header=header, rows=rows, cases=details)), indent=2) + "\n")
+        print(f"json: {args.json}")
+    return 0 if all(r["passed"] for r in rows) else 1

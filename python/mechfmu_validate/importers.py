@@ -1,0 +1,284 @@
+"""Running a case under an importer: FMPy's ``simulate_fmu`` and libcosim (``libcosimpy``).
+
+Both run the same experiment: the case's start values, its input table (FMPy reads it
+itself; libcosim is fed, before every communication step, the value FMPy's input logic
+gives at that communication point), a fixed communication step (the case's
+``output_interval``) from 0 to ``stop_time``.
+
+libcosim calls ``fmi2SetupExperiment`` without a tolerance, so the FMU uses its
+DefaultExperiment tolerance; libcosimpy offers no way to pass one. The comparison
+"libcosim against FMPy at the same settings" therefore runs FMPy with
+``relative_tolerance=None`` (FMPy then passes the DefaultExperiment tolerance).
+"""
+
+from __future__ import annotations
+
+import shutil
+import tempfile
+import threading
+from ctypes import byref
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import fmpy
+from fmpy import read_model_description
+
+from .case import Case, Result
+
+__all__ = ["Fmu", "run_fmpy", "run_libcosim", "libcosim_available", "capture_fmu_log", "LIBCOSIM_NOTE"]
+
+LIBCOSIM_NOTE = ("libcosim passes no tolerance to fmi2SetupExperiment (the FMU uses its "
+                 "DefaultExperiment tolerance): compared with FMPy run at relative_tolerance=None")
+
+
+@dataclass
+class Fmu:
+    """An FMU file, extracted once."""
+
+    path: Path
+    directory: Path = field(init=False)
+    md: Any = field(init=False)
+
+    def __post_init__(self):
+        self.path = Path(self.path).resolve()
+        self.directory = Path(tempfile.mkdtemp(prefix=f"mechfmu-validate-{self.path.stem}-"))
+        fmpy.extract(str(self.path), str(self.directory))
+        self.md = read_model_description(str(self.directory), validate=False)
+
+    @property
+    def model(self) -> str:
+        cs = self.md.coSimulation
+        return cs.modelIdentifier if cs is not None else self.md.modelName
+
+    @property
+    def variables(self) -> dict[str, Any]:
+        return {v.name: v for v in self.md.modelVariables}
+
+    def inputs(self) -> list[str]:
+        return [v.name for v in self.md.modelVariables if v.causality == "input"]
+
+    def outputs(self) -> list[str]:
+        return [v.name for v in self.md.modelVariables if v.causality == "output"]
+
+    def cleanup(self) -> None:
+        shutil.rmtree(self.directory, ignore_errors=True)
+
+
+# ---------------------------------------------------------------------------------------
+# FMU log messages
+
+_log_lock = threading.Lock()
+_log: list[str] = []
+_log_installed = False
+_keep_alive: list[Any] = []
+
+
+def capture_fmu_log() -> None:
+    """Routes the FMUs' log messages (under FMPy) into this module instead of stdout.
+
+    fmpy's native logger proxy keeps ONE process-wide Python callback; this installs ours
+    and keeps it alive for the life of the process. Only for the command line: the test
+    suite has its own capture (tests/python/fmutest.py) and must keep it.
+    """
+    global _log_installed
+    if _log_installed:
+        return
+    from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                           fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+    from fmpy.logging import addLoggerProxy
+
+    def log(env, instance, status, category, message):
+        text = message.decode("utf-8", "replace") if message else ""
+        names = {0: "OK", 1: "Warning", 2: "Discard", 3: "Error", 4: "Fatal", 5: "Pending"}
+        with _log_lock:
+            _log.append(f"[{names.get(int(status), status)}] {text}")
+
+    callbacks = fmi2CallbackFunctions()
+    callbacks.logger = fmi2CallbackLoggerTYPE(log)
+    callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(fmpy.calloc)
+    callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(fmpy.free)
+    callbacks.componentEnvironment = None
+    addLoggerProxy(byref(callbacks))
+    _keep_alive.extend([callbacks, log])
+    _log_installed = True
+
+
+def log_mark() -> int:
+    with _log_lock:
+        return len(_log)
+
+
+def log_since(mark: int) -> list[str]:
+    with _log_lock:
+        return list(_log[mark:])
+
+
+# ---------------------------------------------------------------------------------------
+# FMPy
+
+
+def run_fmpy(fmu: Fmu, case: Case, relative_tolerance: float | None | str = "case") -> Result:
+    """``fmpy.simulate_fmu`` of the case; ``relative_tolerance="case"`` uses the case's."""
+    rtol = case.relative_tolerance if relative_tolerance == "case" else relative_tolerance
+    mark = log_mark()
+    table = fmpy.simulate_fmu(
+        str(fmu.directory),
+        start_time=0.0,
+        stop_time=case.stop_time,
+        output_interval=case.output_interval,
+        relative_tolerance=rtol,
+        start_values=dict(case.start_values),
+        input=case.input_table(),
+        output=case.recorded(),
+        validate=False,
+    )
+    n = case.steps() + 1
+    if len(table) != n:
+        raise RuntimeError(f"FMPy recorded {len(table)} rows, expected {n} (did the FMU stop early?)")
+    return Result(table, log_since(mark))
+
+
+# ---------------------------------------------------------------------------------------
+# libcosim
+
+
+def libcosim_available() -> tuple[bool, str]:
+    """(True, version) when libcosimpy imports and its native library loads, else (False, why)."""
+    try:
+        import libcosimpy  # noqa: F401
+        from libcosimpy._internal import libcosimc
+
+        lib = libcosimc()
+        version = "?"
+        try:
+            from libcosimpy.__about__ import __version__ as version
+        except Exception:
+            pass
+        return True, f"libcosimpy {version}" if lib is not None else "libcosimpy"
+    except Exception as e:  # not installed, or the native library does not load here
+        return False, f"{type(e).__name__}: {e}"
+
+
+def _input_values(case: Case, fmu: Fmu, t: float) -> tuple[list[str], list[float]]:
+    """The inputs' values FMPy applies at communication point t (its interpolation, the
+    value after a jump at t): the same signal for both importers."""
+    table = case.input_table()
+    if table is None:
+        return [], []
+    from fmpy.simulation import Input
+
+    names = [n for n in table.dtype.names[1:] if n in fmu.variables]
+    times = np.asarray(table[table.dtype.names[0]], dtype=float)
+    values = np.vstack([np.asarray(table[n], dtype=float) for n in names])
+    v, _ = Input.interpolate(time=t, t=times, table=values, discrete=False, after_event=True)
+    return names, [float(x) for x in np.atleast_1d(v)]
+
+
+def _input_events_on_grid(case: Case) -> bool:
+    table = case.input_table()
+    if table is None:
+        return True
+    t = np.asarray(table[table.dtype.names[0]], dtype=float)
+    events = t[1:][np.diff(t) == 0]
+    k = events / case.output_interval
+    return bool(np.all(np.abs(k - np.round(k)) < 1e-9 * np.maximum(1.0, k)))
+
+
+def run_libcosim(fmu: Fmu, case: Case) -> Result:
+    """The case under libcosim: a fixed-step execution with the case's output interval,
+    start values as initial values, inputs overridden before every step, every recorded
+    variable observed."""
+    from libcosimpy.CosimEnums import CosimVariableType
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+    from libcosimpy.CosimManipulator import CosimManipulator
+    from libcosimpy.CosimObserver import CosimObserver
+    from libcosimpy.CosimSlave import CosimLocalSlave
+
+    log_output_level(CosimLogLevel.ERROR)
+    if not _input_events_on_grid(case):
+        raise RuntimeError("an input jump is off the communication grid: a fixed-step master cannot follow it")
+    n = case.steps()
+    h_ns = round(case.output_interval * 1e9)
+    if abs(h_ns - case.output_interval * 1e9) > 1e-3:
+        raise RuntimeError(f"output_interval {case.output_interval} s is not a whole number of nanoseconds")
+
+    execution = CosimExecution.from_step_size(step_size=h_ns)
+    slave = CosimLocalSlave(fmu_path=str(fmu.path), instance_name=fmu.model)
+    index = execution.add_local_slave(local_slave=slave)
+    if index < 0:
+        raise RuntimeError(f"libcosim could not load {fmu.path}")
+    variables = fmu.variables
+    names = case.recorded()
+    vrs = [variables[n].valueReference for n in names]
+    for name, value in case.start_values.items():
+        if not execution.real_initial_value(index, variables[name].valueReference, float(value)):
+            raise RuntimeError(f"libcosim refused the start value {name} = {value}")
+    input_names, input_values = _input_values(case, fmu, 0.0)
+    input_vrs = [variables[nm].valueReference for nm in input_names]
+    for vr, value in zip(input_vrs, input_values):
+        execution.real_initial_value(index, vr, value)
+
+    series = CosimObserver.create_time_series(buffer_size=n + 16)
+    execution.add_observer(observer=series)
+    last = CosimObserver.create_last_value()
+    execution.add_observer(observer=last)
+    for vr in vrs:
+        series.start_time_series(index, vr, CosimVariableType.REAL)
+    manipulator = None
+    if input_vrs:
+        manipulator = CosimManipulator.create_override()
+        execution.add_manipulator(manipulator=manipulator)
+
+    if manipulator is None:
+        ok = execution.simulate_until(target_time=n * h_ns)
+        if not ok:
+            raise RuntimeError(f"libcosim stopped: {execution.status()}")
+    else:
+        for k in range(n):
+            _, values = _input_values(case, fmu, k * h_ns * 1e-9)
+            manipulator.slave_real_values(index, input_vrs, values)
+            if not execution.step(1):
+                raise RuntimeError(f"libcosim step {k} failed: {execution.status()}")
+    status = execution.status()
+    if status.current_time != n * h_ns:
+        raise RuntimeError(f"libcosim reached {status.current_time} ns, not {n * h_ns} ns")
+
+    columns: dict[str, np.ndarray] = {"time": np.arange(n + 1) * (h_ns * 1e-9)}
+    final = last.last_real_values(index, vrs)
+    for name, vr, end in zip(names, vrs, final):
+        _, steps, values = series.time_series_real_samples(index, vr, 0, n + 1)
+        col = np.full(n + 1, np.nan)
+        for s, v in zip(steps, values):
+            if 0 <= s <= n:
+                col[s] = v
+        col[n] = end  # the observer's series stops one step short of the last one
+        if np.any(np.isnan(col)):
+            raise RuntimeError(f"libcosim observed {np.count_nonzero(~np.isnan(col))} of {n + 1} samples of {name}")
+        columns[name] = col
+    return Result(columns)
+
+
+def agreement(a: Result, b: Result, names: list[str],
+              floors: dict[str, float] | None = None) -> tuple[float, str, float, np.ndarray]:
+    """Largest |a - b| / max|b| over the signals (b the reference importer), the scale of a
+    signal floored by ``floors[name]`` (the case's scale: a signal that stays at zero is
+    compared in absolute terms): (value, signal, time, error over time (max over signals))."""
+    worst, where, when = 0.0, "", 0.0
+    over_time = np.zeros_like(b.time)
+    floors = floors or {}
+    for name in names:
+        x, y = a[name], b[name]
+        if x.shape != y.shape:
+            return np.inf, name, 0.0, over_time + np.inf
+        scale = max(float(np.max(np.abs(y))), floors.get(name, 0.0)) or 1.0
+        err = np.abs(x - y) / scale
+        err = np.where(np.isfinite(err), err, np.inf)
+        over_time = np.maximum(over_time, err)
+        i = int(np.argmax(err))
+        if err[i] > worst or not where:
+            worst, where, when = float(err[i]), name, float(b.time[i])
+    return worst, where, when, over_time

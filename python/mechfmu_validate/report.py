@@ -1,0 +1,262 @@
+"""The report of ``mechfmu validate --report DIR``: ``DIR/index.md``, ``DIR/index.html`` and
+one PNG per case (``DIR/<FMU>/<case>.png``): the FMU's signals against the reference, and the
+error over time on a log scale (with the tolerance, and libcosim's deviation from FMPy).
+``--readme DIR`` writes the table (``DIR/validation.md``) and the highlighted cases' PNGs.
+"""
+
+from __future__ import annotations
+
+import html
+import math
+import shutil
+from types import SimpleNamespace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = ["plot_case", "write_report", "write_readme", "markdown_table"]
+
+COLORS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#17becf"]
+FLOOR = 1e-17  # zeros on the log scale
+
+
+def _fmt(x: Any) -> str:
+    if x is None:
+        return "-"
+    if isinstance(x, str):
+        return x
+    if x == 0:
+        return "0"
+    if not math.isfinite(x):
+        return str(x)
+    return f"{x:.1e}"
+
+
+def plot_case(entry: dict[str, Any], path: Path) -> None:
+    """One PNG: FMU vs reference (panels by unit), and the errors over time (log scale)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    ev = entry["evaluation"]
+    result = entry.get("result")
+    by_name = {s.name: s for s in ev.signals if s.fmu is not None}
+
+    def recorded_only(name):
+        """A recorded FMU variable that is not compared: drawn without a reference."""
+        if result is None or name not in result:
+            return None
+        return SimpleNamespace(name=name, fmu=result[name], reference=None)
+
+    if entry.get("plot"):
+        top = [by_name.get(n) or recorded_only(n) for n in entry["plot"]]
+        top = [s for s in top if s is not None]
+    else:
+        top = [s for s in by_name.values() if np.ptp(s.reference) > 1e-6 * max(np.max(np.abs(s.reference)), 1e-300)]
+        if not top and result is not None:  # an invariant: show the motion it was checked on
+            top = [recorded_only(n) for n in result.names() if n not in by_name and np.ptp(result[n]) > 0]
+        top = top[:8]
+    units = entry.get("units", {})
+    groups: list[tuple[str, list]] = []
+    for s in top:
+        u = units.get(s.name, "")
+        for g in groups:
+            if g[0] == u:
+                g[1].append(s)
+                break
+        else:
+            groups.append((u, [s]))
+    groups = groups[:3]
+    shown = [s for _, g in groups for s in g]
+    colors = {s.name: COLORS[i % len(COLORS)] for i, s in enumerate(shown)}
+    rest = [s for s in ev.signals if s.name not in colors]
+    if len(shown) + len(rest) <= len(COLORS):
+        for i, s in enumerate(rest):
+            colors[s.name] = COLORS[(len(shown) + i) % len(COLORS)]
+        rest = []
+    n_top = max(len(groups), 1)
+    fig_h = 2.3 * n_top + 2.9 + 0.9
+    fig = plt.figure(figsize=(10, fig_h), dpi=110)
+    heights = [2.3] * n_top + [2.9]
+    gs = fig.add_gridspec(n_top + 1, 1, height_ratios=heights, hspace=0.3,
+                          left=0.08, right=0.78, top=1 - 0.95 / fig_h, bottom=0.5 / fig_h)
+    t = ev.time
+    status = "PASS" if entry["passed"] else "FAIL"
+    worst = ev.worst
+    fig.text(0.08, 1 - 0.1 / fig_h, f"{entry['fmu']} — {entry['case']}: {status}", fontsize=13, fontweight="bold",
+             color="#1a7f37" if entry["passed"] else "#cf222e", ha="left", va="top")
+    sub = []
+    if worst is not None:
+        sub.append(f"FMPy: max error {worst.max_error:.1e} ({worst.name}), tolerance {worst.tolerance:.0e}")
+    lc = entry.get("libcosim")
+    if lc and lc.get("max_error") is not None:
+        sub.append(f"libcosim vs FMPy: {lc['max_error']:.1e}, tolerance {lc['tolerance']:.0e}")
+    line1 = ";   ".join(sub)
+    settings = entry.get("settings") or ""
+    if len(settings) > 130:
+        settings = settings[:128] + " …"
+    fig.text(0.08, 1 - 0.38 / fig_h, line1 + ("\n" + settings if settings else ""),
+             fontsize=9, color="#57606a", ha="left", va="top", linespacing=1.4)
+    ax0 = None
+    for k, (unit, group) in enumerate(groups):
+        ax = fig.add_subplot(gs[k, 0], sharex=ax0)
+        ax0 = ax0 or ax
+        for s in group:
+            ax.plot(t, s.fmu, color=colors[s.name], lw=1.8, label=f"{s.name} (FMU)")
+            if s.reference is not None:
+                ax.plot(t, s.reference, color="black", lw=0.9, ls=(0, (4, 3)), alpha=0.85)
+        if any(s.reference is not None for s in group):
+            ax.plot([], [], color="black", lw=0.9, ls=(0, (4, 3)), label="reference")
+        ax.set_ylabel(unit or "value")
+        ax.grid(True, color="#e5e7eb")
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=9, frameon=False)
+        ax.tick_params(labelbottom=False)
+    if not groups:
+        ax = fig.add_subplot(gs[0, 0])
+        ax.text(0.5, 0.5, "(an invariant check: no signal to plot against a reference)",
+                ha="center", va="center", transform=ax.transAxes, color="#57606a")
+        ax.set_axis_off()
+    ax = fig.add_subplot(gs[n_top, 0], sharex=ax0)
+    for s in rest:
+        ax.semilogy(t, np.maximum(s.error, FLOOR), color="#b0b7c0", lw=0.8)
+    if rest:
+        ax.plot([], [], color="#b0b7c0", lw=0.8, label=f"{len(rest)} other signals")
+    for s in ev.signals:
+        if s.name in colors:
+            ax.semilogy(t, np.maximum(s.error, FLOOR), color=colors[s.name], lw=1.2, label=s.name)
+    tols = sorted({s.tolerance for s in ev.signals})
+    for i, tol in enumerate(tols):
+        ax.axhline(tol, color="#cf222e", ls="--", lw=1.2, label="tolerance" if i == 0 else None)
+    if lc and lc.get("error_over_time") is not None:
+        ax.semilogy(lc["time"], np.maximum(lc["error_over_time"], FLOOR), color="#6e7781", lw=1.0,
+                    ls=(0, (1, 1.5)), label="libcosim vs FMPy")
+        ax.axhline(lc["tolerance"], color="#6e7781", ls="--", lw=0.9, label="libcosim tolerance")
+    ax.set_ylabel("|FMU − ref| / scale")
+    ax.set_xlabel("time (s)")
+    ax.grid(True, which="major", color="#e5e7eb")
+    lo = min([FLOOR * 10] + [float(np.min(np.maximum(s.error, FLOOR))) for s in ev.signals])
+    hi = max([1.0] + [t_ * 10 for t_ in tols])
+    ax.set_ylim(max(lo / 3, FLOOR), hi)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=9, frameon=False)
+    ax.set_xlim(t[0], t[-1])
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def markdown_table(rows: list[dict[str, Any]]) -> str:
+    lines = ["| FMU | case | importer | max error | tolerance | result |", "|---|---|---|---:|---:|---|"]
+    for r in rows:
+        lines.append(f"| {r['fmu']} | {r['case']} | {r['importer']} | {_fmt(r['max_error'])} | "
+                     f"{_fmt(r['tolerance'])} | {'PASS' if r['passed'] else '**FAIL**'} |")
+    return "\n".join(lines) + "\n"
+
+
+def _html_table(rows: list[dict[str, Any]]) -> str:
+    out = ["<table><tr><th>FMU</th><th>case</th><th>importer</th><th>max error</th><th>tolerance</th><th>result</th></tr>"]
+    for r in rows:
+        cls = "pass" if r["passed"] else "fail"
+        case = html.escape(r["case"])
+        if r.get("anchor"):
+            case = f'<a href="#{r["anchor"]}">{case}</a>'
+        out.append(f"<tr><td>{html.escape(r['fmu'])}</td><td>{case}</td><td>{html.escape(r['importer'])}</td>"
+                   f"<td class=num>{_fmt(r['max_error'])}</td><td class=num>{_fmt(r['tolerance'])}</td>"
+                   f"<td class={cls}>{'PASS' if r['passed'] else 'FAIL'}</td></tr>")
+    out.append("</table>")
+    return "\n".join(out)
+
+
+LEGEND = (
+    "max error: for a case under FMPy, max over time and signals of |FMU − reference| / scale, the scale being "
+    "the reference signal's range (or its magnitude when it is constant: a relative drift); under libcosim, "
+    "max |libcosim − FMPy| / max |FMPy| at the same settings (libcosim passes no tolerance, so both use the "
+    "FMU's DefaultExperiment tolerance). For a check: the number of problems found."
+)
+
+
+def write_report(directory: Path, rows: list[dict[str, Any]], cases: list[dict[str, Any]],
+                 header: dict[str, Any]) -> None:
+    directory.mkdir(parents=True, exist_ok=True)
+    for entry in cases:
+        png = directory / entry["fmu"] / f"{entry['case']}.png"
+        plot_case(entry, png)
+        entry["png"] = png.relative_to(directory).as_posix()
+    ok = all(r["passed"] for r in rows)
+    summary = (f"{sum(r['passed'] for r in rows)} of {len(rows)} rows pass"
+               + ("" if ok else f"; **{sum(not r['passed'] for r in rows)} fail**"))
+    md = [f"# mechfmu validate: {'PASS' if ok else 'FAIL'}", "",
+          f"{summary}. FMPy {header['fmpy']}, {header['libcosim']}, Python {header['python']}.", "",
+          LEGEND, "", markdown_table(rows)]
+    for entry in cases:
+        md += [f"## {entry['fmu']}: {entry['case']}", ""]
+        if entry.get("description"):
+            md += [entry["description"], ""]
+        md += [f"Settings: {entry['settings']}", "", f"![{entry['fmu']} {entry['case']}]({entry['png']})", ""]
+    (directory / "index.md").write_text("\n".join(md))
+
+    body = [f"<h1>mechfmu validate: <span class={'pass' if ok else 'fail'}>{'PASS' if ok else 'FAIL'}</span></h1>",
+            f"<p>{html.escape(summary.replace('**', ''))}. FMPy {html.escape(header['fmpy'])}, "
+            f"{html.escape(header['libcosim'])}, Python {html.escape(header['python'])}.</p>",
+            f"<p class=legend>{html.escape(LEGEND)}</p>", _html_table(rows)]
+    for entry in cases:
+        body += [f"<h2 id=\"{entry['anchor']}\">{html.escape(entry['fmu'])}: {html.escape(entry['case'])}</h2>"]
+        if entry.get("description"):
+            body += [f"<p>{html.escape(entry['description'])}</p>"]
+        body += [f"<p class=settings>Settings: {html.escape(entry['settings'])}</p>",
+                 f"<img src=\"{html.escape(entry['png'])}\" alt=\"{html.escape(entry['fmu'])} {html.escape(entry['case'])}\">"]
+    style = ("body{font-family:system-ui,sans-serif;max-width:72rem;margin:2rem auto;padding:0 1rem;color:#1b1f24}"
+             "table{border-collapse:collapse;font-size:.9em}td,th{border:1px solid #d0d7de;padding:.2rem .5rem}"
+             "th{background:#f6f8fa}td.num{text-align:right;font-variant-numeric:tabular-nums}"
+             ".pass{color:#1a7f37;font-weight:600}.fail{color:#cf222e;font-weight:600}"
+             "img{max-width:100%;border:1px solid #d0d7de}.legend,.settings{color:#57606a;font-size:.92em}")
+    (directory / "index.html").write_text(
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>mechfmu validate</title>"
+        f"<style>{style}</style></head><body>\n" + "\n".join(body) + "\n</body></html>\n")
+
+
+def write_readme(directory: Path, rows: list[dict[str, Any]], cases: list[dict[str, Any]],
+                 header: dict[str, Any]) -> list[Path]:
+    """The table (validation.md) and the highlighted cases' plots, for the README."""
+    directory.mkdir(parents=True, exist_ok=True)
+    written = []
+    per_case: dict[tuple[str, str], dict[str, Any]] = {}
+    for r in rows:
+        if r["kind"] != "case":
+            continue
+        d = per_case.setdefault((r["fmu"], r["case"]), {"fmu": r["fmu"], "case": r["case"], "passed": True})
+        d[r["importer"]] = r["max_error"]
+        d[r["importer"] + " tol"] = r["tolerance"]
+        d["passed"] &= r["passed"]
+    checks: dict[str, list[bool]] = {}
+    for r in rows:
+        if r["kind"] == "check":
+            checks.setdefault(r["fmu"], []).append(r["passed"])
+    lines = ["| FMU | reference case | FMPy: max error | tolerance | libcosim vs FMPy | result |",
+             "|---|---|---:|---:|---:|---|"]
+    for d in per_case.values():
+        lines.append(f"| {d['fmu']} | {d['case']} | {_fmt(d.get('FMPy'))} | {_fmt(d.get('FMPy tol'))} | "
+                     f"{_fmt(d.get('libcosim'))} | {'PASS' if d['passed'] else 'FAIL'} |")
+    check_line = ", ".join(f"{f} {'PASS' if all(v) else 'FAIL'} ({len(v)} checks)" for f, v in checks.items())
+    text = ("<!-- written by `cargo run --release -- validate --readme docs/validation` -->\n\n"
+            + "\n".join(lines) + "\n\n"
+            + f"Model-description, binary and GUID checks: {check_line}.\n\n"
+            + "Max error: max over time and signals of |FMU − reference| / (range of the reference), or the relative "
+            + "drift of an invariant; libcosim vs FMPy: max |libcosim − FMPy| / max |FMPy| at the same settings. "
+            + f"FMPy {header['fmpy']}, {header['libcosim']}.\n")
+    path = directory / "validation.md"
+    path.write_text(text)
+    written.append(path)
+    for entry in cases:
+        if entry.get("highlight") and entry.get("png_path"):
+            stem = entry["highlight"] if isinstance(entry["highlight"], str) else f"{entry['fmu']}-{entry['case']}"
+            dest = directory / f"{stem}.png"
+            shutil.copyfile(entry["png_path"], dest)
+            written.append(dest)
+        elif entry.get("highlight"):
+            stem = entry["highlight"] if isinstance(entry["highlight"], str) else f"{entry['fmu']}-{entry['case']}"
+            dest = directory / f"{stem}.png"
+            plot_case(entry, dest)
+            written.append(dest)
+    return written

@@ -1,0 +1,318 @@
+//! The FMU called from a native loop: ns per `fmi2DoStep`, the work behind it (solver
+//! steps, model evaluations), the right-hand side alone, and ns per `fmi2GetReal` /
+//! `fmi2SetReal`.
+//!
+//! Every figure is the median of repeated runs in thread CPU time ([`super::clock`]). A run
+//! of `fmi2DoStep` is one simulation of the DefaultExperiment's interval (reset, setup,
+//! initialization untimed, then the timed loop of steps), so each run does the same work.
+
+use super::clock::{cpu_ns, num, Stat};
+use super::fmu::{Binary, Instance, Part};
+use crate::fmi2::ffi::{fmi2OK, fmi2Warning};
+use serde_json::{json, Value};
+
+/// How much to measure.
+#[derive(Clone, Copy, Debug)]
+pub struct Effort {
+    /// Timed runs per figure (the median is reported).
+    pub runs: usize,
+    /// At most this many communication steps per run.
+    pub max_steps: usize,
+    /// Calls per timed run of `fmi2GetReal`/`fmi2SetReal`.
+    pub calls: usize,
+}
+
+/// `fmi2DoStep` at one communication step and tolerance, and its parts.
+#[derive(Clone, Debug)]
+pub struct StepFigures {
+    pub h: f64,
+    pub tol: f64,
+    pub steps_per_run: usize,
+    /// CPU ns per `fmi2DoStep`.
+    pub ns: Stat,
+    /// Model evaluations, accepted and rejected solver steps per `fmi2DoStep` (NaN if the
+    /// binary has no counters).
+    pub evals: f64,
+    pub accepted: f64,
+    pub rejected: f64,
+    /// Per `fmi2DoStep`, the parts run alone in the FMU (`mechfmu_bench`), on the same
+    /// trajectory: the same number of model evaluations (`evaluate`); of the solver's
+    /// right-hand-side callbacks (`callback`: load, evaluate, read the derivatives); the
+    /// solver over the same steps (`integrate`); whole steps without the FMI layer
+    /// (`sim_step`). NaN runs when the binary lacks `mechfmu_bench`.
+    pub evaluate_ns: Stat,
+    pub callback_ns: Stat,
+    pub integrate_ns: Stat,
+    pub sim_step_ns: Stat,
+}
+
+/// Where the ns of one `fmi2DoStep` go (differences of medians, so a small part can come
+/// out slightly negative on a noisy machine).
+#[derive(Clone, Copy, Debug)]
+pub struct Split {
+    /// The model's equations (`Mechanism::evaluate`).
+    pub rhs: f64,
+    /// Copying states in and derivatives out around each evaluation (value-reference
+    /// lookups included) and the check that reuses an evaluation.
+    pub copying: f64,
+    /// The solver's own arithmetic: Runge–Kutta stages, error estimate, step-size control.
+    pub solver: f64,
+    /// `Simulation::step` around the solver: argument and time checks, the values'
+    /// snapshot, the finiteness check, the inputs' polynomials.
+    pub step: f64,
+    /// The FMI layer: the C call, instance and state checks, unwinding guard, stop time.
+    pub fmi: f64,
+}
+
+impl Split {
+    /// Everything but the model's equations (the "plumbing").
+    pub fn beyond_rhs(&self) -> f64 {
+        self.copying + self.solver + self.step + self.fmi
+    }
+
+    /// Plumbing proper: everything but the model's equations and the solver's arithmetic
+    /// (state checks, value-reference lookup, unwinding guards, copying).
+    pub fn runtime(&self) -> f64 {
+        self.copying + self.step + self.fmi
+    }
+}
+
+impl StepFigures {
+    pub fn split(&self) -> Split {
+        Split {
+            rhs: self.evaluate_ns.median,
+            copying: self.callback_ns.median - self.evaluate_ns.median,
+            solver: self.integrate_ns.median - self.callback_ns.median,
+            step: self.sim_step_ns.median - self.integrate_ns.median,
+            fmi: self.ns.median - self.sim_step_ns.median,
+        }
+    }
+
+    /// Everything but the model's equations.
+    pub fn plumbing_ns(&self) -> f64 {
+        self.ns.median - self.evaluate_ns.median
+    }
+
+    pub fn to_json(&self) -> Value {
+        let s = self.split();
+        json!({
+            "h": self.h,
+            "tol": self.tol,
+            "steps_per_run": self.steps_per_run,
+            "ns_per_step": self.ns.to_json(),
+            "evals_per_step": num(self.evals),
+            "accepted_per_step": num(self.accepted),
+            "rejected_per_step": num(self.rejected),
+            "parts_alone_ns_per_step": {
+                "evaluate": self.evaluate_ns.to_json(),
+                "rhs_callback": self.callback_ns.to_json(),
+                "integrate": self.integrate_ns.to_json(),
+                "simulation_step": self.sim_step_ns.to_json(),
+            },
+            "split_ns_per_step": {
+                "rhs": num(s.rhs),
+                "copying": num(s.copying),
+                "solver": num(s.solver),
+                "step": num(s.step),
+                "fmi": num(s.fmi),
+            },
+            "rhs_ns_per_eval": num(s.rhs / self.evals),
+            "beyond_rhs_ns_per_step": num(s.beyond_rhs()),
+            "runtime_plumbing_ns_per_step": num(s.runtime()),
+        })
+    }
+}
+
+/// The number of steps of size `h` a run takes: the DefaultExperiment's interval, capped.
+pub fn steps_per_run(binary: &Binary, h: f64, effort: Effort) -> usize {
+    let d = &binary.description;
+    (((d.stop - d.start) / h).round() as usize).clamp(10, effort.max_steps)
+}
+
+/// The timed loop of one run, from an initialized instance: CPU ns of the `n` steps and
+/// the counters' change.
+fn step_loop(inst: &mut Instance, h: f64, n: usize) -> Result<(f64, [u64; 4]), String> {
+    let before = inst.counters().unwrap_or_default();
+    let mut t = inst.binary.description.start;
+    let t0 = cpu_ns();
+    for _ in 0..n {
+        let status = inst.do_step(t, h);
+        if status > fmi2Warning {
+            return Err(format!(
+                "fmi2DoStep({t}, {h}) returned {status}: {}",
+                inst.messages().join("; ")
+            ));
+        }
+        t += h;
+    }
+    let ns = (cpu_ns() - t0) as f64;
+    let after = inst.counters().unwrap_or_default();
+    let mut delta = [0u64; 4];
+    for i in 0..4 {
+        delta[i] = after[i] - before[i];
+    }
+    Ok((ns, delta))
+}
+
+/// One run: (re)initialization untimed, then `n` timed steps; CPU ns and the work done.
+pub fn step_run(
+    inst: &mut Instance,
+    tol: f64,
+    h: f64,
+    n: usize,
+    fresh: bool,
+) -> Result<(f64, [u64; 4]), String> {
+    let start = inst.binary.description.start;
+    inst.start(tol, start, &[], !fresh)?;
+    step_loop(inst, h, n)
+}
+
+/// ns per `fmi2DoStep` at `(h, tol)`, its work, and its parts alone.
+pub fn step_figures(
+    binary: &Binary,
+    h: f64,
+    tol: f64,
+    effort: Effort,
+) -> Result<StepFigures, String> {
+    let n = steps_per_run(binary, h, effort);
+    let mut inst = Instance::new(binary)?;
+    // Warm-up (caches, branch predictors, page faults), and the work per run.
+    let (_, work) = step_run(&mut inst, tol, h, n, true)?;
+    let parts = binary.has_counters();
+    let mut samples: [Vec<f64>; 5] = Default::default();
+    let start = binary.description.start;
+    for _ in 0..effort.runs {
+        inst.start(tol, start, &[], true)?;
+        if parts {
+            // The parts alone, from the same initial point, interleaved with the step runs
+            // so that all see the same machine.
+            let span = n as f64 * h;
+            for (k, part, count, h) in [
+                (1, Part::Evaluate, work[3], span),
+                (2, Part::Rhs, work[3], span),
+                (3, Part::Integrate, n as u64, h),
+                (4, Part::Step, n as u64, h),
+            ] {
+                let t0 = cpu_ns();
+                inst.bench(part, count, h)?;
+                samples[k].push((cpu_ns() - t0) as f64 / n as f64);
+            }
+        }
+        let (ns, _) = step_loop(&mut inst, h, n)?;
+        samples[0].push(ns / n as f64);
+    }
+    let per_step = |k: usize| {
+        if parts {
+            work[k] as f64 / n as f64
+        } else {
+            f64::NAN
+        }
+    };
+    Ok(StepFigures {
+        h,
+        tol,
+        steps_per_run: n,
+        ns: Stat::of(&samples[0]),
+        evals: per_step(3),
+        accepted: per_step(1),
+        rejected: per_step(2),
+        evaluate_ns: Stat::of(&samples[1]),
+        callback_ns: Stat::of(&samples[2]),
+        integrate_ns: Stat::of(&samples[3]),
+        sim_step_ns: Stat::of(&samples[4]),
+    })
+}
+
+/// ns per call of `call` on an instance initialized with the default experiment and
+/// stepped a little (`effort.calls` calls per timed run).
+fn per_call(
+    binary: &Binary,
+    effort: Effort,
+    mut call: impl FnMut(&mut Instance) -> u32,
+) -> Result<Stat, String> {
+    let d = &binary.description;
+    let mut inst = Instance::new(binary)?;
+    inst.start(d.tolerance, d.start, &[], false)?;
+    let mut t = d.start;
+    for _ in 0..10 {
+        if inst.do_step(t, d.step) > fmi2Warning {
+            return Err(format!("fmi2DoStep failed: {}", inst.messages().join("; ")));
+        }
+        t += d.step;
+    }
+    for _ in 0..effort.calls.min(1000) {
+        call(&mut inst);
+    }
+    let mut samples = Vec::with_capacity(effort.runs);
+    for _ in 0..effort.runs {
+        let mut worst = fmi2OK;
+        let t0 = cpu_ns();
+        for _ in 0..effort.calls {
+            worst = worst.max(call(&mut inst));
+        }
+        samples.push((cpu_ns() - t0) as f64 / effort.calls as f64);
+        if worst != fmi2OK {
+            return Err(format!(
+                "the call returned {worst}: {}",
+                inst.messages().join("; ")
+            ));
+        }
+    }
+    Ok(Stat::of(&samples))
+}
+
+/// ns per `fmi2GetReal` of the value references `vrs`.
+pub fn get_real(binary: &Binary, vrs: &[u32], effort: Effort) -> Result<Stat, String> {
+    let mut out = vec![0.0; vrs.len()];
+    per_call(binary, effort, |inst| inst.get_real(vrs, &mut out))
+}
+
+/// ns per `fmi2SetReal` of the value references `vrs` to `values` (after initialization:
+/// inputs and tunable parameters only).
+pub fn set_real(
+    binary: &Binary,
+    vrs: &[u32],
+    values: &[f64],
+    effort: Effort,
+) -> Result<Stat, String> {
+    per_call(binary, effort, |inst| inst.set_real(vrs, values))
+}
+
+/// ns per co-simulation cycle as an importer runs it: set the inputs (to their start
+/// values), `fmi2DoStep`, get the outputs; over the default experiment at `(h, tol)`.
+pub fn cycle(binary: &Binary, h: f64, tol: f64, effort: Effort) -> Result<Stat, String> {
+    let d = &binary.description;
+    let inputs: Vec<u32> = d.with_causality("input").iter().map(|v| v.vr).collect();
+    let input_values: Vec<f64> = d
+        .with_causality("input")
+        .iter()
+        .map(|v| v.start.unwrap_or(0.0))
+        .collect();
+    let outputs: Vec<u32> = d.with_causality("output").iter().map(|v| v.vr).collect();
+    let mut out = vec![0.0; outputs.len()];
+    let n = steps_per_run(binary, h, effort);
+    let mut inst = Instance::new(binary)?;
+    let mut samples = Vec::with_capacity(effort.runs);
+    for run in 0..=effort.runs {
+        inst.start(tol, d.start, &[], run > 0)?;
+        let mut t = d.start;
+        let mut worst = fmi2OK;
+        let t0 = cpu_ns();
+        for _ in 0..n {
+            if !inputs.is_empty() {
+                worst = worst.max(inst.set_real(&inputs, &input_values));
+            }
+            worst = worst.max(inst.do_step(t, h));
+            worst = worst.max(inst.get_real(&outputs, &mut out));
+            t += h;
+        }
+        let ns = (cpu_ns() - t0) as f64 / n as f64;
+        if worst > fmi2Warning {
+            return Err(format!("the cycle failed: {}", inst.messages().join("; ")));
+        }
+        if run > 0 {
+            samples.push(ns);
+        }
+    }
+    Ok(Stat::of(&samples))
+}

@@ -1,0 +1,455 @@
+//! The benchmark's table, its verdict on the targets of issue 9, and its JSON.
+
+use super::clock::{num, Stat};
+use super::precision::{self, Point};
+use super::Figures;
+use serde_json::{json, Value};
+use std::fmt::Write as _;
+
+/// A clean release build of every FMU.
+#[derive(Clone, Debug)]
+pub struct Build {
+    pub command: String,
+    pub seconds: f64,
+    /// (model, bytes of the .fmu)
+    pub fmus: Vec<(String, u64)>,
+}
+
+/// Everything one `mechfmu bench` measured.
+#[derive(Clone, Debug, Default)]
+pub struct Report {
+    pub mechanisms: Vec<Figures>,
+    /// The native FMU, the FMU under FMPy and scipy, on the Oscillator.
+    pub precision: Vec<Point>,
+    pub build: Option<Build>,
+    /// ns per call without and with `catch_unwind`.
+    pub catch_unwind: Option<(Stat, Stat)>,
+    pub python_versions: Value,
+    pub runs: usize,
+    /// Notes for the reader (skipped parts and why).
+    pub notes: Vec<String>,
+}
+
+/// One target of issue 9 and whether it is met.
+#[derive(Clone, Debug)]
+pub struct Target {
+    pub what: String,
+    pub limit: String,
+    pub value: String,
+    /// None: not measured in this run.
+    pub met: Option<bool>,
+}
+
+const NATIVE: &str = "FMU (native loop)";
+const FMPY: &str = "FMU (FMPy low-level loop)";
+
+fn e(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:.1e}")
+    } else {
+        "-".into()
+    }
+}
+
+fn f(x: f64, digits: usize) -> String {
+    if x.is_finite() {
+        format!("{x:.digits$}")
+    } else {
+        "-".into()
+    }
+}
+
+fn spread(s: &Stat) -> String {
+    if s.runs == 0 {
+        return "-".into();
+    }
+    format!("{:.0}–{:.0}", s.min, s.max)
+}
+
+impl Report {
+    fn points(&self, method: &str) -> Vec<&Point> {
+        self.precision
+            .iter()
+            .filter(|p| p.method == method)
+            .collect()
+    }
+
+    fn scipy(&self) -> Vec<Point> {
+        self.precision
+            .iter()
+            .filter(|p| p.method.starts_with("scipy"))
+            .cloned()
+            .collect()
+    }
+
+    /// The targets of issue 9, judged on this run's figures.
+    pub fn targets(&self) -> Vec<Target> {
+        let mut t = Vec::new();
+        for m in &self.mechanisms {
+            let worst = |f: &dyn Fn(&super::native::Split) -> f64| {
+                m.steps
+                    .iter()
+                    .map(|s| (f(&s.split()), s.h, s.tol))
+                    .filter(|p| p.0.is_finite())
+                    .max_by(|a, b| a.0.total_cmp(&b.0))
+            };
+            let show = |w: Option<(f64, f64, f64)>| {
+                w.map_or("-".into(), |(p, h, tol)| {
+                    format!("{p:.0} ns (h {h:e}, tol {tol:e})")
+                })
+            };
+            let runtime = worst(&|s| s.runtime());
+            t.push(Target {
+                what: format!(
+                    "{}: plumbing per fmi2DoStep (checks, lookup, guards, copying)",
+                    m.name
+                ),
+                limit: "≤ 25 ns".into(),
+                value: show(runtime),
+                met: runtime.map(|w| w.0 <= 25.0),
+            });
+            let beyond = worst(&|s| s.beyond_rhs());
+            t.push(Target {
+                what: format!(
+                    "{}: all beyond the rhs, the solver's arithmetic included",
+                    m.name
+                ),
+                limit: "≤ 25 ns".into(),
+                value: show(beyond),
+                met: beyond.map(|w| w.0 <= 25.0),
+            });
+            t.push(Target {
+                what: format!("{}: fmi2GetReal of {} variables", m.name, m.get_many.n),
+                limit: "≤ 50 ns".into(),
+                value: format!("{:.1} ns", m.get_many.ns.median),
+                met: Some(m.get_many.ns.median <= 50.0),
+            });
+            if let Some(share) = m.fmu_share() {
+                t.push(Target {
+                    what: format!("{}: FMU's share of a step under FMPy", m.name),
+                    limit: "≤ 5 %".into(),
+                    value: format!("{:.1} %", share * 100.0),
+                    met: Some(share <= 0.05),
+                });
+            }
+            if m.name == "Oscillator" {
+                if let Some(s) = m.step(1e-2, 1e-6) {
+                    t.push(Target {
+                        what: "Oscillator: fmi2DoStep at tol 1e-6, h 1e-2".into(),
+                        limit: "≤ 300 ns".into(),
+                        value: format!("{:.0} ns", s.ns.median),
+                        met: Some(s.ns.median <= 300.0),
+                    });
+                }
+            }
+            t.push(Target {
+                what: format!("{}: size of the .fmu", m.name),
+                limit: "≤ 1 MiB".into(),
+                value: format!("{} KiB", m.fmu_bytes.div_ceil(1024)),
+                met: Some(m.fmu_bytes <= 1 << 20),
+            });
+        }
+        let scipy = self.scipy();
+        if !scipy.is_empty() {
+            for (method, limit, need) in [
+                (NATIVE, "≥ 100× at every tolerance", 100.0),
+                (FMPY, "> 1× at every tolerance", 1.0),
+            ] {
+                let ratios: Vec<(f64, f64)> = self
+                    .points(method)
+                    .iter()
+                    .filter_map(|p| precision::speedup(p, &scipy).map(|s| (s.ratio, p.tol)))
+                    .collect();
+                if let Some(&(worst, tol)) = ratios.iter().min_by(|a, b| a.0.total_cmp(&b.0)) {
+                    t.push(Target {
+                        what: format!(
+                            "Oscillator work–precision, {method} vs scipy's best at equal error"
+                        ),
+                        limit: limit.into(),
+                        value: format!("worst {worst:.0}× (tol {tol:e})"),
+                        met: Some(worst >= need && ratios.len() == precision::TOLERANCES.len()),
+                    });
+                }
+            }
+        }
+        if let Some(b) = &self.build {
+            t.push(Target {
+                what: "clean release build of every FMU".into(),
+                limit: "≤ 90 s".into(),
+                value: format!("{:.0} s", b.seconds),
+                met: Some(b.seconds <= 90.0),
+            });
+        }
+        t
+    }
+
+    /// The human-readable table.
+    pub fn table(&self) -> String {
+        let mut o = String::new();
+        let _ = writeln!(
+            o,
+            "CPU time per call, median of {} runs (thread CPU time; min–max of the runs in brackets)\n",
+            self.runs
+        );
+        let _ = writeln!(o, "fmi2DoStep from a native loop (the .so through libloading), default experiment interval per run");
+        let _ = writeln!(
+            o,
+            "{:<18} {:>6} {:>6} {:>8} {:>11} {:>5} {:>4} {:>4} {:>7} | {:>6} {:>5} {:>6} {:>5} {:>5} | {:>6} {:>7}",
+            "mechanism", "h", "tol", "ns/step", "(min–max)", "evals", "acc", "rej", "ns/eval",
+            "rhs", "copy", "solver", "step", "fmi", ">rhs", "plumb."
+        );
+        for m in &self.mechanisms {
+            for s in &m.steps {
+                let p = s.split();
+                let _ = writeln!(
+                    o,
+                    "{:<18} {:>6} {:>6} {:>8.0} {:>11} {:>5.2} {:>4.2} {:>4.2} {:>7.1} | {:>6.0} {:>5.0} {:>6.0} {:>5.0} {:>5.0} | {:>6.0} {:>7.0}",
+                    m.name,
+                    e(s.h),
+                    e(s.tol),
+                    s.ns.median,
+                    spread(&s.ns),
+                    s.evals,
+                    s.accepted,
+                    s.rejected,
+                    p.rhs / s.evals,
+                    p.rhs,
+                    p.copying,
+                    p.solver,
+                    p.step,
+                    p.fmi,
+                    p.beyond_rhs(),
+                    p.runtime()
+                );
+            }
+        }
+        let _ = writeln!(o, "  evals/acc/rej: model evaluations, accepted and rejected solver steps per fmi2DoStep.");
+        let _ = writeln!(o, "  Split of ns/step, from the parts run alone in the FMU on the same trajectory (mechfmu_bench):");
+        let _ = writeln!(o, "  rhs = the model's equations; copy = states in, derivatives out (vr lookup); solver = Runge-Kutta");
+        let _ = writeln!(o, "  arithmetic and error control; step = Simulation::step's checks and bookkeeping; fmi = the C call,");
+        let _ = writeln!(o, "  instance/state checks, unwinding guard. >rhs = all but rhs; plumb. = copy + step + fmi.\n");
+
+        let _ = writeln!(
+            o,
+            "Calls (native), and the same cycle under FMPy (default step and tolerance)"
+        );
+        let _ = writeln!(
+            o,
+            "{:<18} {:>12} {:>12} {:>12} {:>10} {:>11} {:>8} {:>13} {:>8}",
+            "mechanism",
+            "get outputs",
+            "get 10 vars",
+            "set inputs",
+            "cycle ns",
+            "FMPy µs",
+            "share",
+            "simulate_fmu",
+            ".fmu"
+        );
+        for m in &self.mechanisms {
+            let call = |c: &super::CallFigures| format!("{:.1} ({})", c.ns.median, c.n);
+            let _ = writeln!(
+                o,
+                "{:<18} {:>12} {:>12} {:>12} {:>10.0} {:>11} {:>8} {:>13} {:>5} KiB",
+                m.name,
+                call(&m.get_outputs),
+                call(&m.get_many),
+                m.set_inputs.as_ref().map_or("-".into(), call),
+                m.cycle.median,
+                m.fmpy.map_or("-".into(), |s| f(s.median, 2)),
+                m.fmu_share()
+                    .map_or("-".into(), |s| format!("{:.1} %", s * 100.0)),
+                m.simulate_fmu
+                    .map_or("-".into(), |s| format!("{} µs", f(s.median, 2))),
+                m.fmu_bytes.div_ceil(1024)
+            );
+        }
+        let _ = writeln!(o, "  get/set: ns per array call (number of variables); cycle: set inputs + fmi2DoStep + get outputs;");
+        let _ = writeln!(o, "  FMPy µs: the same cycle in FMPy's low-level loop (FMU2Slave); share = cycle / FMPy µs.\n");
+
+        if self.mechanisms.iter().any(|m| m.instructions.is_some()) {
+            let _ = writeln!(
+                o,
+                "Instructions per fmi2DoStep (valgrind, repeatable), h = 1e-2, tol = 1e-6"
+            );
+            let _ = writeln!(
+                o,
+                "{:<18} {:>8} | {:>6} {:>5} {:>6} {:>5} {:>5} | {:>6} {:>7} | {:>11}",
+                "mechanism",
+                "total",
+                "rhs",
+                "copy",
+                "solver",
+                "step",
+                "fmi",
+                ">rhs",
+                "plumb.",
+                "get outputs"
+            );
+            for m in &self.mechanisms {
+                if let Some(c) = &m.instructions {
+                    let p = c.split();
+                    let _ = writeln!(
+                        o,
+                        "{:<18} {:>8.0} | {:>6.0} {:>5.0} {:>6.0} {:>5.0} {:>5.0} | {:>6.0} {:>7.0} | {:>11.0}",
+                        m.name,
+                        c.per_step,
+                        p.rhs,
+                        p.copying,
+                        p.solver,
+                        p.step,
+                        p.fmi,
+                        p.beyond_rhs(),
+                        p.runtime(),
+                        c.per_get_real
+                    );
+                }
+            }
+            let _ = writeln!(o);
+        }
+
+        if let Some((direct, guarded)) = &self.catch_unwind {
+            let _ = writeln!(
+                o,
+                "catch_unwind around a call that does not panic: {:.2} ns per call ({:.2} ns guarded, {:.2} ns direct)\n",
+                guarded.median - direct.median,
+                guarded.median,
+                direct.median
+            );
+        }
+
+        if !self.precision.is_empty() {
+            let scipy = self.scipy();
+            let mut methods: Vec<&str> = self.precision.iter().map(|p| p.method.as_str()).collect();
+            methods.dedup();
+            let _ = writeln!(o, "Work–precision, Oscillator free response over 20 s, output every 0.1 s: max |x - exact|, CPU µs per run");
+            let mut header = format!("{:>7}", "tol");
+            for m in &methods {
+                let _ = write!(header, " | {:^25}", m.trim_start_matches("scipy "));
+            }
+            let _ = write!(header, " | {:>16}", "vs scipy's best");
+            let _ = writeln!(o, "{header}");
+            for &tol in &precision::TOLERANCES {
+                let mut line = format!("{:>7}", e(tol));
+                for m in &methods {
+                    match self
+                        .precision
+                        .iter()
+                        .find(|p| p.method == *m && p.tol == tol)
+                    {
+                        Some(p) => {
+                            let _ = write!(
+                                line,
+                                " | {:>9} {:>13}",
+                                e(p.error),
+                                format!("{} µs", f(p.cpu.median * 1e6, 1))
+                            );
+                        }
+                        None => {
+                            let _ = write!(line, " | {:>25}", "-");
+                        }
+                    }
+                }
+                let ratio = |method: &str| {
+                    self.precision
+                        .iter()
+                        .find(|p| p.method == method && p.tol == tol)
+                        .and_then(|p| precision::speedup(p, &scipy))
+                        .map_or("-".into(), |s| {
+                            format!("{}{:.0}×", s.bound.unwrap_or(""), s.ratio)
+                        })
+                };
+                let _ = write!(line, " | {:>7} {:>8}", ratio(NATIVE), ratio(FMPY));
+                let _ = writeln!(o, "{line}");
+            }
+            let _ = writeln!(o, "  vs scipy's best: scipy's CPU time for the same error (log–log interpolation along its best");
+            let _ = writeln!(o, "  method's front) over the FMU's, native loop then FMPy loop; '>': scipy never gets this accurate");
+            let _ = writeln!(o, "  (compared with its most accurate run); '<': the FMU is less accurate than any scipy run.\n");
+        }
+
+        if let Some(b) = &self.build {
+            let _ = writeln!(
+                o,
+                "Clean release build of every FMU ({}): {:.0} s",
+                b.command, b.seconds
+            );
+            for (name, bytes) in &b.fmus {
+                let _ = writeln!(o, "  {name:<18} {} KiB", bytes.div_ceil(1024));
+            }
+            let _ = writeln!(o);
+        }
+
+        let _ = writeln!(o, "Targets (issue 9)");
+        for t in self.targets() {
+            let mark = match t.met {
+                Some(true) => "met    ",
+                Some(false) => "NOT met",
+                None => "n/a    ",
+            };
+            let _ = writeln!(o, "  {mark}  {:<66} {:<26} {}", t.what, t.limit, t.value);
+        }
+        for n in &self.notes {
+            let _ = writeln!(o, "note: {n}");
+        }
+        o
+    }
+
+    pub fn to_json(&self) -> Value {
+        let mechanisms: Vec<Value> = self
+            .mechanisms
+            .iter()
+            .map(|m| {
+                let call =
+                    |c: &super::CallFigures| json!({ "variables": c.n, "ns": c.ns.to_json() });
+                json!({
+                    "name": m.name,
+                    "fmu": m.fmu.display().to_string(),
+                    "fmu_bytes": m.fmu_bytes,
+                    "do_step": m.steps.iter().map(|s| s.to_json()).collect::<Vec<_>>(),
+                    "get_real_outputs": call(&m.get_outputs),
+                    "get_real_many": call(&m.get_many),
+                    "set_real_inputs": m.set_inputs.as_ref().map(call),
+                    "cycle": { "h": m.default_h, "tol": m.default_tol, "ns": m.cycle.to_json() },
+                    "instructions": m.instructions.map(|c| c.to_json()),
+                    "fmpy_low_level_us_per_step": m.fmpy.map(|s| s.to_json()),
+                    "fmpy_simulate_fmu_us_per_step": m.simulate_fmu.map(|s| s.to_json()),
+                    "fmu_share_under_fmpy": m.fmu_share().map(num),
+                })
+            })
+            .collect();
+        let scipy = self.scipy();
+        let precision: Vec<Value> = self
+            .precision
+            .iter()
+            .map(|p| {
+                let mut v = p.to_json();
+                if !p.method.starts_with("scipy") {
+                    if let Some(s) = precision::speedup(p, &scipy) {
+                        v["vs_scipy_best"] =
+                            json!({ "ratio": num(s.ratio), "method": s.best, "bound": s.bound });
+                    }
+                }
+                v
+            })
+            .collect();
+        let targets: Vec<Value> = self
+            .targets()
+            .iter()
+            .map(|t| json!({ "what": t.what, "limit": t.limit, "value": t.value, "met": t.met }))
+            .collect();
+        json!({
+            "schema": "mechfmu-bench/1",
+            "runs": self.runs,
+            "clock": "thread CPU time (CLOCK_THREAD_CPUTIME_ID); Python: process_time",
+            "machine": { "cpus": std::thread::available_parallelism().map(|n| n.get()).unwrap_or(0) },
+            "mechanisms": mechanisms,
+            "catch_unwind_ns": self.catch_unwind.map(|(d, g)| json!({ "direct": d.to_json(), "guarded": g.to_json() })),
+            "work_precision": precision,
+            "build": self.build.as_ref().map(|b| json!({ "command": b.command, "seconds": b.seconds,
+                "fmus": b.fmus.iter().map(|(n, s)| json!({ "name": n, "bytes": s })).collect::<Vec<_>>() })),
+            "python": self.python_versions,
+            "targets": targets,
+            "notes": self.notes,
+        })
+    }
+}

@@ -1,0 +1,110 @@
+//! Hooks for `mechfmu bench`: the parts of a communication step, each run alone in the
+//! FMU's own compiled code, so the benchmark can time them from outside and tell the
+//! model's equations from the solver and from the FMI layer.
+
+use super::{Simulation, System};
+use crate::model::{Mechanism, ValueSet};
+use crate::solver::OdeSystem;
+
+/// What [`Simulation::bench`] repeats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// `Mechanism::evaluate` alone: the right-hand side's own work.
+    Evaluate,
+    /// The solver's callback: load the state into the values, evaluate, read the
+    /// derivatives (the evaluation plus the copying around it).
+    Rhs,
+    /// Whole communication steps of size `h` without the FMI layer (`Simulation::step`).
+    Step,
+    /// The solver alone over communication steps of size `h` (`Dopri5::integrate` on the
+    /// model, as `Simulation::step` calls it, without the step's own checks and copying).
+    Integrate,
+}
+
+impl Part {
+    pub fn from_code(code: u32) -> Option<Part> {
+        match code {
+            0 => Some(Part::Evaluate),
+            1 => Some(Part::Rhs),
+            2 => Some(Part::Step),
+            3 => Some(Part::Integrate),
+            _ => None,
+        }
+    }
+}
+
+impl<M: Mechanism> Simulation<M> {
+    /// Repeats `part` `n` times on a copy of this simulation (which is left as it was).
+    /// `h` is the communication step of [`Part::Step`] and [`Part::Integrate`]; for
+    /// [`Part::Evaluate`] and [`Part::Rhs`] it is the time span the `n` evaluations are
+    /// spread over (that of the steps they stand for: time-dependent terms such as
+    /// `sin(ω t)` cost what they cost there), and the time moves at every repetition so
+    /// that no evaluation can be folded into another. Returns a checksum (for
+    /// `black_box`), or `Err` if a step fails.
+    pub fn bench(&self, part: Part, n: u64, h: f64) -> Result<f64, String> {
+        let mut sim = self.clone();
+        sim.update()?;
+        let d = self.layout.derivatives.first().copied().unwrap_or(0);
+        let t0 = sim.time();
+        let dt = if n > 0 { h / n as f64 } else { 0.0 };
+        let mut sum = 0.0;
+        match part {
+            Part::Evaluate => {
+                let mut values = sim.values.clone();
+                for i in 0..n {
+                    values.set_time(t0 + (i + 1) as f64 * dt);
+                    M::evaluate(std::hint::black_box(&mut values));
+                    sum += values.get(d).unwrap_or(0.0);
+                }
+            }
+            Part::Rhs | Part::Integrate => {
+                let mut y: Vec<f64> = (sim.layout.states.iter())
+                    .map(|&vr| sim.values.get(vr).unwrap_or(0.0))
+                    .collect();
+                let mut dydt = vec![0.0; y.len()];
+                let mut warnings = Vec::new();
+                let mut warning_active = false;
+                let mut evaluations = 0;
+                let mut system = System::<M> {
+                    values: &mut sim.values,
+                    layout: &sim.layout,
+                    inputs: &sim.inputs,
+                    input_derivatives: &sim.input_derivatives,
+                    t0,
+                    warning_active: &mut warning_active,
+                    warnings: &mut warnings,
+                    evaluations: &mut evaluations,
+                };
+                if part == Part::Rhs {
+                    for i in 0..n {
+                        system.rhs(
+                            t0 + (i + 1) as f64 * dt,
+                            std::hint::black_box(&y),
+                            &mut dydt,
+                        );
+                        sum += dydt.first().copied().unwrap_or(0.0);
+                    }
+                } else {
+                    let mut t = t0;
+                    for _ in 0..n {
+                        let t_end = t + h;
+                        system.t0 = t;
+                        sim.solver
+                            .integrate(&mut system, &mut t, t_end, &mut y, sim.tolerance)
+                            .map_err(|e| e.to_string())?;
+                    }
+                    sum = y.first().copied().unwrap_or(0.0);
+                }
+            }
+            Part::Step => {
+                let mut t = t0;
+                for _ in 0..n {
+                    sim.step(t, h).map_err(|e| format!("{e:?}"))?;
+                    t += h;
+                }
+                sum = sim.values.get(d).unwrap_or(0.0);
+            }
+        }
+        Ok(sum)
+    }
+}

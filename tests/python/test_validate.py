@@ -1,0 +1,113 @@
+"""`mechfmu validate` end to end: it passes on the real FMUs, and it catches a broken one.
+
+The broken FMU is a copy of fmus/oscillator/ as an external crate (depending on mechfmu by
+path, with the Oscillator's own validation/cases.py and reference/), with the sign of the
+damping force flipped in `evaluate`, built by `mechfmu build --manifest-path ... --out ...`.
+It is still a valid FMU (every check passes, both importers agree on it) but its physics is
+wrong: every case with damping must fail, by name, and the undamped one must pass.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import fmutest
+
+REPO = fmutest.REPO_ROOT
+
+
+def mechfmu(*args: str, timeout: float = 1200) -> subprocess.CompletedProcess:
+    """`cargo run --release -- <args>` from the repository root."""
+    cmd = ["cargo", "run", "--release", "--quiet", "--", *args]
+    return subprocess.run(cmd, cwd=REPO, capture_output=True, text=True, timeout=timeout)
+
+
+def _rows(json_path: Path) -> list[dict]:
+    return json.loads(json_path.read_text())["rows"]
+
+
+def test_validate_passes_on_every_fmu_and_writes_the_report(tmp_path):
+    for model in ("Oscillator", "TwoMassOscillator", "PendulumCart", "Crane", "CraneDynamics", "RigidBody"):
+        fmutest.fmu_path(model)  # fail early, with the build hint, if one is missing
+    report, js = tmp_path / "report", tmp_path / "validate.json"
+    proc = mechfmu("validate", "--fmu-dir", str(fmutest.FMU_DIR), "--report", str(report), "--json", str(js))
+    assert proc.returncode == 0, f"mechfmu validate failed:\n{proc.stdout[-6000:]}\n{proc.stderr[-3000:]}"
+    rows = _rows(js)
+    cases = {(r["fmu"], r["case"]) for r in rows if r["kind"] == "case"}
+    assert len({f for f, _ in cases}) == 6 and len(cases) >= 18, sorted(cases)
+    for fmu, case in cases:
+        importers = {r["importer"] for r in rows if (r["fmu"], r["case"]) == (fmu, case)}
+        assert importers == {"FMPy", "libcosim"}, (fmu, case, importers)
+    assert all(r["passed"] for r in rows)
+    assert re.search(r"^\d+ passed, 0 failed$", proc.stdout, re.M), proc.stdout[-2000:]
+    index = (report / "index.html").read_text()
+    assert "PASS" in index and (report / "index.md").is_file()
+    pngs = list(report.glob("*/*.png"))
+    assert len(pngs) == len(cases), (len(pngs), len(cases))
+    assert all(p.stat().st_size > 20_000 for p in pngs)
+
+
+@pytest.fixture(scope="module")
+def broken_oscillator(tmp_path_factory) -> Path:
+    """fmus/oscillator copied as an external crate with the damping's sign flipped, built;
+    returns the crate directory (the FMU is out/Oscillator.fmu)."""
+    root = tmp_path_factory.mktemp("broken") / "broken-oscillator"
+    shutil.copytree(REPO / "fmus/oscillator", root, ignore=shutil.ignore_patterns("target", "__pycache__"))
+    manifest = root / "Cargo.toml"
+    text = manifest.read_text()
+    text = text.replace('name = "oscillator-fmu"', 'name = "broken-oscillator-fmu"')
+    text = text.replace('name = "oscillator"', 'name = "broken_oscillator"')
+    text = re.sub(r'mechfmu = \{ path = "[^"]*" \}', f'mechfmu = {{ path = "{REPO.as_posix()}" }}', text)
+    # a workspace of its own, with the repository's release profile and lock file, so that the
+    # shared target directory's compiled dependencies are reused
+    profile = re.search(r"\[profile\.release\][^\[]*", (REPO / "Cargo.toml").read_text())
+    text += "\n[workspace]\n\n" + (profile.group(0) if profile else "")
+    manifest.write_text(text)
+    shutil.copy(REPO / "Cargo.lock", root / "Cargo.lock")
+    lib = root / "src/lib.rs"
+    src = lib.read_text()
+    flipped = src.replace("- v.c * v.x_dot", "+ v.c * v.x_dot")
+    assert flipped != src, "the damping term `- v.c * v.x_dot` is not in fmus/oscillator/src/lib.rs any more"
+    lib.write_text(flipped)
+    env = dict(os.environ, CARGO_TARGET_DIR=str(REPO / "target"))
+    proc = subprocess.run(["cargo", "run", "--release", "--quiet", "--", "build", "--manifest-path", str(manifest),
+                           "--out", str(root / "out")], cwd=REPO, capture_output=True, text=True, timeout=1800,
+                          env=env)
+    assert proc.returncode == 0, f"building the broken copy failed:\n{proc.stdout}\n{proc.stderr[-4000:]}"
+    assert (root / "out/Oscillator.fmu").is_file()
+    return root
+
+
+def test_validate_fails_on_a_broken_fmu_and_names_the_cases(broken_oscillator, tmp_path):
+    root = broken_oscillator
+    js = tmp_path / "broken.json"
+    proc = mechfmu("validate", str(root / "out/Oscillator.fmu"), "--manifest-path", str(root / "Cargo.toml"),
+                   "--json", str(js))
+    assert proc.returncode != 0, f"mechfmu validate passed a broken FMU:\n{proc.stdout[-4000:]}"
+    assert "validation failed" in proc.stderr
+    rows = _rows(js)
+    fmpy_rows = {r["case"]: r for r in rows if r["kind"] == "case" and r["importer"] == "FMPy"}
+    damped = ["default_experiment", "free_overdamped", "free_critical", "free_underdamped", "step_force",
+              "harmonic_near_resonance"]
+    assert set(damped) <= set(fmpy_rows), sorted(fmpy_rows)
+    for case in damped:
+        assert not fmpy_rows[case]["passed"], f"{case} passed on the broken FMU"
+        assert re.search(rf"^FAIL Oscillator / {case} / FMPy:", proc.stdout, re.M), proc.stdout[-3000:]
+    assert fmpy_rows["free_undamped"]["passed"], "the undamped case does not depend on the flipped term"
+    # still a valid FMU, imported identically by both importers: the failure is the physics
+    assert all(r["passed"] for r in rows if r["kind"] == "check"), [r for r in rows if not r["passed"]]
+    assert all(r["passed"] for r in rows if r["importer"] == "libcosim")
+
+
+def test_validate_reports_an_unknown_mechanism():
+    proc = mechfmu("validate", "NoSuchMechanism")
+    assert proc.returncode != 0
+    assert "NoSuchMechanism" in proc.stderr and "known:" in proc.stderr

@@ -1,0 +1,347 @@
+//! Finding, unpacking and loading the built FMUs (`fmus/<Name>.fmu`), and reading what an
+//! importer needs from their modelDescription.xml.
+
+use crate::ffi::Api;
+use std::collections::HashMap;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// One variable of the modelDescription.
+#[derive(Clone, Debug)]
+pub struct Var {
+    pub name: String,
+    pub vr: u32,
+    pub causality: String,
+    pub variability: String,
+    pub initial: Option<String>,
+    pub start: Option<f64>,
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+    pub unit: Option<String>,
+    pub quantity: Option<String>,
+    /// For a derivative: the 1-based index of the variable it is the derivative of.
+    pub derivative: Option<usize>,
+}
+
+impl Var {
+    pub fn is(&self, causality: &str) -> bool {
+        self.causality == causality
+    }
+    pub fn is_tunable_parameter(&self) -> bool {
+        self.causality == "parameter" && self.variability == "tunable"
+    }
+    /// A mass, a length or an inertia (by unit or quantity) declared with `min="0"`: a
+    /// parameter that must be strictly positive.
+    pub fn must_be_positive(&self) -> bool {
+        let physical = matches!(self.unit.as_deref(), Some("kg" | "m" | "kg.m2"))
+            || matches!(
+                self.quantity.as_deref(),
+                Some("Mass" | "Length" | "MomentOfInertia" | "Inertia")
+            );
+        self.causality == "parameter" && physical && self.min == Some(0.0)
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct Experiment {
+    pub start: f64,
+    pub stop: f64,
+    pub step: f64,
+    pub tolerance: f64,
+}
+
+/// What the importer reads from modelDescription.xml.
+#[derive(Clone, Debug)]
+pub struct ModelDescription {
+    pub model_name: String,
+    pub guid: String,
+    pub model_identifier: String,
+    pub can_not_use_memory_management_functions: bool,
+    pub max_output_derivative_order: i32,
+    pub log_categories: Vec<String>,
+    pub experiment: Experiment,
+    pub variables: Vec<Var>,
+}
+
+impl ModelDescription {
+    #[allow(deprecated)] // unescape_value: the XML is ours, plain XML 1.0
+    pub fn parse(xml: &str) -> Result<ModelDescription, String> {
+        use quick_xml::events::Event;
+        let mut reader = quick_xml::Reader::from_str(xml);
+        let mut md = ModelDescription {
+            model_name: String::new(),
+            guid: String::new(),
+            model_identifier: String::new(),
+            can_not_use_memory_management_functions: false,
+            max_output_derivative_order: 0,
+            log_categories: vec![],
+            experiment: Experiment {
+                start: 0.0,
+                stop: 1.0,
+                step: 1e-3,
+                tolerance: 1e-6,
+            },
+            variables: vec![],
+        };
+        let mut simple_types: HashMap<String, (Option<String>, Option<String>)> = HashMap::new();
+        let mut current_type: Option<String> = None;
+        let mut current_var: Option<(HashMap<String, String>, Option<String>)> = None;
+        let mut declared: Vec<(HashMap<String, String>, HashMap<String, String>)> = vec![];
+        loop {
+            let event = reader.read_event().map_err(|e| format!("XML: {e}"))?;
+            let (e, empty) = match &event {
+                Event::Start(e) => (e, false),
+                Event::Empty(e) => (e, true),
+                Event::End(e) => {
+                    match e.name().as_ref() {
+                        "SimpleType" => current_type = None,
+                        "ScalarVariable" => {
+                            if let Some((attrs, _)) = current_var.take() {
+                                declared.push((attrs, HashMap::new()));
+                            }
+                        }
+                        _ => {}
+                    }
+                    continue;
+                }
+                Event::Eof => break,
+                _ => continue,
+            };
+            let mut attrs = HashMap::new();
+            for a in e.attributes() {
+                let a = a.map_err(|e| format!("XML attribute: {e}"))?;
+                let key = a.key.as_ref().to_string();
+                let value = a
+                    .unescape_value()
+                    .map_err(|e| format!("XML: {e}"))?
+                    .into_owned();
+                attrs.insert(key, value);
+            }
+            match e.name().as_ref() {
+                "fmiModelDescription" => {
+                    md.model_name = attrs.get("modelName").cloned().unwrap_or_default();
+                    md.guid = attrs.get("guid").cloned().unwrap_or_default();
+                }
+                "CoSimulation" => {
+                    md.model_identifier = attrs.get("modelIdentifier").cloned().unwrap_or_default();
+                    md.can_not_use_memory_management_functions = attrs
+                        .get("canNotUseMemoryManagementFunctions")
+                        .is_some_and(|v| v == "true");
+                    md.max_output_derivative_order = attrs
+                        .get("maxOutputDerivativeOrder")
+                        .and_then(|v| v.parse().ok())
+                        .unwrap_or(0);
+                }
+                "Category" => md
+                    .log_categories
+                    .push(attrs.get("name").cloned().unwrap_or_default()),
+                "DefaultExperiment" => {
+                    let f =
+                        |k: &str, d: f64| attrs.get(k).and_then(|v| v.parse().ok()).unwrap_or(d);
+                    md.experiment = Experiment {
+                        start: f("startTime", 0.0),
+                        stop: f("stopTime", 1.0),
+                        step: f("stepSize", 1e-3),
+                        tolerance: f("tolerance", 1e-6),
+                    };
+                }
+                "SimpleType" => {
+                    if !empty {
+                        current_type = attrs.get("name").cloned();
+                    }
+                }
+                "ScalarVariable" => {
+                    if empty {
+                        declared.push((attrs, HashMap::new()));
+                    } else {
+                        current_var = Some((attrs, None));
+                    }
+                }
+                "Real" | "Integer" | "Boolean" | "String" | "Enumeration" => {
+                    if let Some(t) = &current_type {
+                        simple_types.insert(
+                            t.clone(),
+                            (attrs.get("unit").cloned(), attrs.get("quantity").cloned()),
+                        );
+                    } else if let Some((var_attrs, _)) = current_var.take() {
+                        let mut real = attrs;
+                        real.insert("#type".into(), e.name().as_ref().to_string());
+                        declared.push((var_attrs, real));
+                    }
+                }
+                _ => {}
+            }
+        }
+        for (v, real) in declared {
+            let num = |k: &str| real.get(k).and_then(|x| x.parse::<f64>().ok());
+            let (type_unit, type_quantity) = real
+                .get("declaredType")
+                .and_then(|t| simple_types.get(t).cloned())
+                .unwrap_or((None, None));
+            if real.get("#type").map(String::as_str) != Some("Real") {
+                return Err(format!(
+                    "variable {:?} is not a Real: this importer knows Real variables only",
+                    v.get("name")
+                ));
+            }
+            md.variables.push(Var {
+                name: v.get("name").cloned().unwrap_or_default(),
+                vr: v
+                    .get("valueReference")
+                    .and_then(|x| x.parse().ok())
+                    .ok_or("a variable without a valid valueReference")?,
+                causality: v
+                    .get("causality")
+                    .cloned()
+                    .unwrap_or_else(|| "local".into()),
+                variability: v
+                    .get("variability")
+                    .cloned()
+                    .unwrap_or_else(|| "continuous".into()),
+                initial: v.get("initial").cloned(),
+                start: num("start"),
+                min: num("min"),
+                max: num("max"),
+                unit: real.get("unit").cloned().or(type_unit),
+                quantity: real.get("quantity").cloned().or(type_quantity),
+                derivative: real.get("derivative").and_then(|x| x.parse().ok()),
+            });
+        }
+        if md.guid.is_empty() || md.model_identifier.is_empty() {
+            return Err("modelDescription.xml without guid or CoSimulation modelIdentifier".into());
+        }
+        Ok(md)
+    }
+
+    pub fn var(&self, name: &str) -> Option<&Var> {
+        self.variables.iter().find(|v| v.name == name)
+    }
+
+    /// Every value reference, in order.
+    pub fn all_vrs(&self) -> Vec<u32> {
+        self.variables.iter().map(|v| v.vr).collect()
+    }
+
+    /// The continuous states (the variables some derivative refers to).
+    pub fn states(&self) -> Vec<&Var> {
+        self.variables
+            .iter()
+            .filter_map(|v| {
+                v.derivative
+                    .and_then(|i| self.variables.get(i.checked_sub(1)?))
+            })
+            .collect()
+    }
+
+    /// One past the largest value reference.
+    pub fn vr_end(&self) -> u32 {
+        self.variables.iter().map(|v| v.vr + 1).max().unwrap_or(0)
+    }
+}
+
+/// The directory holding the built FMUs: `$MECHFMU_FMUS_DIR`, else the workspace's `fmus/`.
+pub fn fmus_dir() -> PathBuf {
+    std::env::var_os("MECHFMU_FMUS_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fmus"))
+}
+
+/// Every `*.fmu` in [`fmus_dir`], sorted, restricted to the comma-separated model names in
+/// `$MECHFMU_ROBUSTNESS_ONLY` if set.
+pub fn fmu_paths() -> Vec<PathBuf> {
+    let only: Option<Vec<String>> = std::env::var("MECHFMU_ROBUSTNESS_ONLY")
+        .ok()
+        .map(|s| s.split(',').map(|x| x.trim().to_string()).collect());
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(fmus_dir())
+        .map(|d| {
+            d.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|e| e == "fmu"))
+                .filter(|p| {
+                    only.as_ref().is_none_or(|o| {
+                        p.file_stem()
+                            .is_some_and(|s| o.iter().any(|n| n.as_str() == s.to_string_lossy()))
+                    })
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    paths.sort();
+    paths
+}
+
+/// The FMUs to test, or a panic telling how to build them (a robustness suite that finds
+/// nothing to test must not pass).
+pub fn required_fmu_paths() -> Vec<PathBuf> {
+    let paths = fmu_paths();
+    assert!(
+        !paths.is_empty(),
+        "no FMUs in {}: build them first with `cargo run --release -- build` \
+         (or point MECHFMU_FMUS_DIR at a directory of .fmu files)",
+        fmus_dir().display()
+    );
+    paths
+}
+
+static UNPACKED: AtomicUsize = AtomicUsize::new(0);
+
+/// An FMU unpacked into a private temporary directory and loaded.
+pub struct Fmu {
+    pub md: ModelDescription,
+    pub api: Api,
+    pub path: PathBuf,
+    lib: Option<libloading::Library>,
+    dir: PathBuf,
+}
+
+impl Fmu {
+    /// Unpacks `fmu` (modelDescription.xml and binaries/linux64/<id>.so) and dlopens the
+    /// binary, resolving all 34 functions.
+    pub fn load(fmu: &Path) -> Result<Fmu, String> {
+        let file = std::fs::File::open(fmu).map_err(|e| format!("{}: {e}", fmu.display()))?;
+        let mut zip = zip::ZipArchive::new(file).map_err(|e| format!("{}: {e}", fmu.display()))?;
+        let mut xml = String::new();
+        zip.by_name("modelDescription.xml")
+            .map_err(|e| format!("{}: modelDescription.xml: {e}", fmu.display()))?
+            .read_to_string(&mut xml)
+            .map_err(|e| e.to_string())?;
+        let md = ModelDescription::parse(&xml).map_err(|e| format!("{}: {e}", fmu.display()))?;
+        let so_name = format!("binaries/linux64/{}.so", md.model_identifier);
+        let mut so = vec![];
+        zip.by_name(&so_name)
+            .map_err(|e| format!("{}: {so_name}: {e}", fmu.display()))?
+            .read_to_end(&mut so)
+            .map_err(|e| e.to_string())?;
+        let dir = std::env::temp_dir().join(format!(
+            "mechfmu-robustness-{}-{}",
+            std::process::id(),
+            UNPACKED.fetch_add(1, Ordering::Relaxed)
+        ));
+        std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        let so_path = dir.join(format!("{}.so", md.model_identifier));
+        std::fs::write(&so_path, &so).map_err(|e| format!("{}: {e}", so_path.display()))?;
+        // SAFETY: an FMU binary: loading it runs no initializers of consequence.
+        let lib = unsafe { libloading::Library::new(&so_path) }
+            .map_err(|e| format!("{}: {e}", so_path.display()))?;
+        // SAFETY: an FMI 2.0 binary.
+        let api = unsafe { Api::load(&lib) }.map_err(|e| format!("{}: {e}", fmu.display()))?;
+        Ok(Fmu {
+            md,
+            api,
+            path: fmu.to_path_buf(),
+            lib: Some(lib),
+            dir,
+        })
+    }
+
+    pub fn name(&self) -> &str {
+        &self.md.model_identifier
+    }
+}
+
+impl Drop for Fmu {
+    fn drop(&mut self) {
+        drop(self.lib.take());
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}

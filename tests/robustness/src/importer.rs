@@ -1,0 +1,374 @@
+//! The importer's side of an instance: callbacks (a logger that records and checks every
+//! message; memory and step-finished callbacks that must never be called) and a thin
+//! wrapper for well-behaved use.
+
+use crate::ffi::*;
+use crate::fmu::Fmu;
+use std::ffi::{c_char, c_void, CString};
+use std::sync::Mutex;
+
+/// A message the FMU logged.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Message {
+    pub status: Status,
+    pub category: String,
+    pub text: String,
+    pub instance_name: Vec<u8>,
+}
+
+/// Where one instance's logger writes: the messages, and any breach of the logger contract
+/// (a format other than "%s", an unknown category, a NULL string).
+#[derive(Default)]
+pub struct Sink {
+    pub messages: Mutex<Vec<Message>>,
+    pub violations: Mutex<Vec<String>>,
+}
+
+pub const CATEGORIES: [&str; 6] = [
+    "logEvents",
+    "logStatusWarning",
+    "logStatusDiscard",
+    "logStatusError",
+    "logStatusFatal",
+    "logAll",
+];
+
+impl Sink {
+    pub fn len(&self) -> usize {
+        self.messages.lock().map(|m| m.len()).unwrap_or(0)
+    }
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    pub fn since(&self, n: usize) -> Vec<Message> {
+        self.messages
+            .lock()
+            .map(|m| m.get(n..).map(|s| s.to_vec()).unwrap_or_default())
+            .unwrap_or_default()
+    }
+    pub fn all(&self) -> Vec<Message> {
+        self.since(0)
+    }
+    pub fn take_violations(&self) -> Vec<String> {
+        self.violations
+            .lock()
+            .map(|mut v| std::mem::take(&mut *v))
+            .unwrap_or_default()
+    }
+    fn violation(&self, what: String) {
+        if let Ok(mut v) = self.violations.lock() {
+            v.push(what);
+        }
+    }
+}
+
+/// Receives the FMU's log calls. The header declares the logger C-variadic; Rust cannot
+/// define one on stable, so this takes the fixed arguments plus exactly one string, which
+/// is all the FMU ever passes ("%s", message): on x86-64 and AArch64 Linux a variadic
+/// callee with these arguments receives them in the same registers.
+unsafe extern "C" fn record(
+    env: Env,
+    instance_name: CStr,
+    status: Status,
+    category: CStr,
+    format: CStr,
+    message: *const c_char,
+) {
+    if env.is_null() {
+        return; // nowhere to record: the test that passed a NULL environment expects none
+    }
+    // SAFETY: env is the Sink this importer registered, alive as long as the instance.
+    let sink = unsafe { &*(env as *const Sink) };
+    let text = |p: *const c_char| -> Option<Vec<u8>> {
+        // SAFETY: the FMU passes NUL-terminated strings (NULL is checked).
+        (!p.is_null()).then(|| unsafe { std::ffi::CStr::from_ptr(p) }.to_bytes().to_vec())
+    };
+    let format = text(format);
+    if format.as_deref() != Some(b"%s") {
+        sink.violation(format!(
+            "logger called with format {:?} instead of \"%s\"",
+            format.map(|f| String::from_utf8_lossy(&f).into_owned())
+        ));
+    }
+    let category = text(category)
+        .map(|c| String::from_utf8_lossy(&c).into_owned())
+        .unwrap_or_default();
+    if !CATEGORIES.contains(&category.as_str()) || category == "logAll" {
+        sink.violation(format!("logger called with category {category:?}"));
+    }
+    let Some(message) = text(message) else {
+        sink.violation("logger called with a NULL message".into());
+        return;
+    };
+    let text = match String::from_utf8(message) {
+        Ok(t) => t,
+        Err(e) => {
+            sink.violation("logger called with a message that is not UTF-8".into());
+            String::from_utf8_lossy(e.as_bytes()).into_owned()
+        }
+    };
+    if text.trim().is_empty() {
+        sink.violation(format!("empty log message (status {status})"));
+    }
+    if status > PENDING {
+        sink.violation(format!("logger called with status {status}"));
+    }
+    if let Ok(mut m) = sink.messages.lock() {
+        m.push(Message {
+            status,
+            category,
+            text,
+            instance_name: text_or_empty(instance_name),
+        });
+    }
+}
+
+fn text_or_empty(p: CStr) -> Vec<u8> {
+    if p.is_null() {
+        return vec![];
+    }
+    // SAFETY: NUL-terminated (from the FMU).
+    unsafe { std::ffi::CStr::from_ptr(p) }.to_bytes().to_vec()
+}
+
+/// The recording logger, as the header's variadic type.
+pub fn logger() -> LoggerFn {
+    // SAFETY: see `record`.
+    unsafe {
+        std::mem::transmute::<
+            unsafe extern "C" fn(Env, CStr, Status, CStr, CStr, *const c_char),
+            LoggerFn,
+        >(record)
+    }
+}
+
+/// `allocateMemory`: the modelDescription says `canNotUseMemoryManagementFunctions`, so a
+/// call is a bug: abort loudly (the test running this in a child process reports it).
+pub unsafe extern "C" fn forbidden_allocate(nobj: usize, size: usize) -> *mut c_void {
+    eprintln!("robustness: the FMU called allocateMemory({nobj}, {size}) although it declares canNotUseMemoryManagementFunctions");
+    std::process::abort()
+}
+
+pub unsafe extern "C" fn forbidden_free(obj: *mut c_void) {
+    eprintln!("robustness: the FMU called freeMemory({obj:?}) although it declares canNotUseMemoryManagementFunctions");
+    std::process::abort()
+}
+
+/// `stepFinished`: the FMU never runs asynchronously (`canRunAsynchronuously="false"`).
+pub unsafe extern "C" fn forbidden_step_finished(_env: Env, status: Status) {
+    eprintln!(
+        "robustness: the FMU called stepFinished({status}) although it cannot run asynchronously"
+    );
+    std::process::abort()
+}
+
+/// Callbacks with the recording logger and the forbidden memory functions.
+pub fn callbacks(sink: &Sink) -> CallbackFunctions {
+    CallbackFunctions {
+        logger: Some(logger()),
+        allocate_memory: Some(forbidden_allocate),
+        free_memory: Some(forbidden_free),
+        step_finished: Some(forbidden_step_finished),
+        component_environment: sink as *const Sink as Env,
+    }
+}
+
+/// A well-behaved importer's instance: instantiate with the right GUID, free on drop.
+pub struct Instance<'a> {
+    pub fmu: &'a Fmu,
+    pub c: Component,
+    pub sink: Box<Sink>,
+    _callbacks: Box<CallbackFunctions>,
+    _name: CString,
+    _guid: CString,
+}
+
+// SAFETY: an instance is used by one thread at a time (FMI allows that; the FMU has no
+// global state), and the sink is Sync.
+unsafe impl Send for Instance<'_> {}
+
+impl<'a> Instance<'a> {
+    pub fn new(fmu: &'a Fmu, name: &str) -> Result<Instance<'a>, Vec<Message>> {
+        let sink = Box::<Sink>::default();
+        let callbacks = Box::new(callbacks(&sink));
+        let name = CString::new(name).expect("instance name");
+        let guid = CString::new(fmu.md.guid.as_str()).expect("GUID");
+        let resources = CString::new("file:///nonexistent/resources").unwrap();
+        // SAFETY: valid strings and callbacks that outlive the instance.
+        let c = unsafe {
+            (fmu.api.instantiate)(
+                name.as_ptr(),
+                CO_SIMULATION,
+                guid.as_ptr(),
+                resources.as_ptr(),
+                &*callbacks,
+                0,
+                0,
+            )
+        };
+        if c.is_null() {
+            return Err(sink.all());
+        }
+        Ok(Instance {
+            fmu,
+            c,
+            sink,
+            _callbacks: callbacks,
+            _name: name,
+            _guid: guid,
+        })
+    }
+
+    pub fn messages(&self) -> Vec<Message> {
+        self.sink.all()
+    }
+
+    /// The last messages, for assertion texts.
+    pub fn log_tail(&self) -> String {
+        let m = self.sink.all();
+        m[m.len().saturating_sub(5)..]
+            .iter()
+            .map(|m| format!("[{}] {}", status_name(m.status), m.text))
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
+
+    pub fn setup(&mut self, tolerance: Option<f64>, start: f64, stop: Option<f64>) -> Status {
+        // SAFETY: live instance.
+        unsafe {
+            (self.fmu.api.setup_experiment)(
+                self.c,
+                tolerance.is_some() as Boolean,
+                tolerance.unwrap_or(0.0),
+                start,
+                stop.is_some() as Boolean,
+                stop.unwrap_or(0.0),
+            )
+        }
+    }
+
+    pub fn enter_init(&mut self) -> Status {
+        // SAFETY: live instance.
+        unsafe { (self.fmu.api.enter_initialization_mode)(self.c) }
+    }
+
+    pub fn exit_init(&mut self) -> Status {
+        // SAFETY: live instance.
+        unsafe { (self.fmu.api.exit_initialization_mode)(self.c) }
+    }
+
+    /// Setup at the default experiment's start and tolerance, start values, initialization.
+    pub fn initialize(&mut self, values: &[(u32, f64)]) -> Result<(), String> {
+        let e = self.fmu.md.experiment.clone();
+        for (what, s) in [
+            (
+                "fmi2SetupExperiment",
+                self.setup(Some(e.tolerance), e.start, None),
+            ),
+            ("fmi2EnterInitializationMode", self.enter_init()),
+        ] {
+            if s != OK {
+                return Err(format!("{what}: {}\n{}", status_name(s), self.log_tail()));
+            }
+        }
+        if !values.is_empty() {
+            let (vrs, xs): (Vec<u32>, Vec<f64>) = values.iter().copied().unzip();
+            let s = self.set_real(&vrs, &xs);
+            if s != OK {
+                return Err(format!(
+                    "fmi2SetReal: {}\n{}",
+                    status_name(s),
+                    self.log_tail()
+                ));
+            }
+        }
+        match self.exit_init() {
+            OK => Ok(()),
+            s => Err(format!(
+                "fmi2ExitInitializationMode: {}\n{}",
+                status_name(s),
+                self.log_tail()
+            )),
+        }
+    }
+
+    pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Status {
+        assert_eq!(vrs.len(), values.len());
+        // SAFETY: arrays of nvr elements.
+        unsafe { (self.fmu.api.set_real)(self.c, vrs.as_ptr(), vrs.len(), values.as_ptr()) }
+    }
+
+    pub fn get_real(&mut self, vrs: &[u32]) -> (Status, Vec<f64>) {
+        let mut out = vec![f64::NAN; vrs.len()];
+        // SAFETY: arrays of nvr elements.
+        let s =
+            unsafe { (self.fmu.api.get_real)(self.c, vrs.as_ptr(), vrs.len(), out.as_mut_ptr()) };
+        (s, out)
+    }
+
+    /// Every variable's value (panics unless fmi2OK).
+    pub fn all_values(&mut self) -> Vec<f64> {
+        let vrs = self.fmu.md.all_vrs();
+        let (s, v) = self.get_real(&vrs);
+        assert_eq!(s, OK, "fmi2GetReal of all variables: {}", self.log_tail());
+        v
+    }
+
+    pub fn do_step(&mut self, t: f64, h: f64) -> Status {
+        // SAFETY: live instance.
+        unsafe { (self.fmu.api.do_step)(self.c, t, h, 1) }
+    }
+
+    pub fn last_successful_time(&mut self) -> (Status, f64) {
+        let mut t = f64::NAN;
+        // SAFETY: live instance, valid out pointer.
+        let s = unsafe { (self.fmu.api.get_real_status)(self.c, LAST_SUCCESSFUL_TIME, &mut t) };
+        (s, t)
+    }
+
+    pub fn terminated(&mut self) -> (Status, bool) {
+        let mut b: Boolean = -1;
+        // SAFETY: live instance, valid out pointer.
+        let s = unsafe { (self.fmu.api.get_boolean_status)(self.c, TERMINATED, &mut b) };
+        (s, b != 0)
+    }
+
+    pub fn terminate(&mut self) -> Status {
+        // SAFETY: live instance.
+        unsafe { (self.fmu.api.terminate)(self.c) }
+    }
+
+    pub fn reset(&mut self) -> Status {
+        // SAFETY: live instance.
+        unsafe { (self.fmu.api.reset)(self.c) }
+    }
+}
+
+impl Drop for Instance<'_> {
+    fn drop(&mut self) {
+        // SAFETY: live instance, freed once.
+        unsafe { (self.fmu.api.free_instance)(self.c) }
+    }
+}
+
+/// Resident set size of this process in bytes, from /proc/self/statm.
+pub fn rss_bytes() -> Option<u64> {
+    let statm = std::fs::read_to_string("/proc/self/statm").ok()?;
+    let pages: u64 = statm.split_whitespace().nth(1)?.parse().ok()?;
+    // SAFETY: sysconf has no preconditions.
+    Some(pages * page_size())
+}
+
+fn page_size() -> u64 {
+    extern "C" {
+        fn sysconf(name: i32) -> i64;
+    }
+    const SC_PAGESIZE: i32 = 30; // Linux
+                                 // SAFETY: sysconf has no preconditions.
+    let p = unsafe { sysconf(SC_PAGESIZE) };
+    if p > 0 {
+        p as u64
+    } else {
+        4096
+    }
+}
