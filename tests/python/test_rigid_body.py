@@ -352,9 +352,9 @@ QUATERNION_CASES = {
 @pytest.mark.parametrize("case", list(QUATERNION_CASES))
 @pytest.mark.parametrize("interval", [0.01, 0.1])
 def test_quaternion_stays_unit_with_the_stabilization(fmu, case, interval):
-    """What the ODE-level stabilization -k_q (|q|^2 - 1) q achieves at rtol 1e-8: recorded,
-    and required to beat the unstabilized run (k_q = 0) by 10x. It changes |q| only, so the
-    rotation q/|q| must agree with the unstabilized one to the solver's accuracy."""
+    """The ODE-level stabilization -k_q (|q|^2 - 1) q and the projection q <- q/|q| at every
+    communication point change |q| only: with or without the stabilization, |q| = 1 to
+    rounding at every output, and the rotations agree to the solver's accuracy."""
     start = QUATERNION_CASES[case]
     on = run(fmu, start, interval=interval)
     off = run(fmu, {**start, "k_q": 0.0}, interval=interval)
@@ -362,8 +362,7 @@ def test_quaternion_stays_unit_with_the_stabilization(fmu, case, interval):
     rows = [_row("|q| - 1 (k_q = 1)", d_on.max(), 1.0, 1e-12, on.time[d_on.argmax()], interval),
             _row("|q| - 1 (k_q = 0)", d_off.max(), 1.0, 1e-12, off.time[d_off.argmax()], interval)]
     record_figures(FIGURES, f"|q| {case}@{interval}", {"start": start, "variables": rows})
-    assert d_on.max() * 10 <= d_off.max(), f"|q| - 1: {d_on.max():.2e} with, {d_off.max():.2e} without"
-    assert d_on.max() < 1e-7
+    assert d_on.max() <= 4e-16 and d_off.max() <= 4e-16, f"|q| - 1: {d_on.max():.2e} with, {d_off.max():.2e} without"
     q_on, q_off = vec(on, Q) / quat_norm(on), vec(off, Q) / quat_norm(off)
     if case != "default":  # (the flipping body amplifies any difference: not a bias test)
         assert np.max(np.abs(q_on - q_off)) < 1e-5, "the stabilization changed the rotation"
