@@ -394,6 +394,129 @@ impl Report {
         o
     }
 
+    /// The same figures as Markdown tables (for the README).
+    pub fn markdown(&self) -> String {
+        let mut o = String::new();
+        let _ = writeln!(
+            o,
+            "`mechfmu bench`: CPU time (thread CPU clock), medians of {} runs, on the 2-core build machine.\n",
+            self.runs
+        );
+        let _ = writeln!(
+            o,
+            "**fmi2DoStep from a native loop**, ns per step and where they go:\n"
+        );
+        let _ = writeln!(
+            o,
+            "| mechanism | h | tol | ns/step | evals/step | rhs | copy | solver | step | FMI | plumbing (copy+step+FMI) |"
+        );
+        let _ = writeln!(o, "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+        for m in &self.mechanisms {
+            for s in &m.steps {
+                let p = s.split();
+                let _ = writeln!(
+                    o,
+                    "| {} | {} | {} | {:.0} | {:.2} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} |",
+                    m.name,
+                    e(s.h),
+                    e(s.tol),
+                    s.ns.median,
+                    s.evals,
+                    p.rhs,
+                    p.copying,
+                    p.solver,
+                    p.step,
+                    p.fmi,
+                    p.runtime()
+                );
+            }
+        }
+        let _ = writeln!(o, "\n**Calls and FMPy** (default step and tolerance):\n");
+        let _ = writeln!(
+            o,
+            "| mechanism | fmi2GetReal outputs (ns) | fmi2GetReal 10 vars (ns) | cycle (ns) | FMPy low-level loop (µs/step) | FMU share | .fmu (KiB) |"
+        );
+        let _ = writeln!(o, "|---|---:|---:|---:|---:|---:|---:|");
+        for m in &self.mechanisms {
+            let _ = writeln!(
+                o,
+                "| {} | {:.1} ({}) | {:.1} | {:.0} | {} | {} | {} |",
+                m.name,
+                m.get_outputs.ns.median,
+                m.get_outputs.n,
+                m.get_many.ns.median,
+                m.cycle.median,
+                m.fmpy.map_or("-".into(), |s| f(s.median, 2)),
+                m.fmu_share()
+                    .map_or("-".into(), |s| format!("{:.1} %", s * 100.0)),
+                m.fmu_bytes.div_ceil(1024)
+            );
+        }
+        if !self.precision.is_empty() {
+            let scipy = self.scipy();
+            let mut methods: Vec<&str> = self.precision.iter().map(|p| p.method.as_str()).collect();
+            methods.dedup();
+            let _ = writeln!(
+                o,
+                "\n**Work–precision**, Oscillator over 20 s, output every 0.1 s: max error of x, CPU µs per run:\n"
+            );
+            let mut header = "| tol |".to_string();
+            let mut rule = "|---|".to_string();
+            for m in &methods {
+                let _ = write!(header, " {m} |");
+                rule.push_str("---:|");
+            }
+            let _ = writeln!(
+                o,
+                "{header} native vs scipy's best | FMPy vs scipy's best |"
+            );
+            let _ = writeln!(o, "{rule}---:|---:|");
+            for &tol in &precision::TOLERANCES {
+                let _ = write!(o, "| {} |", e(tol));
+                for m in &methods {
+                    match self
+                        .precision
+                        .iter()
+                        .find(|p| p.method == *m && p.tol == tol)
+                    {
+                        Some(p) => {
+                            let _ =
+                                write!(o, " {} in {} µs |", e(p.error), f(p.cpu.median * 1e6, 0));
+                        }
+                        None => o.push_str(" - |"),
+                    }
+                }
+                for method in [NATIVE, FMPY] {
+                    let r = self
+                        .precision
+                        .iter()
+                        .find(|p| p.method == method && p.tol == tol)
+                        .and_then(|p| precision::speedup(p, &scipy))
+                        .map_or("-".into(), |s| {
+                            format!("{}{:.0}×", s.bound.unwrap_or(""), s.ratio)
+                        });
+                    let _ = write!(o, " {r} |");
+                }
+                let _ = writeln!(o);
+            }
+        }
+        if let Some(b) = &self.build {
+            let _ = writeln!(o, "\nClean release build of every FMU: {:.0} s.", b.seconds);
+        }
+        let _ = writeln!(o, "\n**Targets** (issue 9):\n");
+        let _ = writeln!(o, "| target | limit | measured | met |");
+        let _ = writeln!(o, "|---|---|---|---|");
+        for t in self.targets() {
+            let met = match t.met {
+                Some(true) => "yes",
+                Some(false) => "**no**",
+                None => "-",
+            };
+            let _ = writeln!(o, "| {} | {} | {} | {met} |", t.what, t.limit, t.value);
+        }
+        o
+    }
+
     pub fn to_json(&self) -> Value {
         let mechanisms: Vec<Value> = self
             .mechanisms

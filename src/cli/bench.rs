@@ -18,7 +18,8 @@ use std::time::Instant;
 pub struct Args {
     /// Model identifiers (default: every mechanism).
     names: Vec<String>,
-    /// Where to write the results as JSON (relative to the workspace root).
+    /// Where to write the results as JSON (relative to the workspace root); the same figures
+    /// go to a Markdown file beside it (`.md`).
     #[arg(long, default_value = "target/bench.json")]
     json: PathBuf,
     /// Folder holding the .fmu files (relative to the workspace root).
@@ -347,7 +348,10 @@ pub fn run(args: Args) -> Result<(), String> {
     let text = serde_json::to_string_pretty(&report.to_json()).map_err(|e| e.to_string())?;
     std::fs::write(&json_path, text + "\n")
         .map_err(|e| format!("cannot write {}: {e}", json_path.display()))?;
-    println!("\nwrote {}", json_path.display());
+    let md_path = json_path.with_extension("md");
+    std::fs::write(&md_path, report.markdown())
+        .map_err(|e| format!("cannot write {}: {e}", md_path.display()))?;
+    println!("\nwrote {} and {}", json_path.display(), md_path.display());
     Ok(())
 }
 

@@ -93,6 +93,10 @@ pub trait Mechanism: Declaration {
 
     /// Computes every state derivative and every output from the states, inputs,
     /// parameters, calculated parameters and time.
+    ///
+    /// It must be a function of those alone (not of the outputs it wrote last time) and
+    /// write only derivatives and outputs: the runtime reuses an evaluation at the same
+    /// point instead of repeating it (the solver's last stage is the next step's first).
     fn evaluate<S: Scalar>(values: &mut Self::Values<S>);
 
     /// Whether [`Mechanism::project`] does anything (saves an evaluation per step).
@@ -280,4 +284,43 @@ macro_rules! mechanism {
             }
         };
     };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Declaration, ValueSet, Variable};
+
+    crate::mechanism! {
+        /// Three variables of each kind that matters to `ValueSet`.
+        pub struct Probe / ProbeValues {
+            /// a
+            a: Variable::parameter("m", 1.0),
+            /// b
+            b: Variable::state("m", 2.0, "c"),
+            /// c
+            c: Variable::output("m/s"),
+        }
+    }
+
+    #[test]
+    fn value_references_index_the_fields() {
+        let mut v = ProbeValues::<f64> {
+            time: 0.5,
+            a: 1.0,
+            b: 2.0,
+            c: 3.0,
+        };
+        assert_eq!(Probe::VARIABLES.len(), 3);
+        assert_eq!(
+            (0..4).map(|vr| v.get(vr)).collect::<Vec<_>>(),
+            [Some(1.0), Some(2.0), Some(3.0), None]
+        );
+        assert_eq!(v.get(usize::MAX), None);
+        assert!(v.set(1, 20.0));
+        assert!(!v.set(3, 9.0));
+        assert!(!v.set(usize::MAX, 9.0));
+        assert_eq!((v.time, v.a, v.b, v.c), (0.5, 1.0, 20.0, 3.0));
+        v.set_time(7.0);
+        assert_eq!(v.time(), 7.0);
+    }
 }

@@ -65,16 +65,16 @@ impl<M: Mechanism> Simulation<M> {
                 let mut warnings = Vec::new();
                 let mut warning_active = false;
                 let mut evaluations = 0;
-                let mut system = System::<M> {
-                    values: &mut sim.values,
-                    layout: &sim.layout,
-                    inputs: &sim.inputs,
-                    input_derivatives: &sim.input_derivatives,
+                let mut system = System::<M>::new(
+                    &mut sim.values,
+                    &sim.layout,
+                    &sim.inputs,
+                    &sim.input_derivatives,
                     t0,
-                    warning_active: &mut warning_active,
-                    warnings: &mut warnings,
-                    evaluations: &mut evaluations,
-                };
+                    &mut warning_active,
+                    &mut warnings,
+                    &mut evaluations,
+                );
                 if part == Part::Rhs {
                     for i in 0..n {
                         system.rhs(

@@ -112,7 +112,7 @@ fn run<M: Mechanism>(n: u64, tunables: bool) -> Work {
                 assert_eq!(s, fmi2OK, "{}: fmi2SetReal of the inputs", M::NAME);
                 work.sets += 1;
             }
-            if i % 10 == 0 && !tunable.is_empty() {
+            if i.is_multiple_of(10) && !tunable.is_empty() {
                 let s =
                     api::set_real::<M>(c, tunable.as_ptr(), tunable.len(), tunable_values.as_ptr());
                 assert_eq!(

@@ -196,17 +196,12 @@ impl Api {
     /// `lib` must be an FMI 2.0 binary whose symbols have the standard's signatures.
     pub unsafe fn load(lib: &libloading::Library) -> Result<Api, String> {
         macro_rules! sym {
-            ($name:literal) => {{
-                let s =
-                    unsafe { lib.get::<*const std::ffi::c_void>(concat!($name, "\0").as_bytes()) }
-                        .map_err(|e| format!("{}: {e}", $name))?;
-                let p: *const std::ffi::c_void = *s;
-                if p.is_null() {
-                    return Err(format!("{} resolves to NULL", $name));
-                }
-                // SAFETY: the symbol is the standard's function of that name.
-                unsafe { std::mem::transmute::<*const std::ffi::c_void, _>(p) }
-            }};
+            ($name:literal) => {
+                // SAFETY: the symbol is the standard's function of that name; its type is
+                // the field's, written from the header.
+                *unsafe { lib.get(concat!($name, "\0").as_bytes()) }
+                    .map_err(|e| format!("{}: {e}", $name))?
+            };
         }
         Ok(Api {
             get_types_platform: sym!("fmi2GetTypesPlatform"),

@@ -146,11 +146,7 @@ impl ModelDescription {
                         tolerance: f("tolerance", 1e-6),
                     };
                 }
-                "SimpleType" => {
-                    if !empty {
-                        current_type = attrs.get("name").cloned();
-                    }
-                }
+                "SimpleType" if !empty => current_type = attrs.get("name").cloned(),
                 "ScalarVariable" => {
                     if empty {
                         declared.push((attrs, HashMap::new()));

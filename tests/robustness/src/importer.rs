@@ -144,18 +144,18 @@ pub fn logger() -> LoggerFn {
 
 /// `allocateMemory`: the modelDescription says `canNotUseMemoryManagementFunctions`, so a
 /// call is a bug: abort loudly (the test running this in a child process reports it).
-pub unsafe extern "C" fn forbidden_allocate(nobj: usize, size: usize) -> *mut c_void {
+pub extern "C" fn forbidden_allocate(nobj: usize, size: usize) -> *mut c_void {
     eprintln!("robustness: the FMU called allocateMemory({nobj}, {size}) although it declares canNotUseMemoryManagementFunctions");
     std::process::abort()
 }
 
-pub unsafe extern "C" fn forbidden_free(obj: *mut c_void) {
+pub extern "C" fn forbidden_free(obj: *mut c_void) {
     eprintln!("robustness: the FMU called freeMemory({obj:?}) although it declares canNotUseMemoryManagementFunctions");
     std::process::abort()
 }
 
 /// `stepFinished`: the FMU never runs asynchronously (`canRunAsynchronuously="false"`).
-pub unsafe extern "C" fn forbidden_step_finished(_env: Env, status: Status) {
+pub extern "C" fn forbidden_step_finished(_env: Env, status: Status) {
     eprintln!(
         "robustness: the FMU called stepFinished({status}) although it cannot run asynchronously"
     );

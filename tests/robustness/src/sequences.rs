@@ -1725,7 +1725,7 @@ pub fn fnv(bytes: &[u8]) -> u64 {
     })
 }
 
-pub fn fix_checksum(b: &mut Vec<u8>) {
+pub fn fix_checksum(b: &mut [u8]) {
     if b.len() < 8 {
         return;
     }

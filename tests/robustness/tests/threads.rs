@@ -16,7 +16,7 @@ fn two_binaries_eight_threads_match_sequential_runs() {
     let job = |i: usize| {
         let fmu = fmus[i % 2];
         let tol = fmu.md.experiment.tolerance * 10f64.powi(-((i / 2) as i32));
-        fingerprint(fmu, tol, 150 + 10 * (i / 2))
+        fingerprint(fmu, tol, 20_000 + 1000 * (i / 2))
             .unwrap_or_else(|e| panic!("{} (job {i}): {e}", fmu.name()))
     };
     let sequential: Vec<Vec<u64>> = (0..8).map(job).collect();
