@@ -21,6 +21,7 @@ const CARGO_TOML: &str = include_str!("templates/Cargo.toml.tmpl");
 const LIB_RS: &str = include_str!("templates/lib.rs.tmpl");
 const TEST_RS: &str = include_str!("templates/test.rs.tmpl");
 const TEST_FMPY: &str = include_str!("templates/test_fmpy.py.tmpl");
+const CASES: &str = include_str!("templates/cases.py.tmpl");
 
 pub fn run(args: Args) -> Result<(), String> {
     check_name(&args.name)?;
@@ -44,11 +45,12 @@ pub fn run(args: Args) -> Result<(), String> {
             .replace("{{crate}}", &snake.replace('_', "-"))
             .replace("{{mechfmu_dependency}}", &dependency)
     };
-    let files: [(PathBuf, String); 5] = [
+    let files: [(PathBuf, String); 6] = [
         (dir.join("Cargo.toml"), fill(CARGO_TOML)),
         (dir.join("src/lib.rs"), fill(LIB_RS)),
         (dir.join(format!("tests/{snake}.rs")), fill(TEST_RS)),
         (dir.join("tests/test_fmpy.py"), fill(TEST_FMPY)),
+        (dir.join("validation/cases.py"), fill(CASES)),
         (
             dir.join(".gitignore"),
             "/target\n/fmu\nCargo.lock\n__pycache__\n".to_string(),

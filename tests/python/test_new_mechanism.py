@@ -16,6 +16,7 @@ from fmutest import REPO_ROOT
 
 MECHFMU = REPO_ROOT / "target" / "release" / "mechfmu"
 DOUBLE_PENDULUM = Path(__file__).parent / "data" / "double_pendulum.rs"
+DOUBLE_PENDULUM_CASES = Path(__file__).parent / "data" / "double_pendulum_cases.py"
 
 
 def run(args, cwd, env=None):
@@ -32,7 +33,9 @@ def double_pendulum(tmp_path_factory):
     crate = home / "double_pendulum"
     run([MECHFMU, "new", "DoublePendulum", "--path", crate], cwd=home)
     assert (crate / "src" / "lib.rs").read_text().count("pendulum") > 0
+    assert (crate / "validation" / "cases.py").exists()
     shutil.copy(DOUBLE_PENDULUM, crate / "src" / "lib.rs")
+    shutil.copy(DOUBLE_PENDULUM_CASES, crate / "validation" / "cases.py")
     # The scaffold's own tests are about the example pendulum; the user replaces them.
     for test in (crate / "tests").glob("*.rs"):
         test.write_text("#[test]\nfn conforms() {\n    mechfmu::conformance::check::<double_pendulum::DoublePendulum>();\n}\n")
@@ -64,3 +67,9 @@ def test_user_fmu_conserves_energy(double_pendulum):
     assert drift < 1e-8, f"energy drift {drift:.2e} relative"
     # The motion is chaotic at this amplitude: the second rod really swings.
     assert np.ptp(result["theta2"]) > 1.0
+
+
+def test_mechfmu_validate_runs_the_crates_own_cases(double_pendulum):
+    crate = double_pendulum.parents[1]
+    done = run([MECHFMU, "validate", "--manifest-path", crate / "Cargo.toml", "--fmu-dir", crate / "fmu"], cwd=crate)
+    assert "energy_conserved" in done.stdout and "0 failed" in done.stdout, done.stdout
