@@ -164,6 +164,15 @@ fn no_variables<T>(
     }
 }
 
+/// Panics are caught at the wall and reported through the importer's logger; the default
+/// hook would also print them to the importer's stderr. The FMU binary has its own copy of
+/// std, so the hook installed here (once) affects only this FMU's own code. Called by the
+/// exported `fmi2Instantiate` only, never in-process (tests keep their messages).
+pub fn silence_panic_messages() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| std::panic::set_hook(Box::new(|_| {})));
+}
+
 // ---------------------------------------------------------------------------------------
 // Functions without an instance
 // ---------------------------------------------------------------------------------------

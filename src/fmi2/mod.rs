@@ -54,6 +54,7 @@ macro_rules! export_fmu {
                 visible: fmi2Boolean,
                 logging_on: fmi2Boolean,
             ) -> fmi2Component {
+                api::silence_panic_messages();
                 unsafe {
                     api::instantiate::<M>(name, ty, guid, resources, functions, visible, logging_on)
                 }

@@ -69,7 +69,7 @@ fn hundred_thousand_steps_without_drift_or_growth() {
 }
 
 #[test]
-#[ignore = "10^6 steps per FMU: run with --ignored (about a minute in release)"]
+#[ignore = "10^6 steps per FMU: run with --ignored (seconds to a minute in release)"]
 fn million_steps_without_drift_or_growth() {
     long_runs(1_000_000);
 }
