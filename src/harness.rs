@@ -440,6 +440,25 @@ impl<M: Mechanism> Drop for Harness<M> {
     }
 }
 
+/// Asserts that setting `name` to `value` makes `fmi2ExitInitializationMode` fail with
+/// fmi2Error and a logged message naming `name = value`.
+pub fn assert_rejected_at_initialization<M: Mechanism>(name: &str, value: f64) {
+    let mut fmu = Harness::<M>::new();
+    assert_eq!(fmu.setup_experiment(None, 0.0, None), fmi2OK);
+    assert_eq!(fmu.enter_initialization_mode(), fmi2OK);
+    assert_eq!(fmu.set(name, value), fmi2OK);
+    assert_eq!(
+        fmu.exit_initialization_mode(),
+        fmi2Error,
+        "{name} = {value} was accepted"
+    );
+    assert!(
+        fmu.logged(&format!("{name} = {value}")),
+        "no message names {name} = {value}: {:?}",
+        fmu.messages()
+    );
+}
+
 /// Asserts the committed modelDescription at `path` is what the declaration generates now;
 /// with `MECHFMU_BLESS=1` in the environment, (re)writes it instead.
 pub fn check_model_description<M: Mechanism>(path: impl AsRef<std::path::Path>) {

@@ -226,20 +226,7 @@ fn invalid_parameters_are_rejected_at_initialization() {
         ("k3", -1.0),
         ("c3", -0.1),
     ] {
-        let mut fmu = Fmu::new();
-        assert_eq!(fmu.setup_experiment(None, 0.0, None), fmi2OK);
-        assert_eq!(fmu.enter_initialization_mode(), fmi2OK);
-        assert_eq!(fmu.set(name, value), fmi2OK);
-        assert_eq!(
-            fmu.exit_initialization_mode(),
-            fmi2Error,
-            "{name} = {value}"
-        );
-        assert!(
-            fmu.logged(&format!("{name} = {value}")),
-            "{:?}",
-            fmu.messages()
-        );
+        mechfmu::harness::assert_rejected_at_initialization::<TwoMassOscillator>(name, value);
     }
 }
 
