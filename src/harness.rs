@@ -41,8 +41,7 @@ pub type Message = (fmi2Status, String, String);
 /// One instance of mechanism `M`, driven through its FMI functions.
 pub struct Harness<M: Mechanism> {
     component: fmi2Component,
-    log: Box<Mutex<Vec<Message>>>,
-    _callbacks: Box<fmi2CallbackFunctions>,
+    log: MessageLog,
     time: f64,
     _m: PhantomData<M>,
 }
@@ -77,21 +76,21 @@ unsafe extern "C" fn record(
     }
 }
 
-impl<M: Mechanism> Default for Harness<M> {
+/// The importer's side of logging: callbacks whose logger records every message. Keep it
+/// alive as long as any instance given its callbacks.
+pub struct MessageLog {
+    log: Box<Mutex<Vec<Message>>>,
+    callbacks: Box<fmi2CallbackFunctions>,
+}
+
+impl Default for MessageLog {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<M: Mechanism> Harness<M> {
-    /// Instantiates with the right GUID, logging on.
+impl MessageLog {
     pub fn new() -> Self {
-        Self::instantiate(M::NAME, fmi2CoSimulation, &crate::guid::guid::<M>())
-            .unwrap_or_else(|log| panic!("fmi2Instantiate failed: {log:?}"))
-    }
-
-    /// Instantiates with the given arguments; `Err` carries the logged messages.
-    pub fn instantiate(name: &str, fmu_type: fmi2Type, guid: &str) -> Result<Self, Vec<Message>> {
         let log: Box<Mutex<Vec<Message>>> = Box::default();
         // SAFETY: see `record`.
         let logger: unsafe extern "C" fn(
@@ -109,6 +108,36 @@ impl<M: Mechanism> Harness<M> {
             stepFinished: None,
             componentEnvironment: &*log as *const Mutex<Vec<Message>> as *mut c_void,
         });
+        MessageLog { log, callbacks }
+    }
+
+    /// The callbacks to pass to `fmi2Instantiate`.
+    pub fn callbacks(&self) -> *const fmi2CallbackFunctions {
+        &*self.callbacks
+    }
+
+    /// Every message logged so far.
+    pub fn messages(&self) -> Vec<Message> {
+        self.log.lock().map(|l| l.clone()).unwrap_or_default()
+    }
+}
+
+impl<M: Mechanism> Default for Harness<M> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<M: Mechanism> Harness<M> {
+    /// Instantiates with the right GUID, logging on.
+    pub fn new() -> Self {
+        Self::instantiate(M::NAME, fmi2CoSimulation, &crate::guid::guid::<M>())
+            .unwrap_or_else(|log| panic!("fmi2Instantiate failed: {log:?}"))
+    }
+
+    /// Instantiates with the given arguments; `Err` carries the logged messages.
+    pub fn instantiate(name: &str, fmu_type: fmi2Type, guid: &str) -> Result<Self, Vec<Message>> {
+        let log = MessageLog::new();
         let name = CString::new(name).unwrap_or_default();
         let guid = CString::new(guid).unwrap_or_default();
         // SAFETY: valid strings and callbacks that outlive the instance.
@@ -118,18 +147,17 @@ impl<M: Mechanism> Harness<M> {
                 fmu_type,
                 guid.as_ptr(),
                 std::ptr::null(),
-                &*callbacks,
+                log.callbacks(),
                 fmi2False,
                 fmi2True,
             )
         };
         if component.is_null() {
-            return Err(log.lock().map(|l| l.clone()).unwrap_or_default());
+            return Err(log.messages());
         }
         Ok(Harness {
             component,
             log,
-            _callbacks: callbacks,
             time: 0.0,
             _m: PhantomData,
         })
@@ -142,7 +170,7 @@ impl<M: Mechanism> Harness<M> {
 
     /// Every message logged so far.
     pub fn messages(&self) -> Vec<Message> {
-        self.log.lock().map(|l| l.clone()).unwrap_or_default()
+        self.log.messages()
     }
 
     /// Whether a message containing `text` was logged.

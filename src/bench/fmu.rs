@@ -5,12 +5,12 @@
 #![allow(non_upper_case_globals)]
 
 use crate::fmi2::ffi::*;
+use crate::harness::MessageLog;
 use quick_xml::events::Event;
 use quick_xml::{Reader, XmlVersion};
-use std::ffi::{c_char, c_void, CStr, CString};
+use std::ffi::CString;
 use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
 
 /// A variable of the modelDescription.
 #[derive(Clone, Debug, PartialEq)]
@@ -262,54 +262,16 @@ impl Binary {
     }
 }
 
-/// Receives `"%s", message` from the FMU (the arguments our FMUs pass; see
-/// `harness::record` for why a non-variadic function is compatible).
-unsafe extern "C" fn record(
-    env: fmi2ComponentEnvironment,
-    _instance: fmi2String,
-    status: fmi2Status,
-    _category: fmi2String,
-    _format: fmi2String,
-    message: *const c_char,
-) {
-    // SAFETY: env is the Mutex this instance registered; the message is a C string.
-    unsafe {
-        let log = &*(env as *const Mutex<Vec<String>>);
-        if status >= fmi2Warning && !message.is_null() {
-            if let Ok(mut log) = log.lock() {
-                log.push(CStr::from_ptr(message).to_string_lossy().into_owned());
-            }
-        }
-    }
-}
-
 /// One instance of a loaded FMU.
 pub struct Instance<'a> {
     pub binary: &'a Binary,
     pub component: fmi2Component,
-    log: Box<Mutex<Vec<String>>>,
-    _callbacks: Box<fmi2CallbackFunctions>,
+    log: MessageLog,
 }
 
 impl<'a> Instance<'a> {
     pub fn new(binary: &'a Binary) -> Result<Instance<'a>, String> {
-        let log: Box<Mutex<Vec<String>>> = Box::default();
-        // SAFETY: see `record`.
-        let logger: unsafe extern "C" fn(
-            fmi2ComponentEnvironment,
-            fmi2String,
-            fmi2Status,
-            fmi2String,
-            fmi2String,
-            ...
-        ) = unsafe { std::mem::transmute(record as *const c_void) };
-        let callbacks = Box::new(fmi2CallbackFunctions {
-            logger: Some(logger),
-            allocateMemory: None,
-            freeMemory: None,
-            stepFinished: None,
-            componentEnvironment: &*log as *const Mutex<Vec<String>> as *mut c_void,
-        });
+        let log = MessageLog::new();
         let d = &binary.description;
         let name = CString::new(d.model_identifier.as_str()).unwrap_or_default();
         let guid = CString::new(d.guid.as_str()).unwrap_or_default();
@@ -320,7 +282,7 @@ impl<'a> Instance<'a> {
                 fmi2CoSimulation,
                 guid.as_ptr(),
                 c"file:///tmp".as_ptr(),
-                &*callbacks,
+                log.callbacks(),
                 fmi2False,
                 fmi2False,
             )
@@ -329,14 +291,13 @@ impl<'a> Instance<'a> {
             return Err(format!(
                 "fmi2Instantiate of {} failed: {:?}",
                 binary.path.display(),
-                log.lock().map(|l| l.clone()).unwrap_or_default()
+                log.messages()
             ));
         }
         Ok(Instance {
             binary,
             component,
             log,
-            _callbacks: callbacks,
         })
     }
 
@@ -353,7 +314,12 @@ impl<'a> Instance<'a> {
 
     /// The warnings and errors the FMU logged.
     pub fn messages(&self) -> Vec<String> {
-        self.log.lock().map(|l| l.clone()).unwrap_or_default()
+        self.log
+            .messages()
+            .into_iter()
+            .filter(|(status, _, _)| *status >= fmi2Warning)
+            .map(|(_, _, text)| text)
+            .collect()
     }
 
     /// `fmi2Reset` (unless fresh), `fmi2SetupExperiment(tol, start)`, start values,

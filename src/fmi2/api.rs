@@ -614,14 +614,7 @@ pub unsafe fn set_real_input_derivatives<M: Mechanism>(
             let vr = slice(vr, nvr, "vr[]")?;
             let order = slice(order, nvr, "order[]")?;
             let value = slice(value, nvr, "value[]")?;
-            // Check all before changing any.
-            let mut probe = inst.sim.clone();
-            for ((&vr, &order), &value) in vr.iter().zip(order).zip(value) {
-                probe.set_input_derivative(vr, order, value)?;
-            }
-            for ((&vr, &order), &value) in vr.iter().zip(order).zip(value) {
-                inst.sim.set_input_derivative(vr, order, value)?;
-            }
+            inst.sim.set_input_derivatives(vr, order, value)?;
             Ok(fmi2OK)
         })
     }

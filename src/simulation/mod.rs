@@ -395,8 +395,31 @@ impl<M: Mechanism> Simulation<M> {
         Ok(())
     }
 
-    /// Sets the derivatives of inputs for the next step (`order` 1 or 2).
-    pub fn set_input_derivative(&mut self, vr: u32, order: i32, value: f64) -> Result<(), String> {
+    /// Sets derivatives of inputs for the next step (`orders` 1 or 2). All or nothing: every
+    /// entry is checked before any is set.
+    pub fn set_input_derivatives(
+        &mut self,
+        vrs: &[u32],
+        orders: &[i32],
+        values: &[f64],
+    ) -> Result<(), String> {
+        for ((&vr, &order), &value) in vrs.iter().zip(orders).zip(values) {
+            self.input_derivative_slot(vr, order, value)?;
+        }
+        for ((&vr, &order), &value) in vrs.iter().zip(orders).zip(values) {
+            let (i, k) = self.input_derivative_slot(vr, order, value)?;
+            self.input_derivatives[i][k] = value;
+        }
+        Ok(())
+    }
+
+    /// Where the derivative of order `order` of input `vr` is kept, if `value` may go there.
+    fn input_derivative_slot(
+        &self,
+        vr: u32,
+        order: i32,
+        value: f64,
+    ) -> Result<(usize, usize), String> {
         let var = variable::<M>(vr)?;
         let Some(i) = self.layout.input_index(vr as usize) else {
             return Err(format!(
@@ -416,8 +439,7 @@ impl<M: Mechanism> Simulation<M> {
                 var.name
             ));
         }
-        self.input_derivatives[i][order as usize - 1] = value;
-        Ok(())
+        Ok((i, order as usize - 1))
     }
 
     /// Advances from `t` (which must be the current time) by `h`.
