@@ -82,6 +82,53 @@ const fn str_eq(a: &str, b: &str) -> bool {
     true
 }
 
+/// The number of states (variables with a declared derivative), at compile time.
+#[doc(hidden)]
+pub const fn count_states(variables: &[Variable]) -> usize {
+    let (mut i, mut n) = (0, 0);
+    while i < variables.len() {
+        if variables[i].derivative.is_some() {
+            n += 1;
+        }
+        i += 1;
+    }
+    n
+}
+
+/// The value references of the `N` states (`derivatives == false`) or of their derivatives
+/// (`true`), in declaration order: [`Layout::states`] and [`Layout::derivatives`] at compile
+/// time, so the solver's callbacks index the values with constants.
+#[doc(hidden)]
+pub const fn state_references<const N: usize>(
+    variables: &[Variable],
+    derivatives: bool,
+) -> [usize; N] {
+    let mut out = [0; N];
+    let (mut i, mut n) = (0, 0);
+    while i < variables.len() {
+        if let Some(der) = variables[i].derivative {
+            out[n] = if derivatives {
+                let mut j = 0;
+                while j < variables.len() && (j == i || !str_eq(variables[j].name, der)) {
+                    j += 1;
+                }
+                if j == variables.len() {
+                    panic!("mechanism!: a state's derivative names no other declared variable");
+                }
+                j
+            } else {
+                i
+            };
+            n += 1;
+        }
+        i += 1;
+    }
+    if n != N {
+        panic!("mechanism!: state count mismatch");
+    }
+    out
+}
+
 /// Compile-time check of a declaration, run by the `mechanism!` macro: a state must name an
 /// existing derivative variable, and every start value must satisfy its bounds.
 pub const fn check_declaration(variables: &[Variable]) {

@@ -9,6 +9,8 @@ mod scalar;
 mod variable;
 
 pub use layout::{check_declaration, Layout};
+#[doc(hidden)]
+pub use layout::{count_states, state_references};
 pub use scalar::{lit, Scalar};
 pub use variable::{Causality, Initial, SetPhase, Variability, Variable};
 
@@ -47,6 +49,13 @@ pub trait Declaration: Send + Sync + 'static {
     /// One value per variable plus the time, as named fields, generic over the scalar so the
     /// same equations run on `f64` and on dual numbers.
     type Values<S: Scalar>: ValueSet<S>;
+
+    /// The continuous states, as the solver sees them: `[f64; number of states]`.
+    type State: crate::solver::StateVector;
+    /// The value references of the states, in declaration order ([`Layout::states`]).
+    const STATES: &'static [usize];
+    /// The value references of the states' derivatives ([`Layout::derivatives`]).
+    const DERIVATIVES: &'static [usize];
 
     /// Values that are all zero.
     fn zeros<S: Scalar>() -> Self::Values<S>;
@@ -259,17 +268,22 @@ macro_rules! mechanism {
                 fn set_time(&mut self, t: S) { self.time = t; }
             }
 
-            const _: () = $crate::model::check_declaration(
-                <$name as $crate::model::Declaration>::VARIABLES,
-            );
+            const VARIABLES: &[$crate::model::Variable] = &[
+                $( $crate::model::Variable::named($decl, stringify!($var), concat!("" $(, $vdoc)*)), )*
+            ];
+            const _: () = $crate::model::check_declaration(VARIABLES);
+            const N_STATES: usize = $crate::model::count_states(VARIABLES);
 
             impl $crate::model::Declaration for $name {
                 const NAME: &'static str = stringify!($name);
                 const DESCRIPTION: &'static str = concat!("" $(, $doc)*);
-                const VARIABLES: &'static [$crate::model::Variable] = &[
-                    $( $crate::model::Variable::named($decl, stringify!($var), concat!("" $(, $vdoc)*)), )*
-                ];
+                const VARIABLES: &'static [$crate::model::Variable] = VARIABLES;
                 type Values<S: $crate::model::Scalar> = $values<S>;
+                type State = [f64; N_STATES];
+                const STATES: &'static [usize] =
+                    &$crate::model::state_references::<N_STATES>(VARIABLES, false);
+                const DERIVATIVES: &'static [usize] =
+                    &$crate::model::state_references::<N_STATES>(VARIABLES, true);
 
                 fn zeros<S: $crate::model::Scalar>() -> $values<S> {
                     $values { time: S::zero(), $( $var: S::zero(), )* }

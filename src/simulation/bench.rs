@@ -4,7 +4,7 @@
 
 use super::{Simulation, System};
 use crate::model::{Mechanism, ValueSet};
-use crate::solver::OdeSystem;
+use crate::solver::{OdeSystem, StateVector};
 
 /// What [`Simulation::bench`] repeats.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -58,10 +58,11 @@ impl<M: Mechanism> Simulation<M> {
                 }
             }
             Part::Rhs | Part::Integrate => {
-                let mut y: Vec<f64> = (sim.layout.states.iter())
-                    .map(|&vr| sim.values.get(vr).unwrap_or(0.0))
-                    .collect();
-                let mut dydt = vec![0.0; y.len()];
+                let mut y = M::State::ZERO;
+                for (y, &vr) in y.as_mut_slice().iter_mut().zip(M::STATES) {
+                    *y = sim.values.get(vr).unwrap_or(0.0);
+                }
+                let mut dydt = M::State::ZERO;
                 let mut warnings = Vec::new();
                 let mut warning_active = false;
                 let mut evaluations = 0;
@@ -79,10 +80,10 @@ impl<M: Mechanism> Simulation<M> {
                     for i in 0..n {
                         system.rhs(
                             t0 + (i + 1) as f64 * dt,
-                            std::hint::black_box(&y),
-                            &mut dydt,
+                            std::hint::black_box(y.as_slice()),
+                            dydt.as_mut_slice(),
                         );
-                        sum += dydt.first().copied().unwrap_or(0.0);
+                        sum += dydt.as_slice().first().copied().unwrap_or(0.0);
                     }
                 } else {
                     let mut t = t0;
@@ -93,7 +94,7 @@ impl<M: Mechanism> Simulation<M> {
                             .integrate(&mut system, &mut t, t_end, &mut y, sim.tolerance)
                             .map_err(|e| e.to_string())?;
                     }
-                    sum = y.first().copied().unwrap_or(0.0);
+                    sum = y.as_slice().first().copied().unwrap_or(0.0);
                 }
             }
             Part::Step => {

@@ -7,7 +7,9 @@ mod derivatives;
 pub use bench::Part;
 
 use crate::model::{Layout, Mechanism, Monitor, SetPhase, ValueSet, Variable};
-use crate::solver::{Dopri5, OdeSystem, SolverError, SolverMemory, StepStats, Tolerance};
+use crate::solver::{
+    OdeSystem, Solver, SolverError, SolverMemory, StateVector, StepStats, Tolerance,
+};
 
 /// Everything that determines a simulation's future, as plain data: what an FMU state
 /// captures and what its serialized form carries.
@@ -64,8 +66,8 @@ pub struct Simulation<M: Mechanism> {
     inputs: Vec<f64>,
     /// First and second time derivatives of the inputs at the communication point.
     input_derivatives: Vec<[f64; 2]>,
-    y: Vec<f64>,
-    solver: Dopri5,
+    y: M::State,
+    solver: Solver<M::State>,
     tolerance: Tolerance,
     /// Whether the monitor's warning condition holds (so it is logged once per episode).
     warning_active: bool,
@@ -81,15 +83,13 @@ pub struct Simulation<M: Mechanism> {
 
 impl<M: Mechanism> Clone for Simulation<M> {
     fn clone(&self) -> Self {
-        let mut solver = Dopri5::new(self.y.len());
-        solver.restore(self.solver.memory());
         Simulation {
             layout: self.layout.clone(),
             values: self.values.clone(),
             inputs: self.inputs.clone(),
             input_derivatives: self.input_derivatives.clone(),
-            y: self.y.clone(),
-            solver,
+            y: self.y,
+            solver: self.solver.clone(),
             tolerance: self.tolerance,
             warning_active: self.warning_active,
             dirty: self.dirty,
@@ -112,15 +112,14 @@ pub fn start_values<M: Mechanism>(t: f64) -> M::Values<f64> {
 
 impl<M: Mechanism> Simulation<M> {
     pub fn new(layout: Layout) -> Self {
-        let n = layout.states.len();
         let n_inputs = layout.inputs.len();
         let mut sim = Simulation {
             layout,
             values: start_values::<M>(0.0),
             inputs: vec![0.0; n_inputs],
             input_derivatives: vec![[0.0; 2]; n_inputs],
-            y: vec![0.0; n],
-            solver: Dopri5::new(n),
+            y: M::State::ZERO,
+            solver: Solver::new(),
             tolerance: tolerance(M::EXPERIMENT.tolerance),
             warning_active: false,
             dirty: true,
@@ -469,8 +468,8 @@ impl<M: Mechanism> Simulation<M> {
             self.solver.memory(),
             self.warning_active,
         );
-        for (i, &vr) in self.layout.states.iter().enumerate() {
-            self.y[i] = self.values.get(vr).unwrap_or(f64::NAN);
+        for (y, &vr) in self.y.as_mut_slice().iter_mut().zip(M::STATES) {
+            *y = self.values.get(vr).unwrap_or(f64::NAN);
         }
         let mut report = StepReport::default();
         let mut time = t;
@@ -489,7 +488,7 @@ impl<M: Mechanism> Simulation<M> {
                 .integrate(&mut system, &mut time, t_end, &mut self.y, self.tolerance);
         // Whatever happened, the values describe the last accepted point (after a successful
         // step they already do: the solver's last stage was evaluated there).
-        system.evaluate_at(time, &self.y);
+        system.evaluate_at(time, self.y.as_slice());
         if M::PROJECTED {
             M::project(system.values);
             M::evaluate(system.values);
@@ -622,18 +621,17 @@ impl<M: Mechanism> System<'_, M> {
     /// the previous step (FSAL across communication steps), and how the evaluation after
     /// the last stage and the monitor's are saved. Bit-for-bit: the same point gives the
     /// same evaluation (`Mechanism::evaluate` is a function of the values it reads).
-    #[inline]
+    #[inline(always)]
     fn holds(&self, t: f64, y: &[f64]) -> bool {
         if self.values.time().to_bits() != t.to_bits() {
             return false;
         }
         let same = |vr: usize, x: f64| self.values.get(vr).map(f64::to_bits) == Some(x.to_bits());
-        if !self
-            .layout
-            .states
+        // M::STATES is a constant: this unrolls into one comparison per state.
+        if !M::STATES
             .iter()
             .zip(y)
-            .all(|(&vr, &x)| same(vr, x))
+            .fold(true, |all, (&vr, &x)| all & same(vr, x))
         {
             return false;
         }
@@ -650,7 +648,7 @@ impl<M: Mechanism> System<'_, M> {
     }
 
     /// Loads (t, y) and evaluates the model there, unless the values already hold it.
-    #[inline]
+    #[inline(always)]
     fn evaluate_at(&mut self, t: f64, y: &[f64]) {
         if !self.holds(t, y) {
             self.load(t, y);
@@ -659,10 +657,10 @@ impl<M: Mechanism> System<'_, M> {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn load(&mut self, t: f64, y: &[f64]) {
         self.values.set_time(t);
-        for (&vr, &x) in self.layout.states.iter().zip(y) {
+        for (&vr, &x) in M::STATES.iter().zip(y) {
             self.values.set(vr, x);
         }
         if self.inputs_fixed {
@@ -682,10 +680,10 @@ impl<M: Mechanism> System<'_, M> {
 }
 
 impl<M: Mechanism> OdeSystem for System<'_, M> {
-    #[inline]
+    #[inline(always)]
     fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) {
         self.evaluate_at(t, y);
-        for (&vr, d) in self.layout.derivatives.iter().zip(dydt.iter_mut()) {
+        for (&vr, d) in M::DERIVATIVES.iter().zip(dydt.iter_mut()) {
             *d = self.values.get(vr).unwrap_or(f64::NAN);
         }
     }

@@ -1,13 +1,13 @@
-//! The Dormand–Prince 5(4) pair (HNW I, II.5, Table 5.2) and the adaptive driver.
+//! The Dormand–Prince 5(4) pair (HNW I, II.5, Table 5.2).
 //!
 //! Local extrapolation: the 5th-order solution is propagated, the embedded 4th-order
 //! one only serves the error estimate. FSAL: the 7th stage is f at the new point and
 //! becomes the next step's first stage, so an accepted step costs 6 rhs evaluations.
 
-use super::controller::{self, ERR_PREV_FLOOR};
-use super::initial_step::initial_step;
+use super::controller::Control;
 use super::norm::error_norm;
-use super::{OdeSystem, SolverError, SolverMemory, StepStats, Tolerance, MIN_RTOL};
+use super::runge_kutta::{all_finite, combine, Method, RungeKutta};
+use super::{OdeSystem, StateVector, Tolerance};
 
 // Nodes c_i.
 const C2: f64 = 1.0 / 5.0;
@@ -44,280 +44,69 @@ const E5: f64 = -17253.0 / 339200.0;
 const E6: f64 = 22.0 / 525.0;
 const E7: f64 = -1.0 / 40.0;
 
-/// A leftover shorter than this fraction of the step is absorbed into the step
-/// instead of being taken as a micro-step.
-const STRETCH: f64 = 1e-10;
-/// Shrink factor after a step produced NaN/inf: there is no error estimate to scale by.
-const NON_FINITE_SHRINK: f64 = 10.0;
-const DEFAULT_MAX_STEPS: u64 = 1_000_000;
+/// Dormand–Prince 5(4) with `dopri5.f`'s controller.
+pub type Dopri5<V> = RungeKutta<V, Dp5<V>>;
 
-/// Smallest step allowed at time `t`; below it `t + h` no longer moves reliably.
-fn h_min(t: f64) -> f64 {
-    16.0 * f64::EPSILON * t.abs().max(1.0)
-}
-
-/// `out = y + h·Σ a_j k_j`, summed in the given order; false if any entry is non-finite.
-fn combine<const N: usize>(out: &mut [f64], y: &[f64], h: f64, terms: [(f64, &[f64]); N]) -> bool {
-    let mut finite = true;
-    for (i, (o, &yi)) in out.iter_mut().zip(y).enumerate() {
-        let mut acc = 0.0;
-        for &(a, k) in &terms {
-            acc += a * k[i];
-        }
-        *o = yi + h * acc;
-        finite &= o.is_finite();
-    }
-    finite
-}
-
-fn all_finite(v: &[f64]) -> bool {
-    v.iter().all(|x| x.is_finite())
-}
-
-/// Adaptive Dormand–Prince 5(4) integrator for systems of a fixed dimension.
+/// The work vectors of a Dormand–Prince 5(4) step.
 #[derive(Clone, Debug)]
-pub struct Dopri5 {
-    dim: usize,
-    max_steps: u64,
-    mem: SolverMemory,
-    k1: Vec<f64>,
-    k2: Vec<f64>,
-    k3: Vec<f64>,
-    k4: Vec<f64>,
-    k5: Vec<f64>,
-    k6: Vec<f64>,
-    k7: Vec<f64>,
+pub struct Dp5<V: StateVector> {
+    k1: V,
+    k2: V,
+    k3: V,
+    k4: V,
+    k5: V,
+    k6: V,
+    k7: V,
     /// Stage argument (also the initial-step probe point).
-    y_stage: Vec<f64>,
-    y_new: Vec<f64>,
+    y_stage: V,
+    y_new: V,
     /// Local error estimate `h·Σ e_i k_i` of the last attempted step.
-    err: Vec<f64>,
-    /// rhs evaluations during the current call.
-    evals: u64,
+    err: V,
 }
 
-impl Dopri5 {
-    /// Allocates all work vectors up front so `integrate` never allocates.
-    pub fn new(dim: usize) -> Self {
-        let v = || vec![0.0; dim];
-        Dopri5 {
-            dim,
-            max_steps: DEFAULT_MAX_STEPS,
-            mem: SolverMemory::FRESH,
-            k1: v(),
-            k2: v(),
-            k3: v(),
-            k4: v(),
-            k5: v(),
-            k6: v(),
-            k7: v(),
-            y_stage: v(),
-            y_new: v(),
-            err: v(),
-            evals: 0,
+impl<V: StateVector> Default for Dp5<V> {
+    fn default() -> Self {
+        let z = V::ZERO;
+        Dp5 {
+            k1: z,
+            k2: z,
+            k3: z,
+            k4: z,
+            k5: z,
+            k6: z,
+            k7: z,
+            y_stage: z,
+            y_new: z,
+            err: z,
         }
     }
+}
 
-    /// Length of the state vector this solver was built for.
-    pub fn dim(&self) -> usize {
-        self.dim
-    }
-
-    /// Limit on step attempts (accepted + rejected) per `integrate` call; default 1_000_000.
-    pub fn set_max_steps(&mut self, n: u64) {
-        self.max_steps = n;
-    }
-
-    /// Advance y from *t to exactly t_end (t_end > *t; t_end == *t is a no-op Ok).
-    ///
-    /// On success `*t == t_end` exactly (it is assigned; the last step is clamped to land
-    /// on `t_end`, and a leftover below 1e-10·h is absorbed by stretching the step).
-    /// The rhs is never evaluated beyond `t_end`. On error, `*t` and `y` hold the last
-    /// accepted point (finite), and the error carries that time.
-    ///
-    /// k1 is recomputed at the start of each call, so inputs may change between calls.
-    /// The step size proposed at the end is remembered for the next call; a last step
-    /// that was shortened to land on `t_end` does not shrink it (unless its own error
-    /// asked for a smaller step). A zero-dimensional system is a no-op (`*t = t_end`,
-    /// no callbacks).
-    ///
-    /// # Errors
-    /// [`SolverError`] when the tolerance cannot be met above the minimum step
-    /// (16·ε·max(|t|, 1)), the rhs keeps producing NaN/inf, the step budget is used up,
-    /// or `OdeSystem::accepted` asks to stop. The solver memory is that after the last
-    /// accepted step.
-    ///
-    /// # Panics
-    /// If `y.len() != self.dim()`, if `*t` or `t_end` is not finite or `t_end < *t`,
-    /// or if a tolerance is negative or not finite. These are caller bugs; the FMU
-    /// layer validates them before calling.
-    pub fn integrate<S: OdeSystem + ?Sized>(
-        &mut self,
-        sys: &mut S,
-        t: &mut f64,
-        t_end: f64,
-        y: &mut [f64],
-        tol: Tolerance,
-    ) -> Result<StepStats, SolverError> {
-        assert_eq!(
-            y.len(),
-            self.dim,
-            "state length does not match solver dimension"
-        );
-        assert!(
-            t.is_finite() && t_end.is_finite() && t_end >= *t,
-            "integrate needs finite t <= t_end, got t = {} and t_end = {t_end}",
-            *t
-        );
-        assert!(
-            tol.rtol.is_finite() && tol.rtol >= 0.0 && tol.atol.is_finite() && tol.atol >= 0.0,
-            "tolerances must be finite and non-negative, got {tol:?}"
-        );
-        let mut stats = StepStats::default();
-        if t_end == *t {
-            return Ok(stats);
-        }
-        if self.dim == 0 {
-            *t = t_end;
-            return Ok(stats);
-        }
-        let tol = Tolerance {
-            rtol: tol.rtol.max(MIN_RTOL),
-            atol: tol.atol,
-        };
-        self.evals = 0;
-        let result = self.run(sys, t, t_end, y, tol, &mut stats);
-        stats.rhs_evals = self.evals;
-        result.map(|()| stats)
-    }
-
-    fn run<S: OdeSystem + ?Sized>(
-        &mut self,
-        sys: &mut S,
-        t: &mut f64,
-        t_end: f64,
-        y: &mut [f64],
-        tol: Tolerance,
-        stats: &mut StepStats,
-    ) -> Result<(), SolverError> {
-        if !all_finite(y) {
-            return Err(SolverError::NonFinite { t: *t });
-        }
-        sys.rhs(*t, y, &mut self.k1);
-        self.evals += 1;
-        if !all_finite(&self.k1) {
-            return Err(SolverError::NonFinite { t: *t });
-        }
-
-        let mut h = match self.mem.h_next {
-            Some(h) if h.is_finite() && h > 0.0 => h,
-            _ => initial_step(
-                sys,
-                *t,
-                y,
-                &self.k1,
-                t_end - *t,
-                tol,
-                &mut self.y_stage,
-                &mut self.k2,
-                &mut self.evals,
-            ),
-        };
-        let mut err_prev = if self.mem.err_prev.is_finite() {
-            self.mem.err_prev.max(ERR_PREV_FLOOR)
-        } else {
-            ERR_PREV_FLOOR
-        };
-        // After a rejection the next accepted step may not grow (dopri5.f `REJECT`).
-        // Every call ends on an accepted step, so this never needs to be remembered.
-        let mut last_rejected = false;
-        let mut attempts: u64 = 0;
-
-        loop {
-            if attempts >= self.max_steps {
-                return Err(SolverError::TooManySteps {
-                    t: *t,
-                    max_steps: self.max_steps,
-                });
-            }
-            attempts += 1;
-
-            // A step below h_min may not move t at all; only the final remainder may be
-            // that short.
-            h = h.max(h_min(*t));
-            let remaining = t_end - *t;
-            let last = remaining <= h * (1.0 + STRETCH);
-            let h_step = if last { remaining } else { h };
-            let t_new = if last { t_end } else { *t + h_step };
-
-            let finite = self.stages(sys, *t, h_step, t_new, y);
-            let err = if finite {
-                error_norm(&self.err, y, &self.y_new, tol)
-            } else {
-                f64::NAN
-            };
-
-            if !err.is_finite() {
-                stats.rejected += 1;
-                last_rejected = true;
-                h = h_step / NON_FINITE_SHRINK;
-                if h < h_min(*t) {
-                    return Err(SolverError::NonFinite { t: *t });
-                }
-            } else if err > 1.0 {
-                stats.rejected += 1;
-                last_rejected = true;
-                h = controller::after_reject(h_step, err);
-                if h < h_min(*t) {
-                    return Err(SolverError::StepSizeTooSmall { t: *t, h });
-                }
-            } else {
-                stats.accepted += 1;
-                let (mut h_new, e) = controller::after_accept(h_step, err, err_prev);
-                err_prev = e;
-                if last_rejected {
-                    h_new = h_new.min(h_step);
-                }
-                last_rejected = false;
-                if last && h_new >= h_step {
-                    // Clamping, not the error, made this step short: keep the longer
-                    // step for the next call.
-                    h_new = h_new.max(h);
-                }
-                // The system may refuse the new point (the model stops holding there): then
-                // the integration ends at the last point it accepted, which y and t still hold.
-                if let Err(message) = sys.accepted(t_new, &self.y_new) {
-                    return Err(SolverError::Stopped { t: *t, message });
-                }
-                y.copy_from_slice(&self.y_new);
-                std::mem::swap(&mut self.k1, &mut self.k7);
-                *t = t_new;
-                self.mem = SolverMemory {
-                    h_next: Some(h_new),
-                    err_prev,
-                };
-                if last {
-                    return Ok(());
-                }
-                h = h_new;
-            }
-        }
-    }
+impl<V: StateVector> Dp5<V> {
+    /// `dopri5.f`'s defaults: BETA = 0.04, EXPO1 = 1/5 − 0.75·BETA, shrink ≤ 5, growth ≤ 10.
+    pub(crate) const CONTROL_CONSTANTS: Control = Control {
+        beta: 0.04,
+        expo1: 0.2 - 0.04 * 0.75,
+        max_shrink: 5.0,
+        min_inv_growth: 0.1,
+    };
 
     /// Stages 2..7 of one step of size `h` from `(t, y)` with `k1 = f(t, y)` already
     /// set; fills `y_new` (5th order), `k7 = f(t_new, y_new)` and `err`. `t_new` is
     /// passed separately so the last step uses the exact end time. Stops early and
     /// returns false as soon as a stage argument or derivative is non-finite, so the
     /// rhs is never fed NaN by the solver.
+    #[inline(always)]
     fn stages<S: OdeSystem + ?Sized>(
         &mut self,
         sys: &mut S,
         t: f64,
         h: f64,
         t_new: f64,
-        y: &[f64],
+        y: &V,
+        evals: &mut u64,
     ) -> bool {
-        let Dopri5 {
+        let Dp5 {
             k1,
             k2,
             k3,
@@ -328,36 +117,24 @@ impl Dopri5 {
             y_stage,
             y_new,
             err,
-            evals,
-            ..
         } = self;
-        let mut eval = |tt: f64, arg: &[f64], k: &mut [f64]| -> bool {
-            sys.rhs(tt, arg, k);
+        let mut eval = |tt: f64, arg: &V, k: &mut V| -> bool {
+            sys.rhs(tt, arg.as_slice(), k.as_mut_slice());
             *evals += 1;
             all_finite(k)
         };
 
-        combine(y_stage, y, h, [(A21, &k1[..])])
+        combine(y_stage, y, h, [(A21, &*k1)])
             && eval(t + C2 * h, y_stage, k2)
-            && combine(y_stage, y, h, [(A31, &k1[..]), (A32, &k2[..])])
+            && combine(y_stage, y, h, [(A31, &*k1), (A32, &*k2)])
             && eval(t + C3 * h, y_stage, k3)
-            && combine(
-                y_stage,
-                y,
-                h,
-                [(A41, &k1[..]), (A42, &k2[..]), (A43, &k3[..])],
-            )
+            && combine(y_stage, y, h, [(A41, &*k1), (A42, &*k2), (A43, &*k3)])
             && eval(t + C4 * h, y_stage, k4)
             && combine(
                 y_stage,
                 y,
                 h,
-                [
-                    (A51, &k1[..]),
-                    (A52, &k2[..]),
-                    (A53, &k3[..]),
-                    (A54, &k4[..]),
-                ],
+                [(A51, &*k1), (A52, &*k2), (A53, &*k3), (A54, &*k4)],
             )
             && eval(t + C5 * h, y_stage, k5)
             && combine(
@@ -365,11 +142,11 @@ impl Dopri5 {
                 y,
                 h,
                 [
-                    (A61, &k1[..]),
-                    (A62, &k2[..]),
-                    (A63, &k3[..]),
-                    (A64, &k4[..]),
-                    (A65, &k5[..]),
+                    (A61, &*k1),
+                    (A62, &*k2),
+                    (A63, &*k3),
+                    (A64, &*k4),
+                    (A65, &*k5),
                 ],
             )
             && eval(t_new, y_stage, k6)
@@ -377,18 +154,21 @@ impl Dopri5 {
                 y_new,
                 y,
                 h,
-                [
-                    (B1, &k1[..]),
-                    (B3, &k3[..]),
-                    (B4, &k4[..]),
-                    (B5, &k5[..]),
-                    (B6, &k6[..]),
-                ],
+                [(B1, &*k1), (B3, &*k3), (B4, &*k4), (B5, &*k5), (B6, &*k6)],
             )
             && eval(t_new, y_new, k7)
             && {
-                for (i, e) in err.iter_mut().enumerate() {
-                    *e = h
+                let e = err.as_mut_slice();
+                let (k1, k3, k4, k5, k6, k7) = (
+                    k1.as_slice(),
+                    k3.as_slice(),
+                    k4.as_slice(),
+                    k5.as_slice(),
+                    k6.as_slice(),
+                    k7.as_slice(),
+                );
+                for i in 0..V::DIM {
+                    e[i] = h
                         * (E1 * k1[i]
                             + E3 * k3[i]
                             + E4 * k4[i]
@@ -399,18 +179,52 @@ impl Dopri5 {
                 all_finite(err)
             }
     }
+}
 
-    pub fn memory(&self) -> SolverMemory {
-        self.mem
+impl<V: StateVector> Method<V> for Dp5<V> {
+    const ORDER: i32 = 5;
+    const CONTROL: Control = Self::CONTROL_CONSTANTS;
+
+    #[inline(always)]
+    fn k1(&mut self) -> &mut V {
+        &mut self.k1
     }
 
-    pub fn restore(&mut self, m: SolverMemory) {
-        self.mem = m;
+    fn scratch(&mut self) -> (&V, &mut V, &mut V) {
+        (&self.k1, &mut self.y_stage, &mut self.k2)
     }
 
-    /// Back to a fresh solver (as after `new`); keeps `max_steps` and the work vectors.
-    pub fn forget(&mut self) {
-        self.mem = SolverMemory::FRESH;
+    #[inline(always)]
+    fn attempt<S: OdeSystem + ?Sized>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        h: f64,
+        t_new: f64,
+        y: &V,
+        tol: Tolerance,
+        evals: &mut u64,
+    ) -> f64 {
+        if self.stages(sys, t, h, t_new, y, evals) {
+            error_norm(
+                self.err.as_slice(),
+                y.as_slice(),
+                self.y_new.as_slice(),
+                tol,
+            )
+        } else {
+            f64::NAN
+        }
+    }
+
+    #[inline(always)]
+    fn y_new(&self) -> &V {
+        &self.y_new
+    }
+
+    #[inline(always)]
+    fn advance(&mut self) {
+        self.k1 = self.k7;
     }
 }
 
@@ -424,7 +238,7 @@ pub(crate) enum FixedOrder {
 }
 
 #[cfg(test)]
-impl Dopri5 {
+impl<V: StateVector> Dopri5<V> {
     /// `n` equal steps over `[t0, t1]` without error control, for order tests.
     pub(crate) fn integrate_fixed<S: OdeSystem + ?Sized>(
         &mut self,
@@ -432,16 +246,20 @@ impl Dopri5 {
         t0: f64,
         t1: f64,
         n: u32,
-        y: &mut [f64],
+        y: &mut V,
         order: FixedOrder,
     ) {
         let h = (t1 - t0) / f64::from(n);
         for j in 0..n {
             let t = t0 + f64::from(j) * h;
             let t_new = if j + 1 == n { t1 } else { t + h };
-            sys.rhs(t, y, &mut self.k1);
-            assert!(self.stages(sys, t, t_new - t, t_new, y));
-            for ((yi, &y5), &e) in y.iter_mut().zip(&self.y_new).zip(&self.err) {
+            let m = &mut self.method;
+            sys.rhs(t, y.as_slice(), m.k1.as_mut_slice());
+            assert!(m.stages(sys, t, t_new - t, t_new, y, &mut 0));
+            for ((yi, &y5), &e) in (y.as_mut_slice().iter_mut())
+                .zip(m.y_new.as_slice())
+                .zip(m.err.as_slice())
+            {
                 *yi = match order {
                     FixedOrder::Fifth => y5,
                     FixedOrder::Fourth => y5 - e,
@@ -457,12 +275,13 @@ impl Dopri5 {
         sys: &mut S,
         t: f64,
         h: f64,
-        y: &mut [f64],
-    ) -> Vec<f64> {
-        sys.rhs(t, y, &mut self.k1);
-        assert!(self.stages(sys, t, h, t + h, y));
-        y.copy_from_slice(&self.y_new);
-        self.err.clone()
+        y: &mut V,
+    ) -> V {
+        let m = &mut self.method;
+        sys.rhs(t, y.as_slice(), m.k1.as_mut_slice());
+        assert!(m.stages(sys, t, h, t + h, y, &mut 0));
+        *y = m.y_new;
+        m.err
     }
 }
 

@@ -2,12 +2,10 @@
 //!
 //! Balances two guesses: one from the size of y relative to f (a step that changes y
 //! by 1%), and one from an estimate of the second derivative so that the local error
-//! of an order-5 method is about the tolerance. Costs one extra rhs evaluation.
+//! of an method of order p is about the tolerance. Costs one extra rhs evaluation.
 
 use super::norm::weighted_rms;
 use super::{OdeSystem, Tolerance};
-
-const ORDER: i32 = 5;
 
 /// Proposes a first step from `(t, y)` with `f0 = f(t, y)`. The probe point stays
 /// within `max_probe` (the distance to the communication point), so the rhs is never
@@ -22,6 +20,7 @@ pub(crate) fn initial_step<S: OdeSystem + ?Sized>(
     f0: &[f64],
     max_probe: f64,
     tol: Tolerance,
+    order: i32,
     y1: &mut [f64],
     f1: &mut [f64],
     evals: &mut u64,
@@ -57,7 +56,7 @@ pub(crate) fn initial_step<S: OdeSystem + ?Sized>(
     let h1 = if der12 <= 1e-15 {
         (h0 * 1e-3).max(1e-6)
     } else {
-        (0.01 / der12).powf(1.0 / f64::from(ORDER))
+        (0.01 / der12).powf(1.0 / f64::from(order))
     };
     (100.0 * h0).min(h1)
 }

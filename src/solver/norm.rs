@@ -17,6 +17,7 @@ pub(crate) fn ratio_sq(num: f64, scale: f64) -> f64 {
 /// RMS over i of `err_i / (atol + rtol·max(|y_i|, |y_new_i|))`; a step is acceptable
 /// when this is ≤ 1. Using the larger of the two endpoints keeps components that pass
 /// near zero from demanding absurdly small steps. Returns 0 for an empty system.
+#[inline(always)]
 pub(crate) fn error_norm(err: &[f64], y: &[f64], y_new: &[f64], tol: Tolerance) -> f64 {
     debug_assert!(err.len() == y.len() && y.len() == y_new.len());
     if err.is_empty() {

@@ -109,19 +109,19 @@ fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// Errors of fixed-step runs with n, 2n, 4n, … steps; returns observed orders.
-fn observed_orders<S: OdeSystem>(
+fn observed_orders<S: OdeSystem, const N: usize>(
     sys: &mut S,
-    y0: &[f64],
+    y0: &[f64; N],
     t1: f64,
     exact: &[f64],
     ns: &[u32],
     order: FixedOrder,
 ) -> Vec<f64> {
-    let mut solver = Dopri5::new(y0.len());
+    let mut solver = Dopri5::<[f64; N]>::new();
     let errs: Vec<f64> = ns
         .iter()
         .map(|&n| {
-            let mut y = y0.to_vec();
+            let mut y = *y0;
             solver.integrate_fixed(sys, 0.0, t1, n, &mut y, order);
             max_abs_diff(&y, exact)
         })
@@ -219,7 +219,7 @@ fn embedded_solution_converges_with_order_4() {
 #[test]
 fn local_error_estimate_is_order_5() {
     // err = y5 - y4 over one step is O(h^5): halving h divides it by ≈ 32.
-    let mut solver = Dopri5::new(1);
+    let mut solver = Dopri5::new();
     let hs = [0.2, 0.1, 0.05, 0.025];
     let est: Vec<f64> = hs
         .iter()
@@ -250,7 +250,7 @@ fn tolerance_sweep<S: OdeSystem>(mut make: impl FnMut() -> S, err_of: fn(&S) -> 
         .map(|k| {
             let tl = 10f64.powi(-k);
             let mut sys = make();
-            let mut solver = Dopri5::new(2);
+            let mut solver = Dopri5::new();
             let (mut t, mut y) = (0.0, [1.0, 0.0]);
             let st = solver
                 .integrate(&mut sys, &mut t, 20.0, &mut y, tol(tl))
@@ -317,9 +317,9 @@ fn error_follows_tolerance_forced_damped_oscillator() {
 
 // ---------------------------------------------------------------- 3. landing exactly
 
-fn run_communication_steps(dt: f64, t_stop: f64, tl: f64) -> ([f64; 2], Dopri5, f64) {
+fn run_communication_steps(dt: f64, t_stop: f64, tl: f64) -> ([f64; 2], Dopri5<[f64; 2]>, f64) {
     let mut sys = Oscillator::default();
-    let mut solver = Dopri5::new(2);
+    let mut solver = Dopri5::new();
     let (mut t, mut y) = (0.0, [1.0, 0.0]);
     let mut k = 0u32;
     while t < t_stop {
@@ -338,7 +338,7 @@ fn run_communication_steps(dt: f64, t_stop: f64, tl: f64) -> ([f64; 2], Dopri5, 
 fn communication_steps_land_exactly_and_agree() {
     let tl = 1e-8;
     let mut one = Oscillator::default();
-    let mut solver = Dopri5::new(2);
+    let mut solver = Dopri5::new();
     let (mut t, mut y_one) = (0.0, [1.0, 0.0]);
     solver
         .integrate(&mut one, &mut t, 20.0, &mut y_one, tol(tl))
@@ -376,9 +376,9 @@ fn tiny_communication_steps_keep_the_natural_step() {
 
 #[test]
 fn tiny_leftover_is_absorbed_not_micro_stepped() {
-    let mut solver = Dopri5::new(2);
+    let mut solver = Dopri5::new();
     let h = 0.01;
-    let run = |solver: &mut Dopri5, span: f64| {
+    let run = |solver: &mut Dopri5<[f64; 2]>, span: f64| {
         solver.restore(SolverMemory {
             h_next: Some(h),
             err_prev: 1e-4,
@@ -404,7 +404,7 @@ fn tiny_leftover_is_absorbed_not_micro_stepped() {
 
 #[test]
 fn zero_length_interval_is_a_no_op() {
-    let mut solver = Dopri5::new(2);
+    let mut solver = Dopri5::new();
     let (mut t, mut y) = (3.0, [1.0, 2.0]);
     let st = solver
         .integrate(&mut Oscillator::default(), &mut t, 3.0, &mut y, tol(1e-6))
@@ -430,7 +430,7 @@ impl OdeSystem for NanAfterOne {
 
 #[test]
 fn nan_rhs_reports_non_finite_at_last_good_point() {
-    let mut solver = Dopri5::new(1);
+    let mut solver = Dopri5::new();
     let (mut t, mut y) = (0.0, [1.0]);
     let err = solver
         .integrate(&mut NanAfterOne, &mut t, 3.0, &mut y, tol(1e-8))
@@ -453,7 +453,7 @@ fn nan_at_start_is_reported_without_stepping() {
             dydt[0] = f64::NAN;
         }
     }
-    let mut solver = Dopri5::new(1);
+    let mut solver = Dopri5::new();
     let (mut t, mut y) = (0.5, [1.0]);
     let err = solver
         .integrate(&mut AlwaysNan, &mut t, 1.0, &mut y, tol(1e-6))
@@ -471,7 +471,7 @@ fn blow_up_fails_at_the_numerical_singularity() {
         }
     }
     for tl in [1e-3, 1e-6, 1e-10] {
-        let mut solver = Dopri5::new(1);
+        let mut solver = Dopri5::new();
         let (mut t, mut y) = (0.0, [1.0]);
         let err = solver
             .integrate(&mut Square, &mut t, 2.0, &mut y, tol(tl))
@@ -528,7 +528,7 @@ fn accepted_callback_can_stop_the_integration() {
         last_valid: (0.0, 1.0),
         refused: None,
     };
-    let mut solver = Dopri5::new(1);
+    let mut solver = Dopri5::new();
     let (mut t, mut y) = (0.0, [1.0]);
     let err = solver
         .integrate(&mut sys, &mut t, 10.0, &mut y, tol(1e-6))
@@ -551,7 +551,7 @@ fn accepted_callback_can_stop_the_integration() {
 #[test]
 fn too_many_steps_keeps_last_point() {
     let mut sys = Oscillator::default();
-    let mut solver = Dopri5::new(2);
+    let mut solver = Dopri5::new();
     solver.set_max_steps(5);
     let (mut t, mut y) = (0.0, [1.0, 0.0]);
     let err = solver
@@ -574,7 +574,7 @@ fn too_many_steps_keeps_last_point() {
 fn restore_continues_bit_for_bit() {
     let tl = tol(1e-7);
     let (t1, t2) = (3.3, 17.0);
-    let mut a = Dopri5::new(2);
+    let mut a = Dopri5::new();
     let (mut t, mut y) = (0.0, [1.0, 0.0]);
     a.integrate(&mut Forced { max_err: 0.0 }, &mut t, t1, &mut y, tl)
         .unwrap();
@@ -585,7 +585,7 @@ fn restore_continues_bit_for_bit() {
     let y_a = y;
 
     // A different solver that has done other work first.
-    let mut b = Dopri5::new(2);
+    let mut b = Dopri5::new();
     let (mut tb, mut yb) = (0.0, [0.3, -2.0]);
     b.integrate(&mut Oscillator::default(), &mut tb, 7.0, &mut yb, tol(1e-3))
         .unwrap();
@@ -598,14 +598,14 @@ fn restore_continues_bit_for_bit() {
 
     // forget() is the same as a fresh solver.
     b.forget();
-    assert_eq!(b.memory(), Dopri5::new(2).memory());
+    assert_eq!(b.memory(), Dopri5::<[f64; 2]>::new().memory());
     assert_eq!(b.memory(), SolverMemory::default());
 }
 
 #[test]
 fn runs_are_deterministic() {
     let run = || {
-        let mut s = Dopri5::new(2);
+        let mut s = Dopri5::new();
         let (mut t, mut y) = (0.0, [1.0, 0.0]);
         let st = s
             .integrate(
@@ -631,7 +631,7 @@ fn zero_dimensional_system_is_a_no_op() {
             panic!("rhs of an empty system called");
         }
     }
-    let mut solver = Dopri5::new(0);
+    let mut solver = Dopri5::new();
     assert_eq!(solver.dim(), 0);
     let mut t = 0.0;
     let st = solver
@@ -645,7 +645,7 @@ fn zero_dimensional_system_is_a_no_op() {
 fn rtol_is_clamped_at_ten_ulp() {
     let run = |rtol: f64| {
         let mut sys = Oscillator::default();
-        let mut s = Dopri5::new(2);
+        let mut s = Dopri5::new();
         let (mut t, mut y) = (0.0, [1.0, 0.0]);
         let st = s
             .integrate(
@@ -674,7 +674,7 @@ fn rtol_is_clamped_at_ten_ulp() {
 fn very_loose_tolerances_still_land() {
     for tl in [1e-2, 1e-1, 1.0] {
         let mut sys = Oscillator::default();
-        let mut s = Dopri5::new(2);
+        let mut s = Dopri5::new();
         let (mut t, mut y) = (0.0, [1.0, 0.0]);
         let st = s
             .integrate(&mut sys, &mut t, 20.0, &mut y, tol(tl))
@@ -700,7 +700,7 @@ fn pure_relative_tolerance_with_zero_component() {
             dydt[1] = 0.0;
         }
     }
-    let mut s = Dopri5::new(2);
+    let mut s = Dopri5::new();
     let (mut t, mut y) = (0.0, [1.0, 0.0]);
     s.integrate(
         &mut Half,
@@ -731,4 +731,168 @@ fn errors_display_their_numbers() {
     assert!(msgs[0].contains("0.75") && msgs[0].contains("1e-17"));
     assert!(msgs[1].contains("1.5"));
     assert!(msgs[2].contains("2.5") && msgs[2].contains("42"));
+}
+
+// ---------------------------------------------------------------- Dormand–Prince 8(5,3)
+
+#[test]
+fn dop853_tableau_satisfies_the_order_conditions() {
+    use super::dop853::tableau::{A, B, C};
+    for i in 0..12 {
+        let row: f64 = A[i].iter().sum();
+        assert!((row - C[i]).abs() < 1e-14, "row {i}: {row} vs c = {}", C[i]);
+    }
+    // Quadrature conditions Σ b_i c_i^(q-1) = 1/q up to q = 8.
+    for q in 1..=8 {
+        let s: f64 = B.iter().zip(C).map(|(b, c)| b * c.powi(q - 1)).sum();
+        assert!((s - 1.0 / f64::from(q)).abs() < 1e-13, "q = {q}: {s}");
+    }
+    // Conditions through A: Σ_i b_i c_i^m Σ_j a_ij c_j^n = 1/((n+1)(m+n+2)) (the bushy
+    // trees with one inner node), for all orders up to 8. A wrong digit in any a_ij of a
+    // stage with b_i ≠ 0 breaks one of them.
+    for m in 0..=6 {
+        for n in 0..=(6 - m) {
+            let s: f64 = (0..12)
+                .map(|i| {
+                    let inner: f64 = (0..11).map(|j| A[i][j] * C[j].powi(n)).sum();
+                    B[i] * C[i].powi(m) * inner
+                })
+                .sum();
+            let exact = 1.0 / (f64::from(n + 1) * f64::from(m + n + 2));
+            assert!(
+                (s - exact).abs() < 1e-13,
+                "m = {m}, n = {n}: {s} vs {exact}"
+            );
+        }
+    }
+    // And a chain (tall tree) of order 8: b·A^6·c = 1/8!.
+    let mut v: Vec<f64> = C.to_vec();
+    for _ in 0..6 {
+        v = (0..12)
+            .map(|i| (0..11).map(|j| A[i][j] * v[j]).sum())
+            .collect();
+    }
+    let s: f64 = B.iter().zip(&v).map(|(b, x)| b * x).sum();
+    assert!((s - 1.0 / 40320.0).abs() < 1e-15, "tall tree: {s}");
+}
+
+fn dop853_sweep<S: OdeSystem>(mut make: impl FnMut() -> S, err_of: fn(&S) -> f64) -> Vec<Row> {
+    (4..=13)
+        .map(|k| {
+            let tl = 10f64.powi(-k);
+            let mut sys = make();
+            let mut solver = Dop853::new();
+            let (mut t, mut y) = (0.0, [1.0, 0.0]);
+            let st = solver
+                .integrate(&mut sys, &mut t, 20.0, &mut y, tol(tl))
+                .unwrap();
+            assert_eq!(t, 20.0);
+            // 12 evaluations per attempt, plus k1 and the initial-step probe.
+            assert_eq!(st.rhs_evals, 2 + 12 * (st.accepted + st.rejected));
+            Row {
+                tol: tl,
+                max_err: err_of(&sys),
+                steps: st.accepted,
+                rejected: st.rejected,
+                evals: st.rhs_evals,
+            }
+        })
+        .collect()
+}
+
+fn check_dop853_sweep(name: &str, rows: &[Row]) {
+    println!("{name} (DOP853): tol | max error | accepted | rejected | rhs evals");
+    for r in rows {
+        println!(
+            "{:8.0e} | {:9.3e} | {:8} | {:8} | {:9}",
+            r.tol, r.max_err, r.steps, r.rejected, r.evals
+        );
+        assert!(
+            r.max_err <= 50.0 * r.tol,
+            "{name}: error {} at tol {}",
+            r.max_err,
+            r.tol
+        );
+    }
+    // Least-squares slope of log(steps) against log(1/tol): ≈ 1/8 for an order-8 method.
+    let pts: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| (-r.tol.ln(), (r.steps as f64).ln()))
+        .collect();
+    let n = pts.len() as f64;
+    let (mx, my) = pts
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
+    let slope = pts.iter().map(|(x, y)| (x - mx) * (y - my)).sum::<f64>()
+        / pts.iter().map(|(x, _)| (x - mx).powi(2)).sum::<f64>();
+    println!("{name}: steps ∝ tol^-{slope:.3}");
+    assert!((0.09..=0.16).contains(&slope), "{name}: slope {slope}");
+}
+
+#[test]
+fn dop853_error_follows_tolerance_with_order_8() {
+    let rows = dop853_sweep(Oscillator::default, |s| s.max_err);
+    check_dop853_sweep("harmonic oscillator [0, 20]", &rows);
+    let rows = dop853_sweep(|| Forced { max_err: 0.0 }, |s| s.max_err);
+    check_dop853_sweep("forced damped oscillator [0, 20]", &rows);
+}
+
+#[test]
+fn dop853_needs_fewer_evaluations_than_dopri5_at_tight_tolerances() {
+    for k in [8, 10, 12] {
+        let tl = 10f64.powi(-k);
+        let run = |high: bool| {
+            let mut sys = Forced { max_err: 0.0 };
+            let (mut t, mut y) = (0.0, [1.0, 0.0]);
+            let st = if high {
+                Dop853::new().integrate(&mut sys, &mut t, 20.0, &mut y, tol(tl))
+            } else {
+                Dopri5::new().integrate(&mut sys, &mut t, 20.0, &mut y, tol(tl))
+            }
+            .unwrap();
+            (st.rhs_evals, sys.max_err)
+        };
+        let (e8, err8) = run(true);
+        let (e5, err5) = run(false);
+        println!("tol {tl:e}: DOP853 {e8} evaluations (error {err8:e}), Dopri5 {e5} ({err5:e})");
+        assert!(e8 < e5, "tol {tl:e}: {e8} vs {e5}");
+    }
+}
+
+#[test]
+fn solver_picks_the_method_by_tolerance_and_shares_its_memory() {
+    assert!(Solver::<[f64; 1]>::high_order(tol(1e-9)));
+    assert!(!Solver::<[f64; 1]>::high_order(tol(HIGH_ORDER_BELOW)));
+    for tl in [1e-6, 1e-10] {
+        // The wrapper gives exactly what the chosen method gives, step by step.
+        let mut a = Solver::new();
+        let (mut ta, mut ya) = (0.0, [1.0]);
+        let (mut tb, mut yb) = (0.0, [1.0]);
+        let mut b5 = Dopri5::new();
+        let mut b8 = Dop853::new();
+        for k in 1..=50 {
+            let t_end = f64::from(k) * 0.1;
+            a.integrate(&mut Decay, &mut ta, t_end, &mut ya, tol(tl))
+                .unwrap();
+            if tl < HIGH_ORDER_BELOW {
+                b8.integrate(&mut Decay, &mut tb, t_end, &mut yb, tol(tl))
+                    .unwrap();
+            } else {
+                b5.integrate(&mut Decay, &mut tb, t_end, &mut yb, tol(tl))
+                    .unwrap();
+            }
+            assert_eq!((ta, ya), (tb, yb));
+        }
+        // Restoring the memory continues bit for bit.
+        let saved = a.memory();
+        let (t0, y0) = (ta, ya);
+        a.integrate(&mut Decay, &mut ta, 6.0, &mut ya, tol(tl))
+            .unwrap();
+        let mut c = Solver::new();
+        c.restore(saved);
+        let (mut tc, mut yc) = (t0, y0);
+        c.integrate(&mut Decay, &mut tc, 6.0, &mut yc, tol(tl))
+            .unwrap();
+        assert_eq!((ta, ya, a.memory()), (tc, yc, c.memory()));
+    }
 }

@@ -74,7 +74,14 @@ impl Mechanism for Oscillator {
     }
 
     fn evaluate<S: Scalar>(v: &mut OscillatorValues<S>) {
-        let forcing = v.F + v.F0 * (v.omega * v.time).sin();
+        // F0 is a parameter, never a dual number's variable, so F0 = 0 drops the term
+        // exactly, derivatives included: the free response costs no sine.
+        let harmonic = if v.F0 == S::zero() {
+            S::zero()
+        } else {
+            v.F0 * (v.omega * v.time).sin()
+        };
+        let forcing = v.F + harmonic;
         v.x_ddot = (forcing - v.c * v.x_dot - v.k * v.x) / v.m;
     }
 }

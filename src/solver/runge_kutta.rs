@@ -1,0 +1,298 @@
+//! The adaptive driver shared by the explicit Runge–Kutta pairs: step-size control,
+//! exact landing on the end point, FSAL, honest failure. A [`Method`] supplies one
+//! attempted step (its stages and error estimate); everything else is here.
+
+use super::controller::{Control, Controller};
+use super::initial_step::initial_step;
+use super::{OdeSystem, SolverError, SolverMemory, StateVector, StepStats, Tolerance, MIN_RTOL};
+
+/// A leftover shorter than this fraction of the step is absorbed into the step
+/// instead of being taken as a micro-step.
+const STRETCH: f64 = 1e-10;
+/// Shrink factor after a step produced NaN/inf: there is no error estimate to scale by.
+const NON_FINITE_SHRINK: f64 = 10.0;
+const DEFAULT_MAX_STEPS: u64 = 1_000_000;
+
+/// Smallest step allowed at time `t`; below it `t + h` no longer moves reliably.
+fn h_min(t: f64) -> f64 {
+    16.0 * f64::EPSILON * t.abs().max(1.0)
+}
+
+/// `out = y + h·Σ a_j k_j`, summed in the given order; false if any entry is non-finite.
+/// The dimension is a constant of `V`, so the loops unroll and need no bounds checks.
+#[inline(always)]
+pub(crate) fn combine<V: StateVector, const K: usize>(
+    out: &mut V,
+    y: &V,
+    h: f64,
+    terms: [(f64, &V); K],
+) -> bool {
+    let (out, y) = (out.as_mut_slice(), y.as_slice());
+    let mut finite = true;
+    for i in 0..V::DIM {
+        let mut acc = 0.0;
+        for &(a, k) in &terms {
+            acc += a * k.as_slice()[i];
+        }
+        out[i] = y[i] + h * acc;
+        finite &= out[i].is_finite();
+    }
+    finite
+}
+
+/// Whether every entry is finite (without stopping early: no branch per entry).
+#[inline(always)]
+pub(crate) fn all_finite<V: StateVector>(v: &V) -> bool {
+    v.as_slice().iter().fold(true, |ok, x| ok & x.is_finite())
+}
+
+/// One explicit Runge–Kutta pair with an embedded error estimate and FSAL: its work
+/// vectors and one attempted step.
+pub trait Method<V: StateVector>: Clone + std::fmt::Debug + Default {
+    /// Order of the propagated solution (for the initial step heuristic).
+    const ORDER: i32;
+    /// The step-size controller's constants.
+    const CONTROL: Control;
+    /// f at the start of the step (set by the driver, or kept from the last step: FSAL).
+    fn k1(&mut self) -> &mut V;
+    /// Scratch vectors (the initial step heuristic's probe point and its derivative).
+    fn scratch(&mut self) -> (&V, &mut V, &mut V);
+    /// One step of size `h` from `(t, y)` with `k1 = f(t, y)`: computes the new point
+    /// (read with [`Method::y_new`]), f there, and returns the error norm (≤ 1: acceptable),
+    /// or NaN as soon as a stage argument or derivative is non-finite (the rhs is never fed
+    /// NaN by the solver). `t_new` is the exact end time of the step.
+    #[allow(clippy::too_many_arguments)]
+    fn attempt<S: OdeSystem + ?Sized>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        h: f64,
+        t_new: f64,
+        y: &V,
+        tol: Tolerance,
+        evals: &mut u64,
+    ) -> f64;
+    /// The new point of the last attempt.
+    fn y_new(&self) -> &V;
+    /// After an accepted step: f at the new point becomes the next step's k1 (FSAL).
+    fn advance(&mut self);
+}
+
+/// An adaptive integrator with method `T` for systems whose dimension is fixed at
+/// compile time (`V = [f64; N]`): the work vectors live inline, so it never allocates,
+/// and everything of it that influences the future is its [`SolverMemory`].
+#[derive(Clone, Debug)]
+pub struct RungeKutta<V: StateVector, T: Method<V>> {
+    max_steps: u64,
+    mem: SolverMemory,
+    pub(crate) method: T,
+    /// rhs evaluations during the current call.
+    evals: u64,
+    _state: std::marker::PhantomData<V>,
+}
+
+impl<V: StateVector, T: Method<V>> Default for RungeKutta<V, T> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
+    /// A fresh solver (no step size chosen yet).
+    pub fn new() -> Self {
+        RungeKutta {
+            max_steps: DEFAULT_MAX_STEPS,
+            mem: SolverMemory::FRESH,
+            method: T::default(),
+            evals: 0,
+            _state: std::marker::PhantomData,
+        }
+    }
+
+    /// Length of the state vector.
+    pub fn dim(&self) -> usize {
+        V::DIM
+    }
+
+    /// Limit on step attempts (accepted + rejected) per `integrate` call; default 1_000_000.
+    pub fn set_max_steps(&mut self, n: u64) {
+        self.max_steps = n;
+    }
+
+    /// Advance y from *t to exactly t_end (t_end > *t; t_end == *t is a no-op Ok).
+    ///
+    /// On success `*t == t_end` exactly (it is assigned; the last step is clamped to land
+    /// on `t_end`, and a leftover below 1e-10·h is absorbed by stretching the step).
+    /// The rhs is never evaluated beyond `t_end`. On error, `*t` and `y` hold the last
+    /// accepted point (finite), and the error carries that time.
+    ///
+    /// k1 is recomputed at the start of each call, so inputs may change between calls.
+    /// The step size proposed at the end is remembered for the next call; a last step
+    /// that was shortened to land on `t_end` does not shrink it (unless its own error
+    /// asked for a smaller step). A zero-dimensional system is a no-op (`*t = t_end`,
+    /// no callbacks).
+    ///
+    /// # Errors
+    /// [`SolverError`] when the tolerance cannot be met above the minimum step
+    /// (16·ε·max(|t|, 1)), the rhs keeps producing NaN/inf, the step budget is used up,
+    /// or `OdeSystem::accepted` asks to stop. The solver memory is that after the last
+    /// accepted step.
+    ///
+    /// # Panics
+    /// If `*t` or `t_end` is not finite or `t_end < *t`, or if a tolerance is negative or
+    /// not finite. These are caller bugs; the FMU layer validates them before calling.
+    pub fn integrate<S: OdeSystem + ?Sized>(
+        &mut self,
+        sys: &mut S,
+        t: &mut f64,
+        t_end: f64,
+        y: &mut V,
+        tol: Tolerance,
+    ) -> Result<StepStats, SolverError> {
+        assert!(
+            t.is_finite() && t_end.is_finite() && t_end >= *t,
+            "integrate needs finite t <= t_end, got t = {} and t_end = {t_end}",
+            *t
+        );
+        assert!(
+            tol.rtol.is_finite() && tol.rtol >= 0.0 && tol.atol.is_finite() && tol.atol >= 0.0,
+            "tolerances must be finite and non-negative, got {tol:?}"
+        );
+        let mut stats = StepStats::default();
+        if t_end == *t {
+            return Ok(stats);
+        }
+        if V::DIM == 0 {
+            *t = t_end;
+            return Ok(stats);
+        }
+        let tol = Tolerance {
+            rtol: tol.rtol.max(MIN_RTOL),
+            atol: tol.atol,
+        };
+        self.evals = 0;
+        let result = self.run(sys, t, t_end, y, tol, &mut stats);
+        stats.rhs_evals = self.evals;
+        result.map(|()| stats)
+    }
+
+    fn run<S: OdeSystem + ?Sized>(
+        &mut self,
+        sys: &mut S,
+        t: &mut f64,
+        t_end: f64,
+        y: &mut V,
+        tol: Tolerance,
+        stats: &mut StepStats,
+    ) -> Result<(), SolverError> {
+        if !all_finite(y) {
+            return Err(SolverError::NonFinite { t: *t });
+        }
+        sys.rhs(*t, y.as_slice(), self.method.k1().as_mut_slice());
+        self.evals += 1;
+        if !all_finite(self.method.k1()) {
+            return Err(SolverError::NonFinite { t: *t });
+        }
+
+        let mut h = match self.mem.h_next {
+            Some(h) if h.is_finite() && h > 0.0 => h,
+            _ => {
+                let (k1, probe, f_probe) = self.method.scratch();
+                initial_step(
+                    sys,
+                    *t,
+                    y.as_slice(),
+                    k1.as_slice(),
+                    t_end - *t,
+                    tol,
+                    T::ORDER,
+                    probe.as_mut_slice(),
+                    f_probe.as_mut_slice(),
+                    &mut self.evals,
+                )
+            }
+        };
+        let mut controller = Controller::new(T::CONTROL, self.mem.err_prev);
+        // After a rejection the next accepted step may not grow (dopri5.f `REJECT`).
+        // Every call ends on an accepted step, so this never needs to be remembered.
+        let mut last_rejected = false;
+        let mut attempts: u64 = 0;
+
+        loop {
+            if attempts >= self.max_steps {
+                return Err(SolverError::TooManySteps {
+                    t: *t,
+                    max_steps: self.max_steps,
+                });
+            }
+            attempts += 1;
+
+            // A step below h_min may not move t at all; only the final remainder may be
+            // that short.
+            h = h.max(h_min(*t));
+            let remaining = t_end - *t;
+            let last = remaining <= h * (1.0 + STRETCH);
+            let h_step = if last { remaining } else { h };
+            let t_new = if last { t_end } else { *t + h_step };
+
+            let err = (self.method).attempt(sys, *t, h_step, t_new, y, tol, &mut self.evals);
+
+            if !err.is_finite() {
+                stats.rejected += 1;
+                last_rejected = true;
+                h = h_step / NON_FINITE_SHRINK;
+                if h < h_min(*t) {
+                    return Err(SolverError::NonFinite { t: *t });
+                }
+            } else if err > 1.0 {
+                stats.rejected += 1;
+                last_rejected = true;
+                h = controller.after_reject(h_step, err);
+                if h < h_min(*t) {
+                    return Err(SolverError::StepSizeTooSmall { t: *t, h });
+                }
+            } else {
+                stats.accepted += 1;
+                let mut h_new = controller.after_accept(h_step, err);
+                if last_rejected {
+                    h_new = h_new.min(h_step);
+                }
+                last_rejected = false;
+                if last && h_new >= h_step {
+                    // Clamping, not the error, made this step short: keep the longer
+                    // step for the next call.
+                    h_new = h_new.max(h);
+                }
+                // The system may refuse the new point (the model stops holding there): then
+                // the integration ends at the last point it accepted, which y and t still hold.
+                if let Err(message) = sys.accepted(t_new, self.method.y_new().as_slice()) {
+                    return Err(SolverError::Stopped { t: *t, message });
+                }
+                *y = *self.method.y_new();
+                self.method.advance();
+                *t = t_new;
+                self.mem = SolverMemory {
+                    h_next: Some(h_new),
+                    err_prev: controller.err_prev(),
+                };
+                if last {
+                    return Ok(());
+                }
+                h = h_new;
+            }
+        }
+    }
+
+    pub fn memory(&self) -> SolverMemory {
+        self.mem
+    }
+
+    pub fn restore(&mut self, m: SolverMemory) {
+        self.mem = m;
+    }
+
+    /// Back to a fresh solver (as after `new`); keeps `max_steps`.
+    pub fn forget(&mut self) {
+        self.mem = SolverMemory::FRESH;
+    }
+}
