@@ -96,7 +96,7 @@ def plot_case(entry: dict[str, Any], path: Path) -> None:
         sub.append(f"libcosim vs FMPy: {lc['max_error']:.1e}, tolerance {lc['tolerance']:.0e}")
     fc = entry.get("fmi_crate")
     if fc and fc.get("max_error") is not None:
-        sub.append(f"fmi crate vs FMPy: {fc['max_error']:.1e}")
+        sub.append("fmi crate vs FMPy: " + ("0 (identical)" if fc["max_error"] == 0 else f"{fc['max_error']:.1e}"))
     line1 = ";   ".join(sub)
     settings = entry.get("settings") or ""
     if len(settings) > 130:
@@ -137,7 +137,7 @@ def plot_case(entry: dict[str, Any], path: Path) -> None:
         ax.semilogy(lc["time"], np.maximum(lc["error_over_time"], FLOOR), color="#6e7781", lw=1.0,
                     ls=(0, (1, 1.5)), label="libcosim vs FMPy")
         ax.axhline(lc["tolerance"], color="#6e7781", ls="--", lw=0.9, label="libcosim tolerance")
-    if fc and fc.get("error_over_time") is not None:
+    if fc and fc.get("error_over_time") is not None and np.any(fc["error_over_time"] > 0):
         ax.semilogy(fc["time"], np.maximum(fc["error_over_time"], FLOOR), color="#8250df", lw=1.0,
                     ls=(0, (3, 1.5)), label="fmi crate vs FMPy")
     ax.set_ylabel("|FMU − ref| / scale")
