@@ -139,7 +139,9 @@ pub fn run(args: Args) -> Result<(), String> {
         match build_fmi_run(&home) {
             Ok(path) => Some(path),
             Err(e) => {
-                eprintln!("mechfmu validate: {e}; the fmi-crate rows will fail");
+                eprintln!(
+                    "mechfmu validate: {e}\n  => the fmi-crate rows will fail (--no-fmi-crate leaves them out)"
+                );
                 None
             }
         }
@@ -211,9 +213,9 @@ fn build_fmi_run(home: &Path) -> Result<PathBuf, String> {
         };
         return Err(format!(
             "cannot build the fmi-crate importer (`cargo build --release -p mechfmu-fmi-run` in {}): \
-             {cause}\n  {}",
+             {cause}\n  cargo said:\n    {}",
             home.display(),
-            tail.join("\n  ")
+            tail.join("\n    ")
         ));
     }
     if !exe.is_file() {
