@@ -2,7 +2,12 @@
 
     python -m mechfmu_validate FMU [FMU ...] [--cases MODEL=cases.py ...] [--case TEXT ...]
                                [--report DIR] [--json FILE] [--readme DIR] [--no-libcosim]
+                               [--no-fmi-crate]
     python -m mechfmu_validate references FMU [FMU ...] --cases MODEL=cases.py ...
+
+Each case runs under FMPy (against the case's reference), then under libcosim and under the
+Rust ``fmi`` crate (``mechfmu-fmi-run``, named by ``$MECHFMU_FMI_RUN``), each of which must agree
+with FMPy to 1e-9, relative, at the same settings.
 
 Exit status: 0 when everything passes, 1 when a check or a case fails, 2 for a usage error.
 """
@@ -24,13 +29,19 @@ import fmpy
 
 from .case import Case, describe, evaluate
 from .checks import run_checks
-from .importers import (LIBCOSIM_NOTE, Fmu, agreement, capture_fmu_log, libcosim_available,
-                        run_fmpy, run_libcosim)
+from .importers import (FMI_CRATE_NOTE, LIBCOSIM_NOTE, Fmu, agreement, capture_fmu_log, fmi_crate_available,
+                        libcosim_available, run_fmi_crate, run_fmpy, run_libcosim)
 from .loader import default_case, load_cases
 from .reference import write_references
 
 #: libcosim must agree with FMPy to this, relative (max |a - b| / max |b|), at the same settings
 LIBCOSIM_TOLERANCE = 1e-9
+
+#: the fmi crate must agree with FMPy to this, relative, both at the case's tolerance
+FMI_CRATE_TOLERANCE = 1e-9
+
+#: the importer column of the fmi crate's rows
+FMI_CRATE = "fmi crate"
 
 
 def make_parser() -> argparse.ArgumentParser:
@@ -44,7 +55,9 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", type=Path, metavar="FILE", help="write the results as JSON")
     p.add_argument("--readme", type=Path, metavar="DIR",
                    help="write DIR/validation.md and the highlighted cases' plots (README material)")
-    p.add_argument("--no-libcosim", action="store_true", help="run the cases under FMPy only")
+    p.add_argument("--no-libcosim", action="store_true", help="do not run the cases under libcosim")
+    p.add_argument("--no-fmi-crate", action="store_true",
+                   help="do not run the cases under the Rust fmi crate (mechfmu-fmi-run)")
     return p
 
 
@@ -76,7 +89,7 @@ def _settings(case: Case) -> str:
 
 
 def validate_fmu(path: Path, cases_file: Path | None, only: list[str], use_libcosim: bool,
-                 rows: list[dict], plots: list[dict], details: list[dict]) -> None:
+                 rows: list[dict], plots: list[dict], details: list[dict], use_fmi_crate: bool = True) -> None:
     fmu = Fmu(path)
     name = fmu.model
     try:
@@ -147,6 +160,27 @@ def validate_fmu(path: Path, cases_file: Path | None, only: list[str], use_libco
                                   problems=[f"libcosim run failed: {type(e).__name__}: {e}"])
                 rows.append(lc_row)
                 entry["passed"] = entry["passed"] and lc_row["passed"]
+            if use_fmi_crate:
+                _progress(f"{name}: {case.name} (fmi crate)")
+                fc_row = dict(kind="case", fmu=name, case=case.name, importer=FMI_CRATE, anchor=anchor,
+                              tolerance=FMI_CRATE_TOLERANCE, problems=[], notes=[FMI_CRATE_NOTE])
+                t1 = time.perf_counter()
+                try:
+                    fc = run_fmi_crate(fmu, case)
+                    if fmpy_result is None:
+                        raise RuntimeError("the FMPy run failed: nothing to compare with")
+                    floors = {s.name: s.scale for s in ev.signals} if ev is not None else {}
+                    worst, where, when, over_time = agreement(fc, fmpy_result, case.recorded(), floors)
+                    fc_row.update(max_error=worst, passed=bool(worst <= FMI_CRATE_TOLERANCE),
+                                  notes=[f"worst signal {where} at t = {when:g}", FMI_CRATE_NOTE],
+                                  seconds=time.perf_counter() - t1, log=fc.log[-20:])
+                    entry["fmi_crate"] = dict(time=fc.time, error_over_time=over_time,
+                                              tolerance=FMI_CRATE_TOLERANCE, max_error=worst)
+                except Exception as e:
+                    fc_row.update(max_error=math.inf, passed=False,
+                                  problems=[f"fmi crate run failed: {type(e).__name__}: {e}"])
+                rows.append(fc_row)
+                entry["passed"] = entry["passed"] and fc_row["passed"]
             if ev is not None and ev.signals:
                 plots.append(entry)
             details.append(dict(fmu=name, **describe(case)))
@@ -242,6 +276,14 @@ def main(argv: list[str] | None = None) -> int:
         if not ok:
             print(f"mechfmu validate: libcosim cannot run here ({libcosim_info}); the cases run under FMPy only "
                   "and the libcosim rows fail", file=sys.stderr)
+    use_fmi_crate = not args.no_fmi_crate
+    fmi_crate_info = "fmi crate not used"
+    if use_fmi_crate:
+        ok, found = fmi_crate_available()
+        fmi_crate_info = "fmi crate 0.8 (mechfmu-fmi-run)" if ok else "fmi crate unavailable"
+        if not ok:
+            print(f"mechfmu validate: the fmi-crate importer cannot run here ({found}); its rows fail",
+                  file=sys.stderr)
     rows: list[dict] = []
     plots: list[dict] = []
     details: list[dict] = []
@@ -254,8 +296,10 @@ def main(argv: list[str] | None = None) -> int:
             md_model = fmpy.read_model_description(str(path), validate=False).coSimulation.modelIdentifier
         except Exception:
             pass
-        validate_fmu(path, cases_map.get(md_model or path.stem), args.case, use_libcosim, rows, plots, details)
-    header = dict(fmpy=fmpy.__version__, libcosim=libcosim_info, python=platform.python_version())
+        validate_fmu(path, cases_map.get(md_model or path.stem), args.case, use_libcosim, rows, plots, details,
+                     use_fmi_crate=use_fmi_crate)
+    header = dict(fmpy=fmpy.__version__, libcosim=libcosim_info, fmi_crate=fmi_crate_info,
+                  python=platform.python_version())
     print_table(rows)
     if args.report:
         from .report import write_report

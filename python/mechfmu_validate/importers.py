@@ -1,19 +1,29 @@
-"""Running a case under an importer: FMPy's ``simulate_fmu`` and libcosim (``libcosimpy``).
+"""Running a case under an importer: FMPy's ``simulate_fmu``, libcosim (``libcosimpy``) and
+the Rust ``fmi`` crate (rust-fmi, through ``mechfmu-fmi-run``, built from ``tools/fmi-run``).
 
-Both run the same experiment: the case's start values, its input table (FMPy reads it
-itself; libcosim is fed, before every communication step, the value FMPy's input logic
-gives at that communication point), a fixed communication step (the case's
-``output_interval``) from 0 to ``stop_time``.
+All three run the same experiment: the case's start values, its input table (FMPy reads it
+itself; libcosim and the fmi crate are fed, before every communication step, the value
+FMPy's input logic gives at that communication point), a fixed communication step (the
+case's ``output_interval``) from 0 to ``stop_time``.
 
 libcosim calls ``fmi2SetupExperiment`` without a tolerance, so the FMU uses its
 DefaultExperiment tolerance; libcosimpy offers no way to pass one. The comparison
 "libcosim against FMPy at the same settings" therefore runs FMPy with
 ``relative_tolerance=None`` (FMPy then passes the DefaultExperiment tolerance).
+
+The fmi-crate runner takes the tolerance (and the stop time) like FMPy, so it is compared
+with FMPy at the case's own settings. It is a separate executable, found through the
+environment variable ``MECHFMU_FMI_RUN`` (``mechfmu validate`` builds it and sets it); it
+reads the experiment as JSON and writes its result as CSV.
 """
 
 from __future__ import annotations
 
+import csv
+import json
+import os
 import shutil
+import subprocess
 import tempfile
 import threading
 from ctypes import byref
@@ -28,10 +38,16 @@ from fmpy import read_model_description
 
 from .case import Case, Result
 
-__all__ = ["Fmu", "run_fmpy", "run_libcosim", "libcosim_available", "capture_fmu_log", "LIBCOSIM_NOTE"]
+__all__ = ["Fmu", "run_fmpy", "run_libcosim", "libcosim_available", "run_fmi_crate", "fmi_crate_available",
+           "capture_fmu_log", "LIBCOSIM_NOTE", "FMI_CRATE_NOTE", "FMI_RUN_ENV"]
 
 LIBCOSIM_NOTE = ("libcosim passes no tolerance to fmi2SetupExperiment (the FMU uses its "
                  "DefaultExperiment tolerance): compared with FMPy run at relative_tolerance=None")
+
+FMI_CRATE_NOTE = "the fmi crate (rust-fmi) through mechfmu-fmi-run: compared with FMPy at the case's tolerance"
+
+#: the environment variable naming the mechfmu-fmi-run executable
+FMI_RUN_ENV = "MECHFMU_FMI_RUN"
 
 
 @dataclass
@@ -260,6 +276,60 @@ def run_libcosim(fmu: Fmu, case: Case) -> Result:
             raise RuntimeError(f"libcosim observed {np.count_nonzero(~np.isnan(col))} of {n + 1} samples of {name}")
         columns[name] = col
     return Result(columns)
+
+
+# ---------------------------------------------------------------------------------------
+# the fmi crate (rust-fmi), through mechfmu-fmi-run
+
+
+def fmi_crate_available() -> tuple[bool, str]:
+    """(True, path) when ``$MECHFMU_FMI_RUN`` names an executable file, else (False, why)."""
+    path = os.environ.get(FMI_RUN_ENV)
+    if not path:
+        return False, (f"{FMI_RUN_ENV} is not set (`mechfmu validate` builds mechfmu-fmi-run from tools/fmi-run "
+                       "and sets it; see the message above the table if that build failed)")
+    if not (os.path.isfile(path) and os.access(path, os.X_OK)):
+        return False, f"{FMI_RUN_ENV}={path} is not an executable file"
+    return True, path
+
+
+def run_fmi_crate(fmu: Fmu, case: Case, relative_tolerance: float | None | str = "case") -> Result:
+    """The case under the Rust ``fmi`` crate: ``mechfmu-fmi-run`` runs a fixed-step experiment
+    with the case's output interval, start values and stop time, the tolerance
+    (``"case"``: the case's; ``None``: none), the inputs FMPy applies set before every step,
+    and records the case's variables. Raises with the runner's message when it fails."""
+    ok, found = fmi_crate_available()
+    if not ok:
+        raise RuntimeError(f"the fmi-crate importer is not available: {found}")
+    rtol = case.relative_tolerance if relative_tolerance == "case" else relative_tolerance
+    if not _input_events_on_grid(case):
+        raise RuntimeError("an input jump is off the communication grid: a fixed-step master cannot follow it")
+    n, h = case.steps(), case.output_interval
+    input_names, _ = _input_values(case, fmu, 0.0)
+    rows = [_input_values(case, fmu, k * h)[1] for k in range(n + 1)] if input_names else []
+    names = case.recorded()
+    experiment = dict(fmu=str(fmu.path), relative_tolerance=rtol, stop_time=float(case.stop_time), step_size=h,
+                      steps=n, start_values={k: float(v) for k, v in case.start_values.items()},
+                      inputs=input_names, input_values=rows, record=names)
+    with tempfile.TemporaryDirectory(prefix="mechfmu-fmi-run-") as tmp:
+        spec, out = Path(tmp) / "experiment.json", Path(tmp) / "result.csv"
+        spec.write_text(json.dumps(experiment, allow_nan=False))
+        proc = subprocess.run([found, str(spec), "--out", str(out)], capture_output=True, text=True)
+        log = [line for line in proc.stderr.splitlines() if line.strip()]
+        if proc.returncode != 0:
+            problem = next((line for line in reversed(log) if line.startswith("mechfmu-fmi-run:")),
+                           log[-1] if log else f"exit status {proc.returncode}")
+            fmu_log = [line for line in log if line.startswith("[FMU")][-5:]
+            raise RuntimeError(problem + ("; FMU log: " + " | ".join(fmu_log) if fmu_log else ""))
+        with out.open(newline="") as f:
+            table = list(csv.reader(f))
+    if not table or table[0] != ["time", *names]:
+        raise RuntimeError(f"mechfmu-fmi-run wrote the columns {table[0] if table else []}, "
+                           f"expected {['time', *names]}")
+    if len(table) != n + 2:
+        raise RuntimeError(f"mechfmu-fmi-run wrote {len(table) - 1} rows, expected {n + 1}")
+    data = np.array([[float(x) for x in row] for row in table[1:]], dtype=float)
+    return Result({name: data[:, i] for i, name in enumerate(table[0])}, log)
 
 
 def agreement(a: Result, b: Result, names: list[str],

@@ -1,6 +1,7 @@
 """The report of ``mechfmu validate --report DIR``: ``DIR/index.md``, ``DIR/index.html`` and
 one PNG per case (``DIR/<FMU>/<case>.png``): the FMU's signals against the reference, and the
-error over time on a log scale (with the tolerance, and libcosim's deviation from FMPy).
+error over time on a log scale (with the tolerance, and libcosim's and the fmi crate's deviations
+from FMPy).
 ``--readme DIR`` writes the table (``DIR/validation.md``) and the highlighted cases' PNGs.
 """
 
@@ -93,6 +94,9 @@ def plot_case(entry: dict[str, Any], path: Path) -> None:
     lc = entry.get("libcosim")
     if lc and lc.get("max_error") is not None:
         sub.append(f"libcosim vs FMPy: {lc['max_error']:.1e}, tolerance {lc['tolerance']:.0e}")
+    fc = entry.get("fmi_crate")
+    if fc and fc.get("max_error") is not None:
+        sub.append("fmi crate vs FMPy: " + ("0 (identical)" if fc["max_error"] == 0 else f"{fc['max_error']:.1e}"))
     line1 = ";   ".join(sub)
     settings = entry.get("settings") or ""
     if len(settings) > 130:
@@ -133,6 +137,9 @@ def plot_case(entry: dict[str, Any], path: Path) -> None:
         ax.semilogy(lc["time"], np.maximum(lc["error_over_time"], FLOOR), color="#6e7781", lw=1.0,
                     ls=(0, (1, 1.5)), label="libcosim vs FMPy")
         ax.axhline(lc["tolerance"], color="#6e7781", ls="--", lw=0.9, label="libcosim tolerance")
+    if fc and fc.get("error_over_time") is not None and np.any(fc["error_over_time"] > 0):
+        ax.semilogy(fc["time"], np.maximum(fc["error_over_time"], FLOOR), color="#8250df", lw=1.0,
+                    ls=(0, (3, 1.5)), label="fmi crate vs FMPy")
     ax.set_ylabel("|FMU − ref| / scale")
     ax.set_xlabel("time (s)")
     ax.grid(True, which="major", color="#e5e7eb")
@@ -172,7 +179,8 @@ LEGEND = (
     "max error: for a case under FMPy, max over time and signals of |FMU − reference| / scale, the scale being "
     "the reference signal's range (or its magnitude when it is constant: a relative drift); under libcosim, "
     "max |libcosim − FMPy| / max |FMPy| at the same settings (libcosim passes no tolerance, so both use the "
-    "FMU's DefaultExperiment tolerance). For a check: the number of problems found."
+    "FMU's DefaultExperiment tolerance); under the fmi crate (rust-fmi), max |fmi crate − FMPy| / max |FMPy|, "
+    "both at the case's tolerance. For a check: the number of problems found."
 )
 
 
@@ -187,7 +195,8 @@ def write_report(directory: Path, rows: list[dict[str, Any]], cases: list[dict[s
     summary = (f"{sum(r['passed'] for r in rows)} of {len(rows)} rows pass"
                + ("" if ok else f"; **{sum(not r['passed'] for r in rows)} fail**"))
     md = [f"# mechfmu validate: {'PASS' if ok else 'FAIL'}", "",
-          f"{summary}. FMPy {header['fmpy']}, {header['libcosim']}, Python {header['python']}.", "",
+          f"{summary}. FMPy {header['fmpy']}, {header['libcosim']}, {header.get('fmi_crate', '-')}, "
+          f"Python {header['python']}.", "",
           LEGEND, "", markdown_table(rows)]
     for entry in cases:
         md += [f"## {entry['fmu']}: {entry['case']}", ""]
@@ -198,7 +207,8 @@ def write_report(directory: Path, rows: list[dict[str, Any]], cases: list[dict[s
 
     body = [f"<h1>mechfmu validate: <span class={'pass' if ok else 'fail'}>{'PASS' if ok else 'FAIL'}</span></h1>",
             f"<p>{html.escape(summary.replace('**', ''))}. FMPy {html.escape(header['fmpy'])}, "
-            f"{html.escape(header['libcosim'])}, Python {html.escape(header['python'])}.</p>",
+            f"{html.escape(header['libcosim'])}, {html.escape(header.get('fmi_crate', '-'))}, "
+            f"Python {html.escape(header['python'])}.</p>",
             f"<p class=legend>{html.escape(LEGEND)}</p>", _html_table(rows)]
     for entry in cases:
         body += [f"<h2 id=\"{entry['anchor']}\">{html.escape(entry['fmu'])}: {html.escape(entry['case'])}</h2>"]
@@ -233,18 +243,19 @@ def write_readme(directory: Path, rows: list[dict[str, Any]], cases: list[dict[s
     for r in rows:
         if r["kind"] == "check":
             checks.setdefault(r["fmu"], []).append(r["passed"])
-    lines = ["| FMU | reference case | FMPy: max error | tolerance | libcosim vs FMPy | result |",
-             "|---|---|---:|---:|---:|---|"]
+    lines = ["| FMU | reference case | FMPy: max error | tolerance | libcosim vs FMPy | fmi crate vs FMPy | result |",
+             "|---|---|---:|---:|---:|---:|---|"]
     for d in per_case.values():
         lines.append(f"| {d['fmu']} | {d['case']} | {_fmt(d.get('FMPy'))} | {_fmt(d.get('FMPy tol'))} | "
-                     f"{_fmt(d.get('libcosim'))} | {'PASS' if d['passed'] else 'FAIL'} |")
+                     f"{_fmt(d.get('libcosim'))} | {_fmt(d.get('fmi crate'))} | {'PASS' if d['passed'] else 'FAIL'} |")
     check_line = ", ".join(f"{f} {'PASS' if all(v) else 'FAIL'} ({len(v)} checks)" for f, v in checks.items())
     text = ("<!-- written by `cargo run --release -- validate --readme docs/validation` -->\n\n"
             + "\n".join(lines) + "\n\n"
             + f"Model-description, binary and GUID checks: {check_line}.\n\n"
             + "Max error: max over time and signals of |FMU − reference| / (range of the reference), or the relative "
-            + "drift of an invariant; libcosim vs FMPy: max |libcosim − FMPy| / max |FMPy| at the same settings. "
-            + f"FMPy {header['fmpy']}, {header['libcosim']}.\n")
+            + "drift of an invariant; libcosim (fmi crate) vs FMPy: max |libcosim (fmi crate) − FMPy| / max |FMPy| "
+            + "at the same settings. "
+            + f"FMPy {header['fmpy']}, {header['libcosim']}, {header.get('fmi_crate', '-')}.\n")
     path = directory / "validation.md"
     path.write_text(text)
     written.append(path)

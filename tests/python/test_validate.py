@@ -3,8 +3,11 @@
 The broken FMU is a copy of fmus/oscillator/ as an external crate (depending on mechfmu by
 path, with the Oscillator's own validation/cases.py and reference/), with the sign of the
 damping force flipped in `evaluate`, built by `mechfmu build --manifest-path ... --out ...`.
-It is still a valid FMU (every check passes, both importers agree on it) but its physics is
-wrong: every case with damping must fail, by name, and the undamped one must pass.
+It is still a valid FMU (every check passes, the three importers agree on it) but its physics
+is wrong: every case with damping must fail, by name, and the undamped one must pass.
+
+Every case runs under three importers: FMPy, libcosim and the Rust fmi crate (rows
+"fmi crate", through tools/fmi-run, which `mechfmu validate` builds).
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ import pytest
 import fmutest
 
 REPO = fmutest.REPO_ROOT
+IMPORTERS = {"FMPy", "libcosim", "fmi crate"}
 
 
 def mechfmu(*args: str, timeout: float = 1200) -> subprocess.CompletedProcess:
@@ -45,8 +49,11 @@ def test_validate_passes_on_every_fmu_and_writes_the_report(tmp_path):
     assert len({f for f, _ in cases}) == 6 and len(cases) >= 18, sorted(cases)
     for fmu, case in cases:
         importers = {r["importer"] for r in rows if (r["fmu"], r["case"]) == (fmu, case)}
-        assert importers == {"FMPy", "libcosim"}, (fmu, case, importers)
+        assert importers == IMPORTERS, (fmu, case, importers)
     assert all(r["passed"] for r in rows)
+    fmi_crate = [r for r in rows if r["importer"] == "fmi crate"]
+    assert len(fmi_crate) == len(cases)
+    assert all(r["tolerance"] == 1e-9 and r["max_error"] <= 1e-9 for r in fmi_crate), fmi_crate
     assert re.search(r"^\d+ passed, 0 failed$", proc.stdout, re.M), proc.stdout[-2000:]
     index = (report / "index.html").read_text()
     assert "PASS" in index and (report / "index.md").is_file()
@@ -102,9 +109,39 @@ def test_validate_fails_on_a_broken_fmu_and_names_the_cases(broken_oscillator, t
         assert not fmpy_rows[case]["passed"], f"{case} passed on the broken FMU"
         assert re.search(rf"^FAIL Oscillator / {case} / FMPy:", proc.stdout, re.M), proc.stdout[-3000:]
     assert fmpy_rows["free_undamped"]["passed"], "the undamped case does not depend on the flipped term"
-    # still a valid FMU, imported identically by both importers: the failure is the physics
+    # still a valid FMU, imported identically by the three importers: the failure is the physics
     assert all(r["passed"] for r in rows if r["kind"] == "check"), [r for r in rows if not r["passed"]]
-    assert all(r["passed"] for r in rows if r["importer"] == "libcosim")
+    for importer in ("libcosim", "fmi crate"):
+        others = {r["case"]: r for r in rows if r["kind"] == "case" and r["importer"] == importer}
+        assert set(others) == set(fmpy_rows), (importer, sorted(others))
+        assert all(r["passed"] for r in others.values()), [r for r in others.values() if not r["passed"]]
+        assert not re.search(rf"^FAIL Oscillator / .* / {importer}:", proc.stdout, re.M), proc.stdout[-3000:]
+
+
+def test_validate_without_the_fmi_crate():
+    proc = mechfmu("validate", "Oscillator", "--fmu-dir", str(fmutest.FMU_DIR), "--case", "free_critical",
+                   "--no-fmi-crate")
+    assert proc.returncode == 0, f"{proc.stdout[-3000:]}\n{proc.stderr[-2000:]}"
+    assert re.search(r"^Oscillator\s+free_critical\s+libcosim\s.*PASS$", proc.stdout, re.M), proc.stdout
+    assert "fmi crate" not in proc.stdout
+
+
+def test_the_fmi_crate_rows_fail_when_its_runner_is_missing(tmp_path):
+    """The Python side alone, without MECHFMU_FMI_RUN (what a failed build of the runner leaves):
+    the fmi-crate row fails, saying why; FMPy's row still passes."""
+    js = tmp_path / "missing.json"
+    env = {k: v for k, v in os.environ.items() if k != "MECHFMU_FMI_RUN"}
+    env["PYTHONPATH"] = str(REPO / "python")
+    proc = subprocess.run([sys.executable, "-m", "mechfmu_validate", str(fmutest.fmu_path("Oscillator")),
+                           "--cases", f"Oscillator={REPO / 'fmus/oscillator/validation/cases.py'}",
+                           "--case", "free_critical", "--no-libcosim", "--json", str(js)],
+                          cwd=REPO, capture_output=True, text=True, timeout=600, env=env)
+    assert proc.returncode == 1, f"{proc.stdout[-3000:]}\n{proc.stderr[-2000:]}"
+    assert "the fmi-crate importer cannot run here" in proc.stderr
+    rows = {r["importer"]: r for r in _rows(js) if r["kind"] == "case"}
+    assert rows["FMPy"]["passed"] and not rows["fmi crate"]["passed"]
+    assert "MECHFMU_FMI_RUN is not set" in rows["fmi crate"]["problems"][0]
+    assert re.search(r"^FAIL Oscillator / free_critical / fmi crate:", proc.stdout, re.M), proc.stdout
 
 
 def test_validate_reports_an_unknown_mechanism():
