@@ -100,7 +100,7 @@ impl Controller {
 mod tests {
     use super::*;
 
-    const DOPRI5: Control = crate::solver::dopri5::Dp5::<[f64; 1]>::CONTROL_CONSTANTS;
+    const DOPRI5: Control = <crate::solver::Dp5<[f64; 1]> as crate::solver::Method<_>>::CONTROL;
 
     /// The `dopri5.f` formula, with two powers.
     fn reference(h: f64, err: f64, err_prev: f64) -> f64 {

@@ -83,14 +83,6 @@ impl<V: StateVector> Default for Dp5<V> {
 }
 
 impl<V: StateVector> Dp5<V> {
-    /// `dopri5.f`'s defaults: BETA = 0.04, EXPO1 = 1/5 − 0.75·BETA, shrink ≤ 5, growth ≤ 10.
-    pub(crate) const CONTROL_CONSTANTS: Control = Control {
-        beta: 0.04,
-        expo1: 0.2 - 0.04 * 0.75,
-        max_shrink: 5.0,
-        min_inv_growth: 0.1,
-    };
-
     /// Stages 2..7 of one step of size `h` from `(t, y)` with `k1 = f(t, y)` already
     /// set; fills `y_new` (5th order), `k7 = f(t_new, y_new)` and `err`. `t_new` is
     /// passed separately so the last step uses the exact end time. Stops early and
@@ -183,7 +175,13 @@ impl<V: StateVector> Dp5<V> {
 
 impl<V: StateVector> Method<V> for Dp5<V> {
     const ORDER: i32 = 5;
-    const CONTROL: Control = Self::CONTROL_CONSTANTS;
+    /// `dopri5.f`'s defaults: BETA = 0.04, EXPO1 = 1/5 − 0.75·BETA, shrink ≤ 5, growth ≤ 10.
+    const CONTROL: Control = Control {
+        beta: 0.04,
+        expo1: 0.2 - 0.04 * 0.75,
+        max_shrink: 5.0,
+        min_inv_growth: 0.1,
+    };
 
     #[inline(always)]
     fn k1(&mut self) -> &mut V {

@@ -245,26 +245,44 @@ struct Row {
     evals: u64,
 }
 
-fn tolerance_sweep<S: OdeSystem>(mut make: impl FnMut() -> S, err_of: fn(&S) -> f64) -> Vec<Row> {
-    (4..=12)
-        .map(|k| {
-            let tl = 10f64.powi(-k);
-            let mut sys = make();
-            let mut solver = Dopri5::new();
-            let (mut t, mut y) = (0.0, [1.0, 0.0]);
-            let st = solver
-                .integrate(&mut sys, &mut t, 20.0, &mut y, tol(tl))
-                .unwrap();
-            assert_eq!(t, 20.0);
-            Row {
-                tol: tl,
-                max_err: err_of(&sys),
-                steps: st.accepted,
-                rejected: st.rejected,
-                evals: st.rhs_evals,
-            }
-        })
-        .collect()
+/// Integrates [0, 20] from (1, 0) with method `T` at tolerances 10^-k for k in `ks`.
+fn tolerance_sweep<T: Method<[f64; 2]>, S: OdeSystem>(
+    ks: std::ops::RangeInclusive<i32>,
+    mut make: impl FnMut() -> S,
+    err_of: fn(&S) -> f64,
+) -> Vec<Row> {
+    ks.map(|k| {
+        let tl = 10f64.powi(-k);
+        let mut sys = make();
+        let mut solver = RungeKutta::<[f64; 2], T>::new();
+        let (mut t, mut y) = (0.0, [1.0, 0.0]);
+        let st = solver
+            .integrate(&mut sys, &mut t, 20.0, &mut y, tol(tl))
+            .unwrap();
+        assert_eq!(t, 20.0);
+        Row {
+            tol: tl,
+            max_err: err_of(&sys),
+            steps: st.accepted,
+            rejected: st.rejected,
+            evals: st.rhs_evals,
+        }
+    })
+    .collect()
+}
+
+/// Least-squares slope of log(steps) against log(1/tol): ≈ 1/(p+1)… 1/p for order p.
+fn steps_slope(rows: &[Row]) -> f64 {
+    let pts: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| (-r.tol.ln(), (r.steps as f64).ln()))
+        .collect();
+    let n = pts.len() as f64;
+    let (mx, my) = pts
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
+    pts.iter().map(|(x, y)| (x - mx) * (y - my)).sum::<f64>()
+        / pts.iter().map(|(x, _)| (x - mx).powi(2)).sum::<f64>()
 }
 
 fn check_sweep(name: &str, rows: &[Row]) {
@@ -288,30 +306,21 @@ fn check_sweep(name: &str, rows: &[Row]) {
         assert!(w[1].max_err < w[0].max_err, "{name}: error not decreasing");
         assert!(w[1].steps >= w[0].steps, "{name}: steps not increasing");
     }
-    // Least-squares slope of log(steps) against log(1/tol): ≈ 1/5 for an order-5 method.
-    let pts: Vec<(f64, f64)> = rows
-        .iter()
-        .map(|r| (-r.tol.ln(), (r.steps as f64).ln()))
-        .collect();
-    let n = pts.len() as f64;
-    let (mx, my) = pts
-        .iter()
-        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
-    let slope = pts.iter().map(|(x, y)| (x - mx) * (y - my)).sum::<f64>()
-        / pts.iter().map(|(x, _)| (x - mx).powi(2)).sum::<f64>();
+    // ≈ 1/5 for an order-5 method.
+    let slope = steps_slope(rows);
     println!("{name}: steps ∝ tol^-{slope:.3}");
     assert!((0.15..=0.25).contains(&slope), "{name}: slope {slope}");
 }
 
 #[test]
 fn error_follows_tolerance_harmonic_oscillator() {
-    let rows = tolerance_sweep(Oscillator::default, |s| s.max_err);
+    let rows = tolerance_sweep::<Dp5<_>, _>(4..=12, Oscillator::default, |s| s.max_err);
     check_sweep("harmonic oscillator [0, 20]", &rows);
 }
 
 #[test]
 fn error_follows_tolerance_forced_damped_oscillator() {
-    let rows = tolerance_sweep(|| Forced { max_err: 0.0 }, |s| s.max_err);
+    let rows = tolerance_sweep::<Dp5<_>, _>(4..=12, || Forced { max_err: 0.0 }, |s| s.max_err);
     check_sweep("forced damped oscillator [0, 20]", &rows);
 }
 
@@ -776,30 +785,6 @@ fn dop853_tableau_satisfies_the_order_conditions() {
     assert!((s - 1.0 / 40320.0).abs() < 1e-15, "tall tree: {s}");
 }
 
-fn dop853_sweep<S: OdeSystem>(mut make: impl FnMut() -> S, err_of: fn(&S) -> f64) -> Vec<Row> {
-    (4..=13)
-        .map(|k| {
-            let tl = 10f64.powi(-k);
-            let mut sys = make();
-            let mut solver = Dop853::new();
-            let (mut t, mut y) = (0.0, [1.0, 0.0]);
-            let st = solver
-                .integrate(&mut sys, &mut t, 20.0, &mut y, tol(tl))
-                .unwrap();
-            assert_eq!(t, 20.0);
-            // 12 evaluations per attempt, plus k1 and the initial-step probe.
-            assert_eq!(st.rhs_evals, 2 + 12 * (st.accepted + st.rejected));
-            Row {
-                tol: tl,
-                max_err: err_of(&sys),
-                steps: st.accepted,
-                rejected: st.rejected,
-                evals: st.rhs_evals,
-            }
-        })
-        .collect()
-}
-
 fn check_dop853_sweep(name: &str, rows: &[Row]) {
     println!("{name} (DOP853): tol | max error | accepted | rejected | rhs evals");
     for r in rows {
@@ -814,26 +799,17 @@ fn check_dop853_sweep(name: &str, rows: &[Row]) {
             r.tol
         );
     }
-    // Least-squares slope of log(steps) against log(1/tol): ≈ 1/8 for an order-8 method.
-    let pts: Vec<(f64, f64)> = rows
-        .iter()
-        .map(|r| (-r.tol.ln(), (r.steps as f64).ln()))
-        .collect();
-    let n = pts.len() as f64;
-    let (mx, my) = pts
-        .iter()
-        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
-    let slope = pts.iter().map(|(x, y)| (x - mx) * (y - my)).sum::<f64>()
-        / pts.iter().map(|(x, _)| (x - mx).powi(2)).sum::<f64>();
+    // ≈ 1/8 for an order-8 method.
+    let slope = steps_slope(rows);
     println!("{name}: steps ∝ tol^-{slope:.3}");
     assert!((0.09..=0.16).contains(&slope), "{name}: slope {slope}");
 }
 
 #[test]
 fn dop853_error_follows_tolerance_with_order_8() {
-    let rows = dop853_sweep(Oscillator::default, |s| s.max_err);
+    let rows = tolerance_sweep::<Dp853<_>, _>(4..=13, Oscillator::default, |s| s.max_err);
     check_dop853_sweep("harmonic oscillator [0, 20]", &rows);
-    let rows = dop853_sweep(|| Forced { max_err: 0.0 }, |s| s.max_err);
+    let rows = tolerance_sweep::<Dp853<_>, _>(4..=13, || Forced { max_err: 0.0 }, |s| s.max_err);
     check_dop853_sweep("forced damped oscillator [0, 20]", &rows);
 }
 
