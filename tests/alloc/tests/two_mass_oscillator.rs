@@ -7,8 +7,6 @@ fn the_importer_loop_allocates_nothing() {
 }
 
 #[test]
-#[ignore = "fails: mechfmu::modal::undamped_modes (run by `calculate` when a tunable parameter \
-            is set) allocates a DMatrix for nalgebra's SymmetricEigen: 12 allocations per call"]
 fn setting_tunable_parameters_allocates_nothing() {
     let work = mechfmu_alloc::check_with_tunables::<two_mass_oscillator::TwoMassOscillator>(2_000);
     assert_eq!(work.steps, 2_000);
