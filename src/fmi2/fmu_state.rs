@@ -11,7 +11,7 @@
 //! | inputs, then their 1st and 2nd derivatives | u32 count + f64 × 3 each |
 //! | solver: next step size (u8 present + f64), error memory (f64) | |
 //! | tolerance: rtol, atol | f64, f64 |
-//! | flags: 1 warning active, 2 values dirty, 4 terminated | u8 |
+//! | flags: 1 warning active, 2 values dirty, 4 terminated, 8 solver on its 8th-order method | u8 |
 //! | state-machine state | u16 |
 //! | stop time (u8 present + f64), last successful time (f64), last step status (u32) | |
 //! | checksum: FNV-1a 64 of every byte before it | u64 |
@@ -26,7 +26,8 @@ use crate::simulation::SavedState;
 use crate::solver::{SolverMemory, Tolerance};
 
 const MAGIC: &[u8; 8] = b"mechfmuS";
-const FORMAT_VERSION: u32 = 1;
+/// 2: the solver's method among the flags.
+const FORMAT_VERSION: u32 = 2;
 /// Marks live in-memory FMU states handed to the importer.
 pub(crate) const STATE_MAGIC: u64 = 0x6d65_6368_7374_6174; // "mechstat"
 
@@ -90,7 +91,8 @@ impl FmuState {
         w.push(
             self.sim.warning_active as u8
                 | (self.sim.dirty as u8) << 1
-                | (self.terminated as u8) << 2,
+                | (self.terminated as u8) << 2
+                | (self.sim.solver.high_order as u8) << 3,
         );
         w.extend_from_slice(&(self.model_state as u16).to_le_bytes());
         opt(&mut w, self.stop_time);
@@ -175,7 +177,7 @@ impl FmuState {
             return Err("serialized FMU state has an invalid tolerance or solver memory".into());
         }
         let flags = r.u8()?;
-        if flags & !7 != 0 {
+        if flags & !15 != 0 {
             return Err(format!("serialized FMU state has unknown flags {flags:#x}"));
         }
         let state_bits = r.u16()?;
@@ -229,7 +231,11 @@ impl FmuState {
                 values,
                 inputs,
                 input_derivatives,
-                solver: SolverMemory { h_next, err_prev },
+                solver: SolverMemory {
+                    h_next,
+                    err_prev,
+                    high_order: flags & 8 != 0,
+                },
                 tolerance,
                 warning_active: flags & 1 != 0,
                 dirty: flags & 2 != 0,

@@ -129,6 +129,30 @@ pub const fn state_references<const N: usize>(
     out
 }
 
+/// For each of the `N` states' derivatives, the position in the state vector of the state
+/// it is, when it is one (`x' = v` with `v` a state), else `None`: the solver takes those
+/// straight from its own stage vector instead of reading them back from the values.
+#[doc(hidden)]
+pub const fn derivatives_among_states<const N: usize>(
+    variables: &[Variable],
+) -> [Option<usize>; N] {
+    let states = state_references::<N>(variables, false);
+    let derivatives = state_references::<N>(variables, true);
+    let mut out = [None; N];
+    let mut i = 0;
+    while i < N {
+        let mut j = 0;
+        while j < N {
+            if states[j] == derivatives[i] {
+                out[i] = Some(j);
+            }
+            j += 1;
+        }
+        i += 1;
+    }
+    out
+}
+
 /// Compile-time check of a declaration, run by the `mechanism!` macro: a state must name an
 /// existing derivative variable, and every start value must satisfy its bounds.
 pub const fn check_declaration(variables: &[Variable]) {

@@ -10,7 +10,7 @@ mod variable;
 
 pub use layout::{check_declaration, Layout};
 #[doc(hidden)]
-pub use layout::{count_states, state_references};
+pub use layout::{count_states, derivatives_among_states, state_references};
 pub use scalar::{lit, Scalar};
 pub use variable::{Causality, Initial, SetPhase, Variability, Variable};
 
@@ -56,6 +56,9 @@ pub trait Declaration: Send + Sync + 'static {
     const STATES: &'static [usize];
     /// The value references of the states' derivatives ([`Layout::derivatives`]).
     const DERIVATIVES: &'static [usize];
+    /// For each state's derivative, the position in the state vector of the state it is
+    /// (`x' = v` with `v` a state), or `None` when `evaluate` computes it.
+    const DERIVATIVES_AMONG_STATES: &'static [Option<usize>];
 
     /// Values that are all zero.
     fn zeros<S: Scalar>() -> Self::Values<S>;
@@ -284,6 +287,8 @@ macro_rules! mechanism {
                     &$crate::model::state_references::<N_STATES>(VARIABLES, false);
                 const DERIVATIVES: &'static [usize] =
                     &$crate::model::state_references::<N_STATES>(VARIABLES, true);
+                const DERIVATIVES_AMONG_STATES: &'static [Option<usize>] =
+                    &$crate::model::derivatives_among_states::<N_STATES>(VARIABLES);
 
                 fn zeros<S: $crate::model::Scalar>() -> $values<S> {
                     $values { time: S::zero(), $( $var: S::zero(), )* }

@@ -9,10 +9,11 @@ use crate::solver::{OdeSystem, StateVector};
 /// What [`Simulation::bench`] repeats.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Part {
-    /// `Mechanism::evaluate` alone: the right-hand side's own work.
+    /// `Mechanism::evaluate` alone: the right-hand side's own work, each evaluation
+    /// waiting for the previous one's derivatives as a solver's stages do.
     Evaluate,
     /// The solver's callback: load the state into the values, evaluate, read the
-    /// derivatives (the evaluation plus the copying around it).
+    /// derivatives (the evaluation plus the copying around it), chained the same way.
     Rhs,
     /// Whole communication steps of size `h` without the FMI layer (`Simulation::step`).
     Step,
@@ -39,7 +40,10 @@ impl<M: Mechanism> Simulation<M> {
     /// [`Part::Evaluate`] and [`Part::Rhs`] it is the time span the `n` evaluations are
     /// spread over (that of the steps they stand for: time-dependent terms such as
     /// `sin(ω t)` cost what they cost there), and the time moves at every repetition so
-    /// that no evaluation can be folded into another. Returns a checksum (for
+    /// that no evaluation can be folded into another. Both walk the trajectory with explicit
+    /// Euler steps of that span over `n`, so each evaluation depends on the last: timed
+    /// alone, unchained evaluations overlap in the processor and would hide the latency
+    /// that a solver's stages pay. Returns a checksum (for
     /// `black_box`), or `Err` if a step fails.
     pub fn bench(&self, part: Part, n: u64, h: f64) -> Result<f64, String> {
         let mut sim = self.clone();
@@ -54,8 +58,14 @@ impl<M: Mechanism> Simulation<M> {
                 for i in 0..n {
                     values.set_time(t0 + (i + 1) as f64 * dt);
                     M::evaluate(std::hint::black_box(&mut values));
-                    sum += values.get(d).unwrap_or(0.0);
+                    // Chained as a solver's stages are: the next evaluation's states wait
+                    // for this one's derivatives (an explicit Euler walk over the span).
+                    for (&s, &d) in M::STATES.iter().zip(M::DERIVATIVES) {
+                        let x = values.get(s).unwrap_or(0.0) + dt * values.get(d).unwrap_or(0.0);
+                        values.set(s, x);
+                    }
                 }
+                sum += values.get(d).unwrap_or(0.0);
             }
             Part::Rhs | Part::Integrate => {
                 let mut y = M::State::ZERO;
@@ -83,8 +93,13 @@ impl<M: Mechanism> Simulation<M> {
                             std::hint::black_box(y.as_slice()),
                             dydt.as_mut_slice(),
                         );
-                        sum += dydt.as_slice().first().copied().unwrap_or(0.0);
+                        // The same Euler walk as `Part::Evaluate`'s, so the difference of
+                        // the two is what the callback adds.
+                        for (y, &f) in y.as_mut_slice().iter_mut().zip(dydt.as_slice()) {
+                            *y += dt * f;
+                        }
                     }
+                    sum = y.as_slice().first().copied().unwrap_or(0.0);
                 } else {
                     let mut t = t0;
                     for _ in 0..n {

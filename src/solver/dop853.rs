@@ -15,7 +15,7 @@
 
 use super::controller::Control;
 use super::norm::ratio_sq;
-use super::runge_kutta::{all_finite, combine, Method, RungeKutta};
+use super::runge_kutta::{combine, evaluate, Method, RungeKutta};
 use super::{OdeSystem, StateVector, Tolerance};
 
 // Nodes c_i (stage i is evaluated at t + c_i h).
@@ -117,6 +117,9 @@ pub struct Dp853<V: StateVector> {
     k: [V; 13],
     y_stage: V,
     y_new: V,
+    /// The 3rd-order embedded solution's error norm of the last attempt (`‖y8 − y3‖`
+    /// scaled like the error test): what a lower-order method would have had to meet.
+    err3: f64,
 }
 
 impl<V: StateVector> Default for Dp853<V> {
@@ -125,6 +128,7 @@ impl<V: StateVector> Default for Dp853<V> {
             k: [V::ZERO; 13],
             y_stage: V::ZERO,
             y_new: V::ZERO,
+            err3: f64::NAN,
         }
     }
 }
@@ -141,13 +145,11 @@ impl<V: StateVector> Dp853<V> {
         y: &V,
         evals: &mut u64,
     ) -> bool {
-        let Dp853 { k, y_stage, y_new } = self;
+        let Dp853 {
+            k, y_stage, y_new, ..
+        } = self;
         let [k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13] = k;
-        let mut eval = |tt: f64, arg: &V, k: &mut V| -> bool {
-            sys.rhs(tt, arg.as_slice(), k.as_mut_slice());
-            *evals += 1;
-            all_finite(k)
-        };
+        let mut eval = |tt: f64, arg: &V, k: &mut V| evaluate(sys, evals, tt, arg, k);
         combine(y_stage, y, h, [(A21, &*k1)])
             && eval(t + C2 * h, y_stage, k2)
             && combine(y_stage, y, h, [(A31, &*k1), (A32, &*k2)])
@@ -262,7 +264,7 @@ impl<V: StateVector> Dp853<V> {
     /// RMS sums of the 5th- and 3rd-order differences scaled by
     /// `atol + rtol·max(|y|, |y_new|)`.
     #[inline(always)]
-    fn error_norm(&self, h: f64, y: &V, tol: Tolerance) -> f64 {
+    fn error_norm(&mut self, h: f64, y: &V, tol: Tolerance) -> f64 {
         let k = |i: usize| self.k[i].as_slice();
         let (y, y_new) = (y.as_slice(), self.y_new.as_slice());
         let (mut e5, mut e3) = (0.0, 0.0);
@@ -288,11 +290,19 @@ impl<V: StateVector> Dp853<V> {
             e3 += ratio_sq(err3, scale);
             e5 += ratio_sq(err5, scale);
         }
+        self.err3 = h.abs() * (e3 / V::DIM as f64).sqrt();
         let mut deno = e5 + 0.01 * e3;
         if deno <= 0.0 {
             deno = 1.0;
         }
         h.abs() * e5 / (V::DIM as f64 * deno).sqrt()
+    }
+}
+
+impl<V: StateVector> Dp853<V> {
+    /// The 3rd-order error norm of the last attempted step (NaN before any).
+    pub(crate) fn err3(&self) -> f64 {
+        self.err3
     }
 }
 

@@ -6,7 +6,7 @@
 
 use super::controller::Control;
 use super::norm::error_norm;
-use super::runge_kutta::{all_finite, combine, Method, RungeKutta};
+use super::runge_kutta::{all_finite, combine, evaluate, Method, RungeKutta};
 use super::{OdeSystem, StateVector, Tolerance};
 
 // Nodes c_i.
@@ -110,11 +110,7 @@ impl<V: StateVector> Dp5<V> {
             y_new,
             err,
         } = self;
-        let mut eval = |tt: f64, arg: &V, k: &mut V| -> bool {
-            sys.rhs(tt, arg.as_slice(), k.as_mut_slice());
-            *evals += 1;
-            all_finite(k)
-        };
+        let mut eval = |tt: f64, arg: &V, k: &mut V| evaluate(sys, evals, tt, arg, k);
 
         combine(y_stage, y, h, [(A21, &*k1)])
             && eval(t + C2 * h, y_stage, k2)

@@ -28,6 +28,8 @@ pub use dop853::{Dop853, Dp853};
 pub use dopri5::{Dopri5, Dp5};
 pub use runge_kutta::{Method, RungeKutta};
 
+use controller::{Controller, ERR_PREV_FLOOR};
+
 use std::fmt;
 
 /// The state of a system whose dimension is fixed at compile time: `[f64; N]`.
@@ -56,15 +58,19 @@ impl<const N: usize> StateVector for [f64; N] {
     }
 }
 
-/// Relative tolerances below this are integrated with the 8th-order method
-/// ([`Dop853`]); from it up with the 5th-order one ([`Dopri5`]). Where one step per
-/// communication interval is enough, Dopri5's 6 evaluations beat Dop853's 12; below this,
-/// Dopri5 needs so many more steps that Dop853 is cheaper (measured on the Oscillator's
-/// work–precision run, see `mechfmu bench`).
-pub const HIGH_ORDER_BELOW: f64 = 1e-8;
-
-/// The integrator of an FMU: the method is chosen by the relative tolerance (see
-/// [`HIGH_ORDER_BELOW`]). Both share one [`SolverMemory`], so a snapshot restores either.
+/// The integrator of an FMU: Dormand–Prince 5(4) ([`Dopri5`]) or 8(5,3) ([`Dop853`]),
+/// chosen per communication interval by what the interval costs.
+///
+/// While one Dopri5 step reaches the end of the interval (its proposed step covers it),
+/// Dopri5 runs: 6 evaluations, and no method can do it in fewer steps. When Dopri5 would
+/// need two steps or more (12 evaluations or more), one Dop853 step costs the same and is
+/// far more accurate, and Dop853's larger steps make it cheaper still on long intervals, so
+/// Dop853 runs. It hands back to Dopri5 once a single Dop853 step covered the interval and
+/// its 3rd-order embedded error, a conservative stand-in for Dopri5's 4th-order one, makes
+/// Dopri5's controller propose a step that covers the interval too.
+///
+/// Which method runs is part of the [`SolverMemory`], so a restored snapshot continues
+/// bit for bit.
 #[derive(Clone, Debug)]
 pub struct Solver<V: StateVector> {
     dopri5: Dopri5<V>,
@@ -87,12 +93,17 @@ impl<V: StateVector> Solver<V> {
         }
     }
 
-    /// Whether `tol` is integrated with the 8th-order method.
-    pub fn high_order(tol: Tolerance) -> bool {
-        tol.rtol < HIGH_ORDER_BELOW
+    /// Whether the next call over an interval of length `interval` runs the 8th-order
+    /// method.
+    pub fn high_order(&self, interval: f64) -> bool {
+        self.mem.high_order
+            || self
+                .mem
+                .h_next
+                .is_some_and(|h| !runge_kutta::reaches(h, interval))
     }
 
-    /// [`RungeKutta::integrate`] with the method `tol` calls for.
+    /// [`RungeKutta::integrate`] with the method the interval calls for.
     pub fn integrate<S: OdeSystem + ?Sized>(
         &mut self,
         sys: &mut S,
@@ -101,17 +112,42 @@ impl<V: StateVector> Solver<V> {
         y: &mut V,
         tol: Tolerance,
     ) -> Result<StepStats, SolverError> {
-        if Self::high_order(tol) {
-            self.dop853.restore(self.mem);
-            let r = self.dop853.integrate(sys, t, t_end, y, tol);
-            self.mem = self.dop853.memory();
-            r
-        } else {
+        let interval = t_end - *t;
+        if !self.high_order(interval) {
             self.dopri5.restore(self.mem);
             let r = self.dopri5.integrate(sys, t, t_end, y, tol);
             self.mem = self.dopri5.memory();
-            r
+            return r;
         }
+        self.dop853.restore(SolverMemory {
+            high_order: true,
+            ..self.mem
+        });
+        let r = self.dop853.integrate(sys, t, t_end, y, tol);
+        self.mem = self.dop853.memory();
+        if matches!(
+            r,
+            Ok(StepStats {
+                accepted: 1,
+                rejected: 0,
+                ..
+            })
+        ) {
+            // One step covered the interval: would one Dopri5 step have done as well?
+            let mut controller = Controller::new(Dp5::<V>::CONTROL, ERR_PREV_FLOOR);
+            let err = self.dop853.method.err3();
+            if err <= 1.0 {
+                let h = controller.after_accept(interval, err);
+                if runge_kutta::reaches(h, interval) {
+                    self.mem = SolverMemory {
+                        h_next: Some(h),
+                        err_prev: controller.err_prev(),
+                        high_order: false,
+                    };
+                }
+            }
+        }
+        r
     }
 
     pub fn memory(&self) -> SolverMemory {
@@ -184,6 +220,9 @@ pub struct SolverMemory {
     /// Error norm of the last accepted step, floored at 1e-4 (Hairer's `FACOLD`); it
     /// damps the controller (the "I" of PI). 1e-4 for a fresh solver.
     pub err_prev: f64,
+    /// Whether the 8th-order method is running (see [`Solver`]); `h_next` and `err_prev`
+    /// are its controller's. False for a fresh solver.
+    pub high_order: bool,
 }
 
 impl SolverMemory {
@@ -191,6 +230,7 @@ impl SolverMemory {
     pub const FRESH: SolverMemory = SolverMemory {
         h_next: None,
         err_prev: controller::ERR_PREV_FLOOR,
+        high_order: false,
     };
 }
 

@@ -18,8 +18,20 @@ fn h_min(t: f64) -> f64 {
     16.0 * f64::EPSILON * t.abs().max(1.0)
 }
 
-/// `out = y + h·Σ a_j k_j`, summed in the given order; false if any entry is non-finite.
-/// The dimension is a constant of `V`, so the loops unroll and need no bounds checks.
+/// Whether a step of size `h` ends the `remaining` interval (a leftover below
+/// `STRETCH·h` is absorbed by stretching the step).
+#[inline(always)]
+pub(crate) fn reaches(h: f64, remaining: f64) -> bool {
+    remaining <= h * (1.0 + STRETCH)
+}
+
+/// `out = y + h·Σ a_j k_j`; false if any entry is non-finite. The dimension is a
+/// constant of `V`, so the loops unroll and need no bounds checks.
+///
+/// The order of the sum is chosen for latency: each stage waits only for the newest
+/// derivative, the last term, so everything before it (`y` plus the earlier terms) is
+/// summed while the model is still evaluating, and the newest derivative then costs one
+/// multiplication and one addition. `h·a_j` is formed first (per step, not per entry).
 #[inline(always)]
 pub(crate) fn combine<V: StateVector, const K: usize>(
     out: &mut V,
@@ -28,16 +40,33 @@ pub(crate) fn combine<V: StateVector, const K: usize>(
     terms: [(f64, &V); K],
 ) -> bool {
     let (out, y) = (out.as_mut_slice(), y.as_slice());
+    let weights = terms.map(|(a, _)| h * a);
     let mut finite = true;
     for i in 0..V::DIM {
-        let mut acc = 0.0;
-        for &(a, k) in &terms {
-            acc += a * k.as_slice()[i];
+        let mut earlier = 0.0;
+        for j in 0..K - 1 {
+            earlier += weights[j] * terms[j].1.as_slice()[i];
         }
-        out[i] = y[i] + h * acc;
+        out[i] = (y[i] + earlier) + weights[K - 1] * terms[K - 1].1.as_slice()[i];
         finite &= out[i].is_finite();
     }
     finite
+}
+
+/// `k = f(t, arg)`, counted; false if any entry of `k` is non-finite. A function rather
+/// than a closure in each method's stages so that it is always inlined: the model's
+/// evaluation then sits in the stage sequence and its results stay in registers.
+#[inline(always)]
+pub(crate) fn evaluate<V: StateVector, S: OdeSystem + ?Sized>(
+    sys: &mut S,
+    evals: &mut u64,
+    t: f64,
+    arg: &V,
+    k: &mut V,
+) -> bool {
+    sys.rhs(t, arg.as_slice(), k.as_mut_slice());
+    *evals += 1;
+    all_finite(k)
 }
 
 /// Whether every entry is finite (without stopping early: no branch per entry).
@@ -231,7 +260,7 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
             // that short.
             h = h.max(h_min(*t));
             let remaining = t_end - *t;
-            let last = remaining <= h * (1.0 + STRETCH);
+            let last = reaches(h, remaining);
             let h_step = if last { remaining } else { h };
             let t_new = if last { t_end } else { *t + h_step };
 
@@ -274,6 +303,7 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
                 self.mem = SolverMemory {
                     h_next: Some(h_new),
                     err_prev: controller.err_prev(),
+                    ..self.mem
                 };
                 if last {
                     return Ok(());

@@ -391,6 +391,7 @@ fn tiny_leftover_is_absorbed_not_micro_stepped() {
         solver.restore(SolverMemory {
             h_next: Some(h),
             err_prev: 1e-4,
+            high_order: false,
         });
         let (mut t, mut y) = (1.0, Oscillator::exact(1.0));
         let st = solver
@@ -835,40 +836,128 @@ fn dop853_needs_fewer_evaluations_than_dopri5_at_tight_tolerances() {
     }
 }
 
-#[test]
-fn solver_picks_the_method_by_tolerance_and_shares_its_memory() {
-    assert!(Solver::<[f64; 1]>::high_order(tol(1e-9)));
-    assert!(!Solver::<[f64; 1]>::high_order(tol(HIGH_ORDER_BELOW)));
-    for tl in [1e-6, 1e-10] {
-        // The wrapper gives exactly what the chosen method gives, step by step.
-        let mut a = Solver::new();
-        let (mut ta, mut ya) = (0.0, [1.0]);
-        let (mut tb, mut yb) = (0.0, [1.0]);
-        let mut b5 = Dopri5::new();
-        let mut b8 = Dop853::new();
-        for k in 1..=50 {
-            let t_end = f64::from(k) * 0.1;
-            a.integrate(&mut Decay, &mut ta, t_end, &mut ya, tol(tl))
-                .unwrap();
-            if tl < HIGH_ORDER_BELOW {
-                b8.integrate(&mut Decay, &mut tb, t_end, &mut yb, tol(tl))
-                    .unwrap();
-            } else {
-                b5.integrate(&mut Decay, &mut tb, t_end, &mut yb, tol(tl))
-                    .unwrap();
-            }
-            assert_eq!((ta, ya), (tb, yb));
-        }
-        // Restoring the memory continues bit for bit.
-        let saved = a.memory();
-        let (t0, y0) = (ta, ya);
-        a.integrate(&mut Decay, &mut ta, 6.0, &mut ya, tol(tl))
+/// `n` communication intervals of `h` on the unit oscillator through `solver`: the
+/// evaluations, the largest error at the communication points, and after each interval
+/// whether the solver is on its 8th-order method.
+fn communicate(
+    solver: &mut Solver<[f64; 2]>,
+    (t, y): (&mut f64, &mut [f64; 2]),
+    h: f64,
+    n: usize,
+    tl: f64,
+) -> (u64, f64, Vec<bool>) {
+    let (mut evals, mut err, mut high) = (0, 0.0f64, Vec::new());
+    let t0 = *t;
+    for k in 1..=n {
+        let t_end = t0 + k as f64 * h;
+        let st = solver
+            .integrate(&mut Oscillator::default(), t, t_end, y, tol(tl))
             .unwrap();
+        assert_eq!(*t, t_end);
+        evals += st.rhs_evals;
+        let ex = Oscillator::exact(*t);
+        err = err.max((y[0] - ex[0]).abs().max((y[1] - ex[1]).abs()));
+        high.push(solver.memory().high_order);
+    }
+    (evals, err, high)
+}
+
+#[test]
+fn solver_is_dopri5_while_one_step_covers_each_interval() {
+    // Short intervals: after the start-up interval every one is a single Dopri5 step, and
+    // the solver gives exactly what Dopri5 alone gives.
+    let mut a = Solver::new();
+    let mut b = Dopri5::new();
+    let (mut ta, mut ya) = (0.0, [1.0, 0.0]);
+    let (mut tb, mut yb) = (0.0, [1.0, 0.0]);
+    for k in 1..=300 {
+        let t_end = f64::from(k) * 0.01;
+        a.integrate(
+            &mut Oscillator::default(),
+            &mut ta,
+            t_end,
+            &mut ya,
+            tol(1e-6),
+        )
+        .unwrap();
+        b.integrate(
+            &mut Oscillator::default(),
+            &mut tb,
+            t_end,
+            &mut yb,
+            tol(1e-6),
+        )
+        .unwrap();
+        assert_eq!((ta, ya), (tb, yb), "interval {k}");
+        assert!(!a.memory().high_order, "interval {k}");
+        assert_eq!(a.memory(), b.memory());
+    }
+}
+
+#[test]
+fn solver_takes_dop853_where_dopri5_needs_several_steps() {
+    for tl in [1e-6, 1e-8, 1e-10] {
+        // Intervals of 1 s: several Dopri5 steps each.
+        let mut a = Solver::new();
+        let (evals, err, high) = communicate(&mut a, (&mut 0.0, &mut [1.0, 0.0]), 1.0, 20, tl);
+        assert!(high[1..].iter().all(|&h| h), "tol {tl:e}: {high:?}");
+        let mut b = Dopri5::new();
+        let (mut t, mut y, mut evals5) = (0.0, [1.0, 0.0], 0);
+        for k in 1..=20 {
+            let st = b
+                .integrate(
+                    &mut Oscillator::default(),
+                    &mut t,
+                    f64::from(k),
+                    &mut y,
+                    tol(tl),
+                )
+                .unwrap();
+            evals5 += st.rhs_evals;
+        }
+        let ex = Oscillator::exact(20.0);
+        let err5 = (y[0] - ex[0]).abs().max((y[1] - ex[1]).abs());
+        println!(
+            "tol {tl:e}: solver {evals} evaluations (error {err:e}), Dopri5 {evals5} ({err5:e})"
+        );
+        assert!(evals < evals5, "tol {tl:e}: {evals} vs {evals5}");
+        assert!(err <= 50.0 * tl, "tol {tl:e}: error {err:e}");
+    }
+}
+
+#[test]
+fn solver_hands_back_to_dopri5_when_the_intervals_shorten() {
+    let mut a = Solver::new();
+    let (mut t, mut y) = (0.0, [1.0, 0.0]);
+    let (_, _, high) = communicate(&mut a, (&mut t, &mut y), 0.5, 10, 1e-6);
+    assert!(high[9], "long intervals: {high:?}");
+    let (evals, err, high) = communicate(&mut a, (&mut t, &mut y), 0.01, 50, 1e-6);
+    let back = high.iter().position(|&h| !h).expect("never handed back");
+    assert!(back < 3, "{high:?}");
+    assert!(high[back..].iter().all(|&h| !h), "{high:?}");
+    // Every call evaluates its first stage afresh (this system has no cache, unlike an
+    // FMU's): 1 + 6 per Dopri5 interval, 1 + 12 per Dop853 one.
+    assert!(
+        evals <= 7 * 50 + 6 * (back as u64 + 1),
+        "{evals} evaluations, {high:?}"
+    );
+    assert!(err <= 50.0 * 1e-6, "error {err:e}");
+}
+
+#[test]
+fn solver_memory_restores_bit_for_bit_on_either_method() {
+    for (h, high_order) in [(0.01, false), (1.0, true)] {
+        let mut a = Solver::new();
+        let (mut ta, mut ya) = (0.0, [1.0, 0.0]);
+        communicate(&mut a, (&mut ta, &mut ya), h, 10, 1e-8);
+        let saved = a.memory();
+        assert_eq!(saved.high_order, high_order);
+        let (t0, y0) = (ta, ya);
+        let ra = communicate(&mut a, (&mut ta, &mut ya), h, 5, 1e-8);
         let mut c = Solver::new();
         c.restore(saved);
         let (mut tc, mut yc) = (t0, y0);
-        c.integrate(&mut Decay, &mut tc, 6.0, &mut yc, tol(tl))
-            .unwrap();
-        assert_eq!((ta, ya, a.memory()), (tc, yc, c.memory()));
+        let rc = communicate(&mut c, (&mut tc, &mut yc), h, 5, 1e-8);
+        assert_eq!((ta, ya, a.memory(), ra), (tc, yc, c.memory(), rc));
     }
 }
