@@ -261,8 +261,16 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
             h = h.max(h_min(*t));
             let remaining = t_end - *t;
             let last = reaches(h, remaining);
-            let h_step = if last { remaining } else { h };
-            let t_new = if last { t_end } else { *t + h_step };
+            // A branch, not a select: the last step's size is the interval's remainder,
+            // known at once, so its stages need not wait for the controller's arithmetic
+            // (error norm, log2, exp2) that produced `h`. As a select (what the compiler
+            // makes of a plain `if` here) every step waited ~100 cycles for it. The opaque
+            // `black_box` cannot be computed speculatively, which keeps the branch.
+            let (h_step, t_new) = if last {
+                (std::hint::black_box(remaining), t_end)
+            } else {
+                (h, *t + h)
+            };
 
             let err = (self.method).attempt(sys, *t, h_step, t_new, y, tol, &mut self.evals);
 
