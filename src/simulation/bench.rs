@@ -9,7 +9,8 @@ use crate::solver::{OdeSystem, StateVector};
 /// What [`Simulation::bench`] repeats.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Part {
-    /// `Mechanism::evaluate` alone: the right-hand side's own work.
+    /// `Mechanism::evaluate` alone: the right-hand side's own work (without
+    /// `Mechanism::outputs`, which runs once per communication point, not per stage).
     Evaluate,
     /// The solver's callback: load the state into the values, evaluate, read the
     /// derivatives (the evaluation plus the copying around it).
