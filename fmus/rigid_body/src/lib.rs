@@ -365,6 +365,23 @@ impl Mechanism for RigidBody {
         let drift = q.norm_squared() - S::one();
         let q_dot = q * Quaternion::from_imag(w) * lit::<S>(0.5) - q * (v.k_q * drift);
         (v.q_w_dot, v.q_x_dot, v.q_y_dot, v.q_z_dot) = (q_dot.w, q_dot.i, q_dot.j, q_dot.k);
+    }
+
+    /// What no derivative needs, computed only where the values are seen: the angular
+    /// momentum and the position of `C` in ground axes, the energies.
+    fn outputs<S: Scalar>(v: &mut RigidBodyValues<S>) {
+        let w = Vector3::new(v.w_x, v.w_y, v.w_z);
+        let q = Quaternion::new(v.q_w, v.q_x, v.q_y, v.q_z);
+        let r_c = Vector3::new(v.r_Cx, v.r_Cy, v.r_Cz);
+        #[rustfmt::skip]
+        let i_b = Matrix3::new(
+            v.I_Bxx, v.I_Bxy, v.I_Bxz,
+            v.I_Bxy, v.I_Byy, v.I_Byz,
+            v.I_Bxz, v.I_Byz, v.I_Bzz,
+        );
+        // R (body → ground) of q/|q| and I_B ω, as in `evaluate`.
+        let rotation = UnitQuaternion::new_normalize(q);
+        let h_body = i_b * w;
 
         // Angular momentum about B in ground axes, H = R I_B ω; energies.
         let h = rotation * h_body;
