@@ -5,7 +5,7 @@
 
 use crate::fmi2::ffi::*;
 use crate::harness::Harness;
-use crate::model::{Causality, Layout, Mechanism, ValueSet, Variability};
+use crate::model::{evaluate_all, Causality, Layout, Mechanism, ValueSet, Variability};
 
 /// Runs every check; panics with a message naming the first that fails.
 pub fn check<M: Mechanism>() {
@@ -209,7 +209,7 @@ pub fn directional_derivatives_match_finite_differences<M: Mechanism>() {
         let evaluate = |known: usize, dx: f64| {
             let mut p = point.clone();
             p.set(known, values[known] + dx);
-            M::evaluate(&mut p);
+            evaluate_all::<M, f64>(&mut p);
             unknowns
                 .iter()
                 .map(|&u| p.get(u).unwrap_or(f64::NAN))

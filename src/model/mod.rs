@@ -103,13 +103,34 @@ pub trait Mechanism: Declaration {
         Ok(())
     }
 
-    /// Computes every state derivative and every output from the states, inputs,
-    /// parameters, calculated parameters and time.
+    /// Computes every state derivative from the states, inputs, parameters, calculated
+    /// parameters and time, and every output that is not left to [`Mechanism::outputs`]
+    /// (outputs that a derivative or [`Mechanism::monitor`] needs, or that come for free).
     ///
     /// It must be a function of those alone (not of the outputs it wrote last time) and
     /// write only derivatives and outputs: the runtime reuses an evaluation at the same
     /// point instead of repeating it (the solver's last stage is the next step's first).
+    /// It runs at every stage of the solver (6 or 12 times per solver step): keep here only
+    /// what the derivatives (and the monitor) need.
     fn evaluate<S: Scalar>(values: &mut Self::Values<S>);
+
+    /// Computes the outputs that no derivative depends on (e.g. energies, momenta, positions
+    /// in ground axes), from the states, inputs, parameters, calculated parameters, time and
+    /// whatever [`Mechanism::evaluate`] wrote at the same point. The default computes
+    /// nothing: then `evaluate` computes everything.
+    ///
+    /// The runtime calls it right after `evaluate` wherever the values become visible
+    /// (communication points, `fmi2GetReal` after a `fmi2SetReal`, initialization, a
+    /// restored or rolled-back state, directional and output derivatives, the dependency
+    /// detection of the modelDescription), never at the solver's stages. So:
+    /// * it must write only outputs (or local variables) that `evaluate` does not read and
+    ///   that no derivative and no [`Mechanism::monitor`] reads;
+    /// * like `evaluate`, it must be a function of the point alone, generic over the scalar
+    ///   (it also runs on dual numbers, for exact derivatives of these outputs).
+    ///
+    /// Moving an output here changes neither its value (the same operations on the same
+    /// numbers) nor the modelDescription; it only stops it being computed at every stage.
+    fn outputs<S: Scalar>(_values: &mut Self::Values<S>) {}
 
     /// Whether [`Mechanism::project`] does anything (saves an evaluation per step).
     const PROJECTED: bool = false;
@@ -122,10 +143,20 @@ pub trait Mechanism: Declaration {
     /// Whether [`Mechanism::monitor`] has anything to say (saves evaluating it).
     const MONITORED: bool = false;
 
-    /// Checks the model's validity at every accepted solver step (values evaluated there).
+    /// Checks the model's validity at every accepted solver step (values evaluated there by
+    /// [`Mechanism::evaluate`] alone: it must not read what [`Mechanism::outputs`] writes).
     fn monitor(_values: &Self::Values<f64>) -> Monitor {
         Monitor::Valid
     }
+}
+
+/// A complete evaluation at the point the values hold: [`Mechanism::evaluate`] (the
+/// derivatives) then [`Mechanism::outputs`] (the outputs no derivative needs). The one
+/// place that knows the order; the solver's stages call `evaluate` alone.
+#[inline]
+pub fn evaluate_all<M: Mechanism, S: Scalar>(values: &mut M::Values<S>) {
+    M::evaluate(values);
+    M::outputs(values);
 }
 
 /// Declares a mechanism's variables: a unit struct implementing [`Declaration`] and a

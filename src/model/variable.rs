@@ -166,7 +166,8 @@ impl Variable {
         v
     }
 
-    /// A continuous output computed by [`Mechanism::evaluate`].
+    /// A continuous output computed by [`Mechanism::evaluate`] (or, when no derivative
+    /// needs it, by [`Mechanism::outputs`]).
     pub const fn output(unit: &'static str) -> Self {
         Self::base(
             Causality::Output,

@@ -10,7 +10,8 @@ use crate::solver::{OdeSystem, StateVector};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Part {
     /// `Mechanism::evaluate` alone: the right-hand side's own work, each evaluation
-    /// waiting for the previous one's derivatives as a solver's stages do.
+    /// waiting for the previous one's derivatives as a solver's stages do (without
+    /// `Mechanism::outputs`, which runs once per communication point, not per stage).
     Evaluate,
     /// The solver's callback: load the state into the values, evaluate, read the
     /// derivatives (the evaluation plus the copying around it), chained the same way.

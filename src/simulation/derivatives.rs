@@ -2,7 +2,7 @@
 //! run once on dual numbers, seeded along the requested direction.
 
 use super::{variable, Simulation};
-use crate::model::{Causality, Mechanism, ValueSet, Variability};
+use crate::model::{evaluate_all, Causality, Mechanism, ValueSet, Variability};
 use num_dual::Dual64;
 
 impl<M: Mechanism> Simulation<M> {
@@ -39,7 +39,7 @@ impl<M: Mechanism> Simulation<M> {
             let x = dual.get(vr as usize).unwrap_or(Dual64::from_re(0.0));
             dual.set(vr as usize, Dual64::new(x.re, x.eps + dv));
         }
-        M::evaluate(&mut dual);
+        evaluate_all::<M, Dual64>(&mut dual);
         for (&vr, out) in unknowns.iter().zip(dv_unknown.iter_mut()) {
             *out = dual.get(vr as usize).map_or(f64::NAN, |d| d.eps);
         }
@@ -83,7 +83,7 @@ impl<M: Mechanism> Simulation<M> {
                 Dual64::new(self.inputs[i], self.input_derivatives[i][0]),
             );
         }
-        M::evaluate(&mut dual);
+        evaluate_all::<M, Dual64>(&mut dual);
         for (&vr, o) in vrs.iter().zip(out.iter_mut()) {
             *o = dual.get(vr as usize).map_or(f64::NAN, |d| d.eps);
         }

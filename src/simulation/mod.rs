@@ -3,10 +3,12 @@
 
 mod bench;
 mod derivatives;
+#[cfg(test)]
+mod tests;
 
 pub use bench::Part;
 
-use crate::model::{Layout, Mechanism, Monitor, SetPhase, ValueSet, Variable};
+use crate::model::{evaluate_all, Layout, Mechanism, Monitor, SetPhase, ValueSet, Variable};
 use crate::solver::{
     OdeSystem, Solver, SolverError, SolverMemory, StateVector, StepStats, Tolerance,
 };
@@ -54,7 +56,9 @@ pub struct Counters {
     pub accepted: u64,
     /// Solver steps rejected (error too large, or NaN/inf).
     pub rejected: u64,
-    /// Evaluations of the model equations on `f64` (right-hand side, outputs, monitor).
+    /// Evaluations of the model equations on `f64` (`Mechanism::evaluate`: right-hand
+    /// side, outputs, monitor). The derivative-free outputs computed once per communication
+    /// point (`Mechanism::outputs`) are not counted.
     pub evaluations: u64,
 }
 
@@ -329,12 +333,12 @@ impl<M: Mechanism> Simulation<M> {
         Ok(())
     }
 
-    /// Derivatives and outputs at the current time, states and (held) inputs.
+    /// Derivatives and all outputs at the current time, states and (held) inputs.
     fn evaluate_at_point(&mut self) {
         for (i, &vr) in self.layout.inputs.iter().enumerate() {
             self.values.set(vr, self.inputs[i]);
         }
-        M::evaluate(&mut self.values);
+        evaluate_all::<M, f64>(&mut self.values);
         self.counters.evaluations += 1;
     }
 
@@ -487,12 +491,15 @@ impl<M: Mechanism> Simulation<M> {
             self.solver
                 .integrate(&mut system, &mut time, t_end, &mut self.y, self.tolerance);
         // Whatever happened, the values describe the last accepted point (after a successful
-        // step they already do: the solver's last stage was evaluated there).
+        // step they already do: the solver's last stage was evaluated there). The stages
+        // computed the derivatives only: the outputs no derivative needs are computed here,
+        // once per communication point, where they become visible.
         system.evaluate_at(time, self.y.as_slice());
         if M::PROJECTED {
             M::project(system.values);
             M::evaluate(system.values);
         }
+        M::outputs(system.values);
         if let Some(name) = self.first_non_finite() {
             self.values = start;
             self.solver.restore(memory);

@@ -4,8 +4,9 @@
 //! A dependency is detected by perturbing one known and watching the unknown change: at the
 //! start values and at two pseudo-random points near them (fixed seed, so the result is
 //! deterministic), each known is moved by 1e-3 relative (1e-3 absolute when it is zero),
-//! [`Mechanism::calculate`] and [`Mechanism::evaluate`] are run again, and every unknown
-//! whose value changed (by more than rounding) depends on that known. The random points
+//! [`Mechanism::calculate`] and the complete evaluation ([`evaluate_all`]: `evaluate`, then
+//! `outputs`) are run again, and every unknown whose value changed (by more than rounding)
+//! depends on that known. The random points
 //! also move the time, the parameters and the states, so that a dependency hidden at the
 //! start point (a term `l sin(phi)` at `phi = 0`, `F0 sin(omega t)` at `t = 0`, a damping
 //! that starts at 0) still shows.
@@ -13,7 +14,7 @@
 use std::collections::BTreeSet;
 
 use super::Capabilities;
-use crate::model::{Causality, Initial, Layout, Mechanism, ValueSet, Variable};
+use crate::model::{evaluate_all, Causality, Initial, Layout, Mechanism, ValueSet, Variable};
 use crate::simulation::start_values;
 
 /// One `<Unknown>`: a variable and the knowns it depends on, as value references (0-based;
@@ -264,7 +265,7 @@ fn dependencies<M: Mechanism>(
     let mut deps = vec![BTreeSet::new(); unknowns.len()];
     for p in points {
         let mut base = p.clone();
-        M::evaluate(&mut base);
+        evaluate_all::<M, f64>(&mut base);
         for &k in knowns {
             let Some(mut q) = perturbed::<M>(p, k) else {
                 deps.iter_mut().for_each(|d| {
@@ -272,7 +273,7 @@ fn dependencies<M: Mechanism>(
                 });
                 continue;
             };
-            M::evaluate(&mut q);
+            evaluate_all::<M, f64>(&mut q);
             for (d, &u) in deps.iter_mut().zip(unknowns) {
                 if changed(base.get(u), q.get(u)) {
                     d.insert(k);

@@ -122,12 +122,10 @@ impl Mechanism for Crane {
     }
 
     fn evaluate<S: Scalar>(v: &mut CraneValues<S>) {
-        let half = lit::<S>(0.5);
         let two = lit::<S>(2.0);
         let s = v.theta - v.phi;
         let (sin_s, cos_s) = (s.sin(), s.cos());
         let (sin_phi, cos_phi) = (v.phi.sin(), v.phi.cos());
-        let (sin_th, cos_th) = (v.theta.sin(), v.theta.cos());
         // The trolley's acceleration in the boom frame: along i_A (radial) and j_A
         // (Coriolis + Euler).
         let a_radial = v.x_ddot - v.theta_dot * v.theta_dot * v.x;
@@ -140,15 +138,23 @@ impl Mechanism for Crane {
         // Massless trolley and boom: the drives carry the cable's pull.
         v.F = v.T * sin_s;
         v.tau = v.x * v.T * cos_s;
+        // The trolley drive's force does work only through the trolley's motion along the
+        // boom (its reaction on the boom acts at a point moving along j_A); the cable does
+        // none (inextensible), so this is the payload's dE/dt.
+        v.P_drives = v.F * v.x_dot + v.tau * v.theta_dot;
+    }
+
+    /// The payload's position and energy: no derivative needs them (`T`, which the monitor
+    /// reads, and `P_drives`, the rate of `W_drives`, stay in `evaluate`).
+    fn outputs<S: Scalar>(v: &mut CraneValues<S>) {
+        let half = lit::<S>(0.5);
+        let (sin_phi, cos_phi) = (v.phi.sin(), v.phi.cos());
+        let (sin_th, cos_th) = (v.theta.sin(), v.theta.cos());
         v.payload_x = v.x * cos_th + v.l * sin_phi;
         v.payload_y = v.x * sin_th - v.l * cos_phi;
         let vel_x = v.x_dot * cos_th - v.x * v.theta_dot * sin_th + v.l * v.phi_dot * cos_phi;
         let vel_y = v.x_dot * sin_th + v.x * v.theta_dot * cos_th + v.l * v.phi_dot * sin_phi;
         v.E_payload = half * v.m * (vel_x * vel_x + vel_y * vel_y) + v.m * v.g * v.payload_y;
-        // The trolley drive's force does work only through the trolley's motion along the
-        // boom (its reaction on the boom acts at a point moving along j_A); the cable does
-        // none (inextensible), so this is the payload's dE/dt.
-        v.P_drives = v.F * v.x_dot + v.tau * v.theta_dot;
     }
 
     const MONITORED: bool = true;

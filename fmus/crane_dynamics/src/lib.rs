@@ -152,7 +152,6 @@ impl Mechanism for CraneDynamics {
     }
 
     fn evaluate<S: Scalar>(v: &mut CraneDynamicsValues<S>) {
-        let half = lit::<S>(0.5);
         let two = lit::<S>(2.0);
         let (m, l, g, x) = (v.m, v.l, v.g, v.x);
         let mu = m + v.m_trolley;
@@ -190,7 +189,24 @@ impl Mechanism for CraneDynamics {
         let a_radial = v.x_ddot - thd * thd * x;
         let a_normal = two * thd * xd + v.theta_ddot * x;
         v.T = m * (a_radial * sin_s + a_normal * cos_s + l * phd * phd + g * cos_phi);
-        // The trolley along j_A: m_trolley (2 ẋ θ̇ + x θ̈) = N - T cos s - m_trolley g cos θ.
+        // The drives' power: the rate of W_drives.
+        v.P_drives = v.F * xd + v.tau * thd;
+    }
+
+    /// What no derivative needs: the boom's normal force on the trolley, the payload's
+    /// position and the energy (`T`, which the monitor reads, stays in `evaluate`).
+    fn outputs<S: Scalar>(v: &mut CraneDynamicsValues<S>) {
+        let half = lit::<S>(0.5);
+        let two = lit::<S>(2.0);
+        let (m, l, g, x) = (v.m, v.l, v.g, v.x);
+        let cos_s = (v.theta - v.phi).cos();
+        let (sin_phi, cos_phi) = (v.phi.sin(), v.phi.cos());
+        let (sin_th, cos_th) = (v.theta.sin(), v.theta.cos());
+        let (xd, thd, phd) = (v.x_dot, v.theta_dot, v.phi_dot);
+
+        // The trolley along j_A: m_trolley (2 ẋ θ̇ + x θ̈) = N - T cos s - m_trolley g cos θ,
+        // with θ̈ and T from `evaluate`.
+        let a_normal = two * thd * xd + v.theta_ddot * x;
         v.N = v.m_trolley * (a_normal + g * cos_th) + v.T * cos_s;
 
         v.payload_x = x * cos_th + l * sin_phi;
@@ -202,7 +218,6 @@ impl Mechanism for CraneDynamics {
             + half * m * (vel_x * vel_x + vel_y * vel_y);
         let potential = v.m_trolley * g * x * sin_th + m * g * v.payload_y;
         v.E = kinetic + potential;
-        v.P_drives = v.F * xd + v.tau * thd;
     }
 
     const MONITORED: bool = true;

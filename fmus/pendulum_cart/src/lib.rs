@@ -143,6 +143,14 @@ impl Mechanism for PendulumCart {
         let det = a11 * a22 - a12 * a12;
         v.x_ddot = (a22 * f_x - a12 * f_theta) / det;
         v.theta_ddot = (a11 * f_theta - a12 * f_x) / det;
+    }
+
+    /// What no derivative needs: the normal force and the energy, from the accelerations
+    /// `evaluate` computed.
+    fn outputs<S: Scalar>(v: &mut PendulumCartValues<S>) {
+        let (sin, cos) = (v.theta.sin(), v.theta.cos());
+        let ml = v.m * v.l;
+        let i_a = lit::<S>(7.0 / 3.0) * ml * v.l;
 
         // Newton's law on the rod, vertically: -F2 - m g = m a_Cy with
         // a_Cy = l (θ̈ sin θ + θ̇² cos θ); on the cart: F_N + F2 - M g = 0 (it does not move

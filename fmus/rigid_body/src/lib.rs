@@ -344,9 +344,16 @@ impl Mechanism for RigidBody {
             v.I_Bxz, v.I_Byz, v.I_Bzz,
         );
 
-        // R (body → ground) of q/|q|; Rᵀ Z is the ground vertical in body axes.
-        let rotation = UnitQuaternion::new_normalize(q);
-        let z_body = rotation.inverse_transform_vector(&Vector3::z());
+        // Rᵀ Z, the ground vertical in body axes, is the third row of R (body → ground) of
+        // q/|q|: R's entries are quadratic in q, so it is that row written in q, over |q|²
+        // (no square root, no rotation of a constant vector at every stage).
+        let two = lit::<S>(2.0);
+        let norm_squared = q.norm_squared();
+        let z_body = Vector3::new(
+            two * (v.q_x * v.q_z - v.q_w * v.q_y),
+            two * (v.q_y * v.q_z + v.q_w * v.q_x),
+            v.q_w * v.q_w - v.q_x * v.q_x - v.q_y * v.q_y + v.q_z * v.q_z,
+        ) / norm_squared;
         let weight = z_body * -(v.M * v.g);
 
         // Euler's equations about the fixed pivot, body axes:
@@ -362,9 +369,26 @@ impl Mechanism for RigidBody {
 
         // q̇ = ½ q ⊗ (0, ω) - k_q (|q|² - 1) q: the second term only changes |q| (see the
         // module documentation).
-        let drift = q.norm_squared() - S::one();
+        let drift = norm_squared - S::one();
         let q_dot = q * Quaternion::from_imag(w) * lit::<S>(0.5) - q * (v.k_q * drift);
         (v.q_w_dot, v.q_x_dot, v.q_y_dot, v.q_z_dot) = (q_dot.w, q_dot.i, q_dot.j, q_dot.k);
+    }
+
+    /// What no derivative needs, computed only where the values are seen: the angular
+    /// momentum and the position of `C` in ground axes, the energies.
+    fn outputs<S: Scalar>(v: &mut RigidBodyValues<S>) {
+        let w = Vector3::new(v.w_x, v.w_y, v.w_z);
+        let q = Quaternion::new(v.q_w, v.q_x, v.q_y, v.q_z);
+        let r_c = Vector3::new(v.r_Cx, v.r_Cy, v.r_Cz);
+        #[rustfmt::skip]
+        let i_b = Matrix3::new(
+            v.I_Bxx, v.I_Bxy, v.I_Bxz,
+            v.I_Bxy, v.I_Byy, v.I_Byz,
+            v.I_Bxz, v.I_Byz, v.I_Bzz,
+        );
+        // R (body → ground) of q/|q| and I_B ω, as in `evaluate`.
+        let rotation = UnitQuaternion::new_normalize(q);
+        let h_body = i_b * w;
 
         // Angular momentum about B in ground axes, H = R I_B ω; energies.
         let h = rotation * h_body;

@@ -126,7 +126,10 @@ impl Mechanism for TwoMassOscillator {
         let coupling = v.k3 * (v.x2 - v.x1) + v.c3 * (v.x2_dot - v.x1_dot);
         v.x1_ddot = (v.F1 - v.k1 * v.x1 - v.c1 * v.x1_dot + coupling) / v.m1;
         v.x2_ddot = (v.F2 - v.k2 * v.x2 - v.c2 * v.x2_dot - coupling) / v.m2;
+    }
 
+    /// The energy: no derivative needs it.
+    fn outputs<S: Scalar>(v: &mut TwoMassOscillatorValues<S>) {
         let half = mechfmu::model::lit::<S>(0.5);
         let stretch = v.x1 - v.x2;
         v.E = half

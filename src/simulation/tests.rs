@@ -1,0 +1,232 @@
+//! The split between `Mechanism::evaluate` (every solver stage) and `Mechanism::outputs`
+//! (only where values become visible): every output the importer can read is that of a
+//! complete evaluation at the point, and the stages never pay for the outputs.
+
+use std::cell::Cell;
+
+use super::{Simulation, StepFailure};
+use crate::model::{evaluate_all, Experiment, Layout, Mechanism, Monitor, Scalar, SetPhase};
+use crate::model::{Declaration, ValueSet, Variable};
+
+thread_local! {
+    /// Calls of `Split::evaluate` and `Split::outputs` on `f64` in this test's thread.
+    static EVALUATE: Cell<u64> = const { Cell::new(0) };
+    static OUTPUTS: Cell<u64> = const { Cell::new(0) };
+}
+
+crate::mechanism! {
+    /// A driven, damped mass on a spring whose energy and power are derivative-free outputs.
+    pub struct Split / SplitValues {
+        /// Mass
+        m: Variable::parameter("kg", 2.0).positive(),
+        /// Stiffness
+        k: Variable::tunable("N/m", 30.0).min(0.0),
+        /// Damping
+        c: Variable::parameter("N.s/m", 0.5).min(0.0),
+        /// The monitor stops the model after this time
+        t_stop: Variable::parameter("s", 1e9),
+        /// Applied force
+        F: Variable::input("N", 1.0),
+        /// Position
+        x: Variable::state("m", 0.5, "v"),
+        /// Velocity
+        v: Variable::state("m/s", 0.0, "a"),
+        /// Acceleration
+        a: Variable::output("m/s2"),
+        /// Energy (spring and mass)
+        E: Variable::output("J"),
+        /// Power of the force
+        P: Variable::output("W"),
+    }
+}
+
+impl Mechanism for Split {
+    const EXPERIMENT: Experiment = Experiment {
+        start: 0.0,
+        stop: 10.0,
+        step: 0.01,
+        tolerance: 1e-6,
+    };
+
+    fn evaluate<S: Scalar>(v: &mut SplitValues<S>) {
+        if std::any::TypeId::of::<S>() == std::any::TypeId::of::<f64>() {
+            EVALUATE.with(|n| n.set(n.get() + 1));
+        }
+        v.a = (v.F - v.k * v.x - v.c * v.v) / v.m;
+    }
+
+    fn outputs<S: Scalar>(v: &mut SplitValues<S>) {
+        if std::any::TypeId::of::<S>() == std::any::TypeId::of::<f64>() {
+            OUTPUTS.with(|n| n.set(n.get() + 1));
+        }
+        let half = crate::model::lit::<S>(0.5);
+        v.E = half * v.m * v.v * v.v + half * v.k * v.x * v.x;
+        v.P = v.F * v.v;
+    }
+
+    const MONITORED: bool = true;
+
+    fn monitor(v: &SplitValues<f64>) -> Monitor {
+        if v.time > v.t_stop {
+            Monitor::Invalid("past t_stop".into())
+        } else {
+            Monitor::Valid
+        }
+    }
+}
+
+fn calls() -> (u64, u64) {
+    (EVALUATE.with(Cell::get), OUTPUTS.with(Cell::get))
+}
+
+const F: u32 = 4;
+const K: u32 = 1;
+const T_STOP: u32 = 3;
+
+fn started(params: &[(u32, f64)]) -> Simulation<Split> {
+    let mut sim = Simulation::<Split>::new(Layout::new(Split::VARIABLES).unwrap());
+    sim.setup(None, 0.0).unwrap();
+    for &(vr, x) in params {
+        sim.set_real(&[vr], &[x], SetPhase::Initialization).unwrap();
+    }
+    sim.update().unwrap();
+    sim
+}
+
+/// Every value the importer can read, through `get_real`.
+fn visible(sim: &mut Simulation<Split>) -> Vec<f64> {
+    let vrs: Vec<u32> = (0..Split::VARIABLES.len() as u32).collect();
+    let mut out = vec![0.0; vrs.len()];
+    sim.get_real(&vrs, &mut out).unwrap();
+    out.push(sim.time());
+    out
+}
+
+/// Every value after a complete evaluation from the states, inputs and parameters alone.
+fn complete(sim: &Simulation<Split>) -> Vec<f64> {
+    let mut values = *sim.values();
+    (values.a, values.E, values.P) = (f64::NAN, f64::NAN, f64::NAN);
+    evaluate_all::<Split, f64>(&mut values);
+    (0..Split::VARIABLES.len())
+        .map(|vr| values.get(vr).unwrap())
+        .chain([values.time])
+        .collect()
+}
+
+fn assert_complete(sim: &mut Simulation<Split>, when: &str) {
+    let seen = visible(sim);
+    let expected = complete(sim);
+    assert_eq!(
+        seen.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+        expected.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+        "{when}: {seen:?} != {expected:?}"
+    );
+}
+
+#[test]
+fn outputs_are_those_of_a_complete_evaluation_wherever_they_are_visible() {
+    let mut sim = started(&[]);
+    assert_complete(&mut sim, "after initialization");
+    let h = 0.01;
+    for i in 0..20 {
+        sim.step(i as f64 * h, h).unwrap();
+        assert_complete(&mut sim, "after a step");
+    }
+    // A new input: get_real right after it, and a step from it.
+    sim.set_real(&[F], &[-3.0], SetPhase::Running).unwrap();
+    assert_complete(&mut sim, "after setting an input");
+    sim.step(sim.time(), h).unwrap();
+    assert_complete(&mut sim, "after a step from a new input");
+    // A tunable parameter.
+    sim.set_real(&[K], &[45.0], SetPhase::Running).unwrap();
+    assert_complete(&mut sim, "after setting a parameter");
+    // An input with derivatives: the input moves over the step.
+    sim.set_real(&[F], &[2.0], SetPhase::Running).unwrap();
+    sim.set_input_derivatives(&[F], &[1], &[5.0]).unwrap();
+    sim.step(sim.time(), h).unwrap();
+    assert_complete(&mut sim, "after a step with input derivatives");
+    // A saved state restored after the simulation moved on.
+    let saved = sim.save();
+    let at_save = visible(&mut sim);
+    for _ in 0..5 {
+        sim.step(sim.time(), h).unwrap();
+    }
+    sim.restore(&saved).unwrap();
+    assert_complete(&mut sim, "after restoring a state");
+    assert_eq!(visible(&mut sim), at_save);
+    // A state saved right after setting an input (outputs stale when saved).
+    sim.set_real(&[F], &[7.0], SetPhase::Running).unwrap();
+    let saved = sim.save();
+    sim.step(sim.time(), h).unwrap();
+    sim.restore(&saved).unwrap();
+    assert_complete(&mut sim, "after restoring a state saved with a new input");
+}
+
+#[test]
+fn outputs_are_complete_after_a_discarded_step() {
+    // The monitor stops the model inside the step: the values are those of the last
+    // valid point, outputs included.
+    let mut sim = started(&[(T_STOP, 0.0123)]);
+    sim.step(0.0, 0.01).unwrap();
+    let failure = sim.step(0.01, 0.01).unwrap_err();
+    let StepFailure::Stopped { time, .. } = failure else {
+        panic!("{failure:?}")
+    };
+    assert!((0.01..0.02).contains(&time), "{time}");
+    assert_eq!(sim.time(), time);
+    assert_complete(&mut sim, "after a discarded step");
+}
+
+#[test]
+fn solver_stages_do_not_compute_the_outputs() {
+    let mut sim = started(&[]);
+    let h = 0.01;
+    for i in 0..10 {
+        let (evaluations, outputs) = calls();
+        let before = sim.counters().evaluations;
+        sim.step(i as f64 * h, h).unwrap();
+        let (evaluations_after, outputs_after) = calls();
+        // Several stages, one evaluation of the outputs (at the communication point).
+        assert_eq!(
+            evaluations_after - evaluations,
+            sim.counters().evaluations - before
+        );
+        assert!(evaluations_after - evaluations >= 5, "{evaluations_after}");
+        assert_eq!(outputs_after - outputs, 1);
+    }
+    // Reading values already up to date evaluates nothing.
+    let (e, o) = calls();
+    visible(&mut sim);
+    assert_eq!(calls(), (e, o));
+    // An input changed: one complete evaluation when read.
+    sim.set_real(&[F], &[0.25], SetPhase::Running).unwrap();
+    visible(&mut sim);
+    visible(&mut sim);
+    assert_eq!(calls(), (e + 1, o + 1));
+}
+
+#[test]
+fn derivatives_of_outputs_come_from_outputs() {
+    // d E / d v = m v, d P / d F = v: the dual numbers run through `outputs` too.
+    let mut sim = started(&[]);
+    sim.step(0.0, 0.05).unwrap();
+    let (m, v) = (sim.values().m, sim.values().v);
+    assert!(v != 0.0);
+    let (v_vr, a_vr, e_vr, p_vr) = (6, 7, 8, 9);
+    let mut d = [0.0; 3];
+    sim.directional_derivative(&[a_vr, e_vr, p_vr], &[v_vr], &[1.0], &mut d)
+        .unwrap();
+    assert_eq!(d[1], m * v);
+    let mut d = [0.0; 3];
+    sim.directional_derivative(&[a_vr, e_vr, p_vr], &[F], &[1.0], &mut d)
+        .unwrap();
+    assert_eq!(d, [1.0 / m, 0.0, v]);
+    let mut rate = [0.0];
+    sim.output_derivatives(&[e_vr], &[1], &mut rate).unwrap();
+    let w = *sim.values();
+    let expected = w.m * w.v * w.a + w.k * w.x * w.v;
+    assert!(
+        (rate[0] - expected).abs() <= 1e-12 * expected.abs(),
+        "{rate:?} {expected}"
+    );
+}
