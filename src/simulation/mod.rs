@@ -465,16 +465,12 @@ impl<M: Mechanism> Simulation<M> {
                 "communicationStepSize = {h} is too small to advance from t = {t}"
             )));
         }
-        // The values at t (numbers: checked by `update`), to go back to if the step ends
-        // on values that are not.
-        let (start, memory, warning_active) = (
-            self.values.clone(),
-            self.solver.memory(),
-            self.warning_active,
-        );
         for (y, &vr) in self.y.as_mut_slice().iter_mut().zip(M::STATES) {
             *y = self.values.get(vr).unwrap_or(f64::NAN);
         }
+        // What to go back to if the step ends on values that are not numbers: the states
+        // at t are enough, the rest of the values at t is their evaluation (see `undo`).
+        let (start, memory, warning_active) = (self.y, self.solver.memory(), self.warning_active);
         let mut report = StepReport::default();
         let mut time = t;
         let mut system = System::<M>::new(
@@ -501,7 +497,7 @@ impl<M: Mechanism> Simulation<M> {
         }
         M::outputs(system.values);
         if let Some(name) = self.first_non_finite() {
-            self.values = start;
+            self.undo(t, &start);
             self.solver.restore(memory);
             self.warning_active = warning_active;
             let why = result.err().map(|e| format!(" ({})", describe(&e)));
@@ -537,6 +533,19 @@ impl<M: Mechanism> Simulation<M> {
                 message: describe(&e),
             }),
         }
+    }
+
+    /// Back to the values at the start of a step, from its time and states: they were the
+    /// complete evaluation at that point (`update` leaves them so, and so does every
+    /// step), and an evaluation is a function of the states, inputs (still those at `t`),
+    /// parameters and time, so evaluating again gives them back bit for bit. Cheaper than
+    /// copying all the values at the start of every step for a path taken so rarely.
+    fn undo(&mut self, t: f64, states: &M::State) {
+        self.values.set_time(t);
+        for (&vr, &x) in M::STATES.iter().zip(states.as_slice()) {
+            self.values.set(vr, x);
+        }
+        self.evaluate_at_point();
     }
 
     fn first_non_finite(&self) -> Option<&'static str> {
