@@ -416,6 +416,7 @@ pub enum Part {
     Rhs = 1,
     Step = 2,
     Integrate = 3,
+    Point = 4,
 }
 
 impl Drop for Instance<'_> {

@@ -44,13 +44,17 @@ pub struct StepFigures {
     pub callback_ns: Stat,
     pub integrate_ns: Stat,
     pub sim_step_ns: Stat,
+    /// The model's work at the communication point (`point`: projection and the
+    /// evaluation after it, `outputs`), which `sim_step` includes.
+    pub point_ns: Stat,
 }
 
 /// Where the ns of one `fmi2DoStep` go (differences of medians, so a small part can come
 /// out slightly negative on a noisy machine).
 #[derive(Clone, Copy, Debug)]
 pub struct Split {
-    /// The model's equations (`Mechanism::evaluate`).
+    /// The model's equations: `Mechanism::evaluate` at the stages, and at the
+    /// communication point `project` (with its evaluation) and `outputs`.
     pub rhs: f64,
     /// Copying states in and derivatives out around each evaluation (value-reference
     /// lookups included) and the check that reuses an evaluation.
@@ -80,17 +84,17 @@ impl Split {
 impl StepFigures {
     pub fn split(&self) -> Split {
         Split {
-            rhs: self.evaluate_ns.median,
+            rhs: self.evaluate_ns.median + self.point_ns.median,
             copying: self.callback_ns.median - self.evaluate_ns.median,
             solver: self.integrate_ns.median - self.callback_ns.median,
-            step: self.sim_step_ns.median - self.integrate_ns.median,
+            step: self.sim_step_ns.median - self.integrate_ns.median - self.point_ns.median,
             fmi: self.ns.median - self.sim_step_ns.median,
         }
     }
 
     /// Everything but the model's equations.
     pub fn plumbing_ns(&self) -> f64 {
-        self.ns.median - self.evaluate_ns.median
+        self.ns.median - self.split().rhs
     }
 
     pub fn to_json(&self) -> Value {
@@ -108,6 +112,7 @@ impl StepFigures {
                 "rhs_callback": self.callback_ns.to_json(),
                 "integrate": self.integrate_ns.to_json(),
                 "simulation_step": self.sim_step_ns.to_json(),
+                "point": self.point_ns.to_json(),
             },
             "split_ns_per_step": {
                 "rhs": num(s.rhs),
@@ -116,7 +121,7 @@ impl StepFigures {
                 "step": num(s.step),
                 "fmi": num(s.fmi),
             },
-            "rhs_ns_per_eval": num(s.rhs / self.evals),
+            "rhs_ns_per_eval": num(self.evaluate_ns.median / self.evals),
             "beyond_rhs_ns_per_step": num(s.beyond_rhs()),
             "runtime_plumbing_ns_per_step": num(s.runtime()),
         })
@@ -179,7 +184,7 @@ pub fn step_figures(
     // Warm-up (caches, branch predictors, page faults), and the work per run.
     let (_, work) = step_run(&mut inst, tol, h, n, true)?;
     let parts = binary.has_counters();
-    let mut samples: [Vec<f64>; 5] = Default::default();
+    let mut samples: [Vec<f64>; 6] = Default::default();
     let start = binary.description.start;
     for _ in 0..effort.runs {
         inst.start(tol, start, &[], true)?;
@@ -192,6 +197,7 @@ pub fn step_figures(
                 (2, Part::Rhs, work[3], span),
                 (3, Part::Integrate, n as u64, h),
                 (4, Part::Step, n as u64, h),
+                (5, Part::Point, n as u64, h),
             ] {
                 let t0 = cpu_ns();
                 inst.bench(part, count, h)?;
@@ -220,6 +226,7 @@ pub fn step_figures(
         callback_ns: Stat::of(&samples[2]),
         integrate_ns: Stat::of(&samples[3]),
         sim_step_ns: Stat::of(&samples[4]),
+        point_ns: Stat::of(&samples[5]),
     })
 }
 

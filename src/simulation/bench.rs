@@ -21,6 +21,11 @@ pub enum Part {
     /// The solver alone over communication steps of size `h` (`Dopri5::integrate` on the
     /// model, as `Simulation::step` calls it, without the step's own checks and copying).
     Integrate,
+    /// The model's own work at a communication point, once per step: `Mechanism::project`
+    /// and the evaluation after it (for a mechanism that projects), and
+    /// `Mechanism::outputs`. Model equations, not plumbing, though `Simulation::step` runs
+    /// them.
+    Point,
 }
 
 impl Part {
@@ -30,6 +35,7 @@ impl Part {
             1 => Some(Part::Rhs),
             2 => Some(Part::Step),
             3 => Some(Part::Integrate),
+            4 => Some(Part::Point),
             _ => None,
         }
     }
@@ -112,6 +118,18 @@ impl<M: Mechanism> Simulation<M> {
                     }
                     sum = y.as_slice().first().copied().unwrap_or(0.0);
                 }
+            }
+            Part::Point => {
+                let mut values = sim.values.clone();
+                for i in 0..n {
+                    values.set_time(t0 + (i + 1) as f64 * h);
+                    if M::PROJECTED {
+                        M::project(std::hint::black_box(&mut values));
+                        M::evaluate(&mut values);
+                    }
+                    M::outputs(std::hint::black_box(&mut values));
+                }
+                sum += values.get(d).unwrap_or(0.0);
             }
             Part::Step => {
                 let mut t = t0;

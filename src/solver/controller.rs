@@ -28,6 +28,9 @@ const SAFE: f64 = 0.9;
 /// Floor of the remembered error, so a step with (nearly) zero error cannot make the
 /// next proposal explode through the `err_prev^BETA` denominator.
 pub(crate) const ERR_PREV_FLOOR: f64 = 1e-4;
+/// `log2(ERR_PREV_FLOOR)` (checked by a test): a fresh controller, and every step whose
+/// error is below the floor, need no logarithm.
+const LOG2_ERR_PREV_FLOOR: f64 = -13.287712379549449;
 
 /// `2^x` for the factor: outside [-8, 8] the clamps below decide alone (and `log2 0`
 /// is -inf).
@@ -52,10 +55,16 @@ impl Controller {
         } else {
             ERR_PREV_FLOOR
         };
+        // Without a PI term (beta = 0) the logarithm is never used.
+        let log2_err_prev = if err_prev == ERR_PREV_FLOOR || control.beta == 0.0 {
+            LOG2_ERR_PREV_FLOOR
+        } else {
+            err_prev.log2()
+        };
         Controller {
             control,
             err_prev,
-            log2_err_prev: err_prev.log2(),
+            log2_err_prev,
         }
     }
 
@@ -131,6 +140,11 @@ mod tests {
             Controller::new(DOPRI5, f64::INFINITY).err_prev(),
             ERR_PREV_FLOOR
         );
+    }
+
+    #[test]
+    fn the_floor_logarithm_is_exact() {
+        assert_eq!(LOG2_ERR_PREV_FLOOR, ERR_PREV_FLOOR.log2());
     }
 
     #[test]
