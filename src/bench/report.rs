@@ -6,6 +6,10 @@ use super::Figures;
 use serde_json::{json, Value};
 use std::fmt::Write as _;
 
+/// How far below zero a part of the split may come out from noise alone (differences of
+/// medians on a busy 2-core machine).
+const NOISE_NS: f64 = 10.0;
+
 /// A clean release build of every FMU.
 #[derive(Clone, Debug)]
 pub struct Build {
@@ -83,6 +87,9 @@ impl Report {
     }
 
     /// The targets of issue 9, judged on this run's figures.
+    ///
+    /// Parts of the split below `-NOISE_NS` mean the parts timed alone are not what runs
+    /// inside the step.
     pub fn targets(&self) -> Vec<Target> {
         let mut t = Vec::new();
         for m in &self.mechanisms {
@@ -99,14 +106,32 @@ impl Report {
                 })
             };
             let runtime = worst(&|s| s.runtime());
+            // The split comes from parts timed alone; where one comes out clearly negative
+            // the parts did not run as they do inside the step (code layout, inlining),
+            // and the plumbing cannot be judged from them.
+            let inconsistent = m.steps.iter().map(|s| s.split()).find(|p| {
+                [p.copying, p.solver, p.step, p.fmi]
+                    .iter()
+                    .any(|&x| x < -NOISE_NS)
+            });
             t.push(Target {
                 what: format!(
                     "{}: plumbing per fmi2DoStep (checks, lookup, guards, copying)",
                     m.name
                 ),
                 limit: "≤ 25 ns".into(),
-                value: show(runtime),
-                met: runtime.map(|w| w.0 <= 25.0),
+                value: match inconsistent {
+                    Some(p) => format!(
+                        "not judged: the parts alone do not add up (copy {:.0}, solver {:.0}, step {:.0}, fmi {:.0} ns)",
+                        p.copying, p.solver, p.step, p.fmi
+                    ),
+                    None => show(runtime),
+                },
+                met: if inconsistent.is_some() {
+                    None
+                } else {
+                    runtime.map(|w| w.0 <= 25.0)
+                },
             });
             let beyond = worst(&|s| s.beyond_rhs());
             t.push(Target {
