@@ -337,12 +337,7 @@ impl Mechanism for RigidBody {
         let q = Quaternion::new(v.q_w, v.q_x, v.q_y, v.q_z);
         let tau = Vector3::new(v.tau_x, v.tau_y, v.tau_z);
         let r_c = Vector3::new(v.r_Cx, v.r_Cy, v.r_Cz);
-        #[rustfmt::skip]
-        let i_b = Matrix3::new(
-            v.I_Bxx, v.I_Bxy, v.I_Bxz,
-            v.I_Bxy, v.I_Byy, v.I_Byz,
-            v.I_Bxz, v.I_Byz, v.I_Bzz,
-        );
+        let i_b = inertia_about_pivot(v);
 
         // Rᵀ Z, the ground vertical in body axes, is the third row of R (body → ground) of
         // q/|q|: R's entries are quadratic in q, so it is that row written in q, over |q|²
@@ -380,12 +375,7 @@ impl Mechanism for RigidBody {
         let w = Vector3::new(v.w_x, v.w_y, v.w_z);
         let q = Quaternion::new(v.q_w, v.q_x, v.q_y, v.q_z);
         let r_c = Vector3::new(v.r_Cx, v.r_Cy, v.r_Cz);
-        #[rustfmt::skip]
-        let i_b = Matrix3::new(
-            v.I_Bxx, v.I_Bxy, v.I_Bxz,
-            v.I_Bxy, v.I_Byy, v.I_Byz,
-            v.I_Bxz, v.I_Byz, v.I_Bzz,
-        );
+        let i_b = inertia_about_pivot(v);
         // R (body → ground) of q/|q| and I_B ω, as in `evaluate`.
         let rotation = UnitQuaternion::new_normalize(q);
         let h_body = i_b * w;
@@ -399,6 +389,16 @@ impl Mechanism for RigidBody {
         v.E_pot = v.M * v.g * r_c_ground.z;
         v.E = v.E_kin + v.E_pot;
     }
+}
+
+/// `I_B`, the inertia tensor about the pivot (body axes), from its calculated entries.
+#[rustfmt::skip]
+fn inertia_about_pivot<S: Scalar>(v: &RigidBodyValues<S>) -> Matrix3<S> {
+    Matrix3::new(
+        v.I_Bxx, v.I_Bxy, v.I_Bxz,
+        v.I_Bxy, v.I_Byy, v.I_Byz,
+        v.I_Bxz, v.I_Byz, v.I_Bzz,
+    )
 }
 
 mechfmu::export_fmu!(RigidBody);
