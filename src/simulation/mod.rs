@@ -667,9 +667,11 @@ impl<M: Mechanism> System<'_, M> {
     #[inline(always)]
     fn evaluate_at(&mut self, t: f64, y: &[f64]) {
         if !self.holds(t, y) {
+            // Counted first: a store through another pointer between the evaluation and
+            // the reading of its derivatives would keep them from staying in registers.
+            *self.evaluations += 1;
             self.load(t, y);
             M::evaluate(self.values);
-            *self.evaluations += 1;
         }
     }
 
