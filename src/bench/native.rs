@@ -92,11 +92,6 @@ impl StepFigures {
         }
     }
 
-    /// Everything but the model's equations.
-    pub fn plumbing_ns(&self) -> f64 {
-        self.ns.median - self.split().rhs
-    }
-
     pub fn to_json(&self) -> Value {
         let s = self.split();
         json!({

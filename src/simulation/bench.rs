@@ -21,10 +21,9 @@ pub enum Part {
     /// The solver alone over communication steps of size `h` (`Dopri5::integrate` on the
     /// model, as `Simulation::step` calls it, without the step's own checks and copying).
     Integrate,
-    /// The model's own work at a communication point, once per step: `Mechanism::project`
-    /// and the evaluation after it (for a mechanism that projects), and
-    /// `Mechanism::outputs`. Model equations, not plumbing, though `Simulation::step` runs
-    /// them.
+    /// The model's own work at a communication point, once per step, as
+    /// `Simulation::step` does it: `Mechanism::project` and the evaluation after it (for a
+    /// mechanism that projects), and `Mechanism::outputs`. Model equations, not plumbing.
     Point,
 }
 
@@ -123,11 +122,7 @@ impl<M: Mechanism> Simulation<M> {
                 let mut values = sim.values.clone();
                 for i in 0..n {
                     values.set_time(t0 + (i + 1) as f64 * h);
-                    if M::PROJECTED {
-                        M::project(std::hint::black_box(&mut values));
-                        M::evaluate(&mut values);
-                    }
-                    M::outputs(std::hint::black_box(&mut values));
+                    super::complete_point::<M>(std::hint::black_box(&mut values));
                 }
                 sum += values.get(d).unwrap_or(0.0);
             }

@@ -491,11 +491,7 @@ impl<M: Mechanism> Simulation<M> {
         // computed the derivatives only: the outputs no derivative needs are computed here,
         // once per communication point, where they become visible.
         system.evaluate_at(time, self.y.as_slice());
-        if M::PROJECTED {
-            M::project(system.values);
-            M::evaluate(system.values);
-        }
-        M::outputs(system.values);
+        complete_point::<M>(system.values);
         if let Some(name) = self.first_non_finite() {
             self.undo(t, &start);
             self.solver.restore(memory);
@@ -554,6 +550,18 @@ impl<M: Mechanism> Simulation<M> {
             .find(|&&vr| !self.values.get(vr).is_some_and(f64::is_finite))
             .map(|&vr| M::VARIABLES[vr].name)
     }
+}
+
+/// The model's work at a communication point, on values the solver left evaluated there:
+/// the projection back onto the manifold (with the evaluation it calls for) and the
+/// outputs no derivative needs (`Mechanism::outputs`), which the stages do not compute.
+#[inline]
+fn complete_point<M: Mechanism>(values: &mut M::Values<f64>) {
+    if M::PROJECTED {
+        M::project(values);
+        M::evaluate(values);
+    }
+    M::outputs(values);
 }
 
 fn describe(e: &SolverError) -> String {
@@ -667,11 +675,9 @@ impl<M: Mechanism> System<'_, M> {
     #[inline(always)]
     fn evaluate_at(&mut self, t: f64, y: &[f64]) {
         if !self.holds(t, y) {
-            // Counted first: a store through another pointer between the evaluation and
-            // the reading of its derivatives would keep them from staying in registers.
-            *self.evaluations += 1;
             self.load(t, y);
             M::evaluate(self.values);
+            *self.evaluations += 1;
         }
     }
 

@@ -260,6 +260,11 @@ impl<V: StateVector> Dp853<V> {
             && eval(t_new, y_new, k13)
     }
 
+    /// The 3rd-order error norm of the last attempted step (NaN before any).
+    pub(crate) fn err3(&self) -> f64 {
+        self.err3
+    }
+
     /// `dop853.f`'s error norm: `|h|·E5² / sqrt(N·(E5² + 0.01·E3²))`, with E5 and E3 the
     /// RMS sums of the 5th- and 3rd-order differences scaled by
     /// `atol + rtol·max(|y|, |y_new|)`.
@@ -296,13 +301,6 @@ impl<V: StateVector> Dp853<V> {
             deno = 1.0;
         }
         h.abs() * e5 / (V::DIM as f64 * deno).sqrt()
-    }
-}
-
-impl<V: StateVector> Dp853<V> {
-    /// The 3rd-order error norm of the last attempted step (NaN before any).
-    pub(crate) fn err3(&self) -> f64 {
-        self.err3
     }
 }
 

@@ -54,8 +54,8 @@ pub(crate) fn combine<V: StateVector, const K: usize>(
 }
 
 /// `k = f(t, arg)`, counted; false if any entry of `k` is non-finite. A function rather
-/// than a closure in each method's stages so that it is always inlined: the model's
-/// evaluation then sits in the stage sequence and its results stay in registers.
+/// than a closure in each method's stages so that it is always inlined (the closure was
+/// left as a call per stage).
 #[inline(always)]
 pub(crate) fn evaluate<V: StateVector, S: OdeSystem + ?Sized>(
     sys: &mut S,

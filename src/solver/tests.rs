@@ -285,20 +285,33 @@ fn steps_slope(rows: &[Row]) -> f64 {
         / pts.iter().map(|(x, _)| (x - mx).powi(2)).sum::<f64>()
 }
 
-fn check_sweep(name: &str, rows: &[Row]) {
+/// Prints the sweep and checks every run's error against its tolerance (solution scale 1).
+fn check_errors(name: &str, rows: &[Row]) {
     println!("{name}: tol | max error | accepted | rejected | rhs evals");
     for r in rows {
         println!(
             "{:8.0e} | {:9.3e} | {:8} | {:8} | {:9}",
             r.tol, r.max_err, r.steps, r.rejected, r.evals
         );
-        // Solution scale is 1.
         assert!(
             r.max_err <= 50.0 * r.tol,
             "{name}: error {} at tol {}",
             r.max_err,
             r.tol
         );
+    }
+}
+
+/// Checks that the number of steps grows as tol^-slope with the slope in `range`.
+fn check_slope(name: &str, rows: &[Row], range: std::ops::RangeInclusive<f64>) {
+    let slope = steps_slope(rows);
+    println!("{name}: steps ∝ tol^-{slope:.3}");
+    assert!(range.contains(&slope), "{name}: slope {slope}");
+}
+
+fn check_sweep(name: &str, rows: &[Row]) {
+    check_errors(name, rows);
+    for r in rows {
         // Each attempt costs 6 evaluations, plus k1 and the initial-step probe.
         assert_eq!(r.evals, 2 + 6 * (r.steps + r.rejected));
     }
@@ -307,9 +320,7 @@ fn check_sweep(name: &str, rows: &[Row]) {
         assert!(w[1].steps >= w[0].steps, "{name}: steps not increasing");
     }
     // ≈ 1/5 for an order-5 method.
-    let slope = steps_slope(rows);
-    println!("{name}: steps ∝ tol^-{slope:.3}");
-    assert!((0.15..=0.25).contains(&slope), "{name}: slope {slope}");
+    check_slope(name, rows, 0.15..=0.25);
 }
 
 #[test]
@@ -787,23 +798,10 @@ fn dop853_tableau_satisfies_the_order_conditions() {
 }
 
 fn check_dop853_sweep(name: &str, rows: &[Row]) {
-    println!("{name} (DOP853): tol | max error | accepted | rejected | rhs evals");
-    for r in rows {
-        println!(
-            "{:8.0e} | {:9.3e} | {:8} | {:8} | {:9}",
-            r.tol, r.max_err, r.steps, r.rejected, r.evals
-        );
-        assert!(
-            r.max_err <= 50.0 * r.tol,
-            "{name}: error {} at tol {}",
-            r.max_err,
-            r.tol
-        );
-    }
+    let name = format!("{name} (DOP853)");
+    check_errors(&name, rows);
     // ≈ 1/8 for an order-8 method.
-    let slope = steps_slope(rows);
-    println!("{name}: steps ∝ tol^-{slope:.3}");
-    assert!((0.09..=0.16).contains(&slope), "{name}: slope {slope}");
+    check_slope(&name, rows, 0.09..=0.16);
 }
 
 #[test]
