@@ -86,8 +86,8 @@ impl FmuState {
         });
         opt(&mut w, self.sim.solver.h_next);
         f(&mut w, self.sim.solver.err_prev);
-        f(&mut w, self.sim.tolerance.rtol);
-        f(&mut w, self.sim.tolerance.atol);
+        f(&mut w, self.sim.tolerance.rtol());
+        f(&mut w, self.sim.tolerance.atol());
         w.push(
             self.sim.warning_active as u8
                 | (self.sim.dirty as u8) << 1
@@ -166,16 +166,15 @@ impl FmuState {
             return Err("serialized FMU state has an invalid solver step size".into());
         }
         let err_prev = r.f64()?;
-        let tolerance = Tolerance {
-            rtol: r.f64()?,
-            atol: r.f64()?,
-        };
-        if ![err_prev, tolerance.rtol, tolerance.atol]
+        let (rtol, atol) = (r.f64()?, r.f64()?);
+        if ![err_prev, rtol, atol]
             .iter()
             .all(|x| x.is_finite() && *x > 0.0)
         {
             return Err("serialized FMU state has an invalid tolerance or solver memory".into());
         }
+        let tolerance =
+            Tolerance::new(rtol, atol).ok_or("serialized FMU state has an invalid tolerance")?;
         let flags = r.u8()?;
         if flags & !15 != 0 {
             return Err(format!("serialized FMU state has unknown flags {flags:#x}"));

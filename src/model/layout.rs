@@ -153,6 +153,39 @@ pub const fn derivatives_among_states<const N: usize>(
     out
 }
 
+/// The number of continuous variables, at compile time.
+#[doc(hidden)]
+pub const fn count_continuous(variables: &[Variable]) -> usize {
+    let (mut i, mut n) = (0, 0);
+    while i < variables.len() {
+        if matches!(variables[i].variability, Variability::Continuous) {
+            n += 1;
+        }
+        i += 1;
+    }
+    n
+}
+
+/// The value references of the `N` continuous variables, in declaration order: the values a
+/// step must leave finite, as constants, so checking them after every step is a few
+/// comparisons rather than a loop over a list.
+#[doc(hidden)]
+pub const fn continuous_references<const N: usize>(variables: &[Variable]) -> [usize; N] {
+    let mut out = [0; N];
+    let (mut i, mut n) = (0, 0);
+    while i < variables.len() {
+        if matches!(variables[i].variability, Variability::Continuous) {
+            out[n] = i;
+            n += 1;
+        }
+        i += 1;
+    }
+    if n != N {
+        panic!("mechanism!: continuous variable count mismatch");
+    }
+    out
+}
+
 /// Compile-time check of a declaration, run by the `mechanism!` macro: a state must name an
 /// existing derivative variable, and every start value must satisfy its bounds.
 pub const fn check_declaration(variables: &[Variable]) {

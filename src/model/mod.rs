@@ -10,7 +10,10 @@ mod variable;
 
 pub use layout::{check_declaration, Layout};
 #[doc(hidden)]
-pub use layout::{count_states, derivatives_among_states, state_references};
+pub use layout::{
+    continuous_references, count_continuous, count_states, derivatives_among_states,
+    state_references,
+};
 pub use scalar::{lit, Scalar};
 pub use variable::{Causality, Initial, SetPhase, Variability, Variable};
 
@@ -59,6 +62,8 @@ pub trait Declaration: Send + Sync + 'static {
     /// For each state's derivative, the position in the state vector of the state it is
     /// (`x' = v` with `v` a state), or `None` when `evaluate` computes it.
     const DERIVATIVES_AMONG_STATES: &'static [Option<usize>];
+    /// The value references of the continuous variables (which a step must leave finite).
+    const CONTINUOUS: &'static [usize];
 
     /// Values that are all zero.
     fn zeros<S: Scalar>() -> Self::Values<S>;
@@ -307,6 +312,7 @@ macro_rules! mechanism {
             ];
             const _: () = $crate::model::check_declaration(VARIABLES);
             const N_STATES: usize = $crate::model::count_states(VARIABLES);
+            const N_CONTINUOUS: usize = $crate::model::count_continuous(VARIABLES);
 
             impl $crate::model::Declaration for $name {
                 const NAME: &'static str = stringify!($name);
@@ -320,6 +326,8 @@ macro_rules! mechanism {
                     &$crate::model::state_references::<N_STATES>(VARIABLES, true);
                 const DERIVATIVES_AMONG_STATES: &'static [Option<usize>] =
                     &$crate::model::derivatives_among_states::<N_STATES>(VARIABLES);
+                const CONTINUOUS: &'static [usize] =
+                    &$crate::model::continuous_references::<N_CONTINUOUS>(VARIABLES);
 
                 fn zeros<S: $crate::model::Scalar>() -> $values<S> {
                     $values { time: S::zero(), $( $var: S::zero(), )* }
@@ -372,5 +380,14 @@ mod tests {
         assert_eq!((v.time, v.a, v.b, v.c), (0.5, 1.0, 20.0, 3.0));
         v.set_time(7.0);
         assert_eq!(v.time(), 7.0);
+    }
+
+    #[test]
+    fn compile_time_references_follow_the_declaration() {
+        assert_eq!(Probe::STATES, [1]);
+        assert_eq!(Probe::DERIVATIVES, [2]);
+        assert_eq!(Probe::DERIVATIVES_AMONG_STATES, [None]);
+        // The parameter `a` is fixed; the state and the output are continuous.
+        assert_eq!(Probe::CONTINUOUS, [1, 2]);
     }
 }

@@ -81,7 +81,6 @@ impl<M: Mechanism> Simulation<M> {
                 let mut dydt = M::State::ZERO;
                 let mut warnings = Vec::new();
                 let mut warning_active = false;
-                let mut evaluations = 0;
                 let mut system = System::<M>::new(
                     &mut sim.values,
                     &sim.layout,
@@ -90,7 +89,6 @@ impl<M: Mechanism> Simulation<M> {
                     t0,
                     &mut warning_active,
                     &mut warnings,
-                    &mut evaluations,
                 );
                 if part == Part::Rhs {
                     for i in 0..n {

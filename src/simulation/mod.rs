@@ -81,8 +81,6 @@ pub struct Simulation<M: Mechanism> {
     /// checked, the calculated parameters current; the outputs need one evaluation.
     stale: bool,
     counters: Counters,
-    /// The continuous variables' value references (checked finite after every step).
-    continuous: Vec<usize>,
 }
 
 impl<M: Mechanism> Clone for Simulation<M> {
@@ -99,7 +97,6 @@ impl<M: Mechanism> Clone for Simulation<M> {
             dirty: self.dirty,
             stale: self.stale,
             counters: self.counters,
-            continuous: self.continuous.clone(),
         }
     }
 }
@@ -124,15 +121,11 @@ impl<M: Mechanism> Simulation<M> {
             input_derivatives: vec![[0.0; 2]; n_inputs],
             y: M::State::ZERO,
             solver: Solver::new(),
-            tolerance: tolerance(M::EXPERIMENT.tolerance),
+            tolerance: default_tolerance::<M>(),
             warning_active: false,
             dirty: true,
             stale: false,
             counters: Counters::default(),
-            continuous: (M::VARIABLES.iter().enumerate())
-                .filter(|(_, v)| v.variability == crate::model::Variability::Continuous)
-                .map(|(vr, _)| vr)
-                .collect(),
         };
         sim.reset();
         sim
@@ -148,7 +141,7 @@ impl<M: Mechanism> Simulation<M> {
             .iter_mut()
             .for_each(|d| *d = [0.0; 2]);
         self.solver.forget();
-        self.tolerance = tolerance(M::EXPERIMENT.tolerance);
+        self.tolerance = default_tolerance::<M>();
         self.warning_active = false;
         self.dirty = true;
         self.stale = false;
@@ -177,10 +170,9 @@ impl<M: Mechanism> Simulation<M> {
             return Err(format!("startTime = {start_time} is not a finite number"));
         }
         let tol = relative_tolerance.unwrap_or(M::EXPERIMENT.tolerance);
-        if !(tol.is_finite() && tol > 0.0) {
-            return Err(format!("tolerance = {tol} must be a finite number > 0"));
-        }
-        self.tolerance = tolerance(tol);
+        self.tolerance = Tolerance::new(tol, tol)
+            .filter(|_| tol > 0.0)
+            .ok_or_else(|| format!("tolerance = {tol} must be a finite number > 0"))?;
         self.values.set_time(start_time);
         // The outputs (if ever computed) belong to the old time.
         self.dirty = true;
@@ -481,7 +473,6 @@ impl<M: Mechanism> Simulation<M> {
             t,
             &mut self.warning_active,
             &mut report.warnings,
-            &mut self.counters.evaluations,
         );
         let result =
             self.solver
@@ -491,6 +482,7 @@ impl<M: Mechanism> Simulation<M> {
         // computed the derivatives only: the outputs no derivative needs are computed here,
         // once per communication point, where they become visible.
         system.evaluate_at(time, self.y.as_slice());
+        self.counters.evaluations += system.evaluations;
         complete_point::<M>(system.values);
         if let Some(name) = self.first_non_finite() {
             self.undo(t, &start);
@@ -544,10 +536,15 @@ impl<M: Mechanism> Simulation<M> {
         self.evaluate_at_point();
     }
 
+    /// The first continuous variable that is not finite. `M::CONTINUOUS` is a constant, so
+    /// the common case, all finite, unrolls into one comparison per variable, no branch.
     fn first_non_finite(&self) -> Option<&'static str> {
-        self.continuous
-            .iter()
-            .find(|&&vr| !self.values.get(vr).is_some_and(f64::is_finite))
+        let finite = |vr: usize| self.values.get(vr).is_some_and(f64::is_finite);
+        if M::CONTINUOUS.iter().fold(true, |all, &vr| all & finite(vr)) {
+            return None;
+        }
+        (M::CONTINUOUS.iter())
+            .find(|&&vr| !finite(vr))
             .map(|&vr| M::VARIABLES[vr].name)
     }
 }
@@ -571,8 +568,15 @@ fn describe(e: &SolverError) -> String {
     }
 }
 
-fn tolerance(rtol: f64) -> Tolerance {
-    Tolerance { rtol, atol: rtol }
+/// The default experiment's tolerance, as relative and absolute tolerance; a mechanism
+/// whose default is not a valid tolerance does not compile.
+fn default_tolerance<M: Mechanism>() -> Tolerance {
+    const {
+        match Tolerance::new(M::EXPERIMENT.tolerance, M::EXPERIMENT.tolerance) {
+            Some(tolerance) => tolerance,
+            None => panic!("the default experiment's tolerance must be a finite number >= 0"),
+        }
+    }
 }
 
 /// The variable of value reference `vr`, or a message naming the bad reference.
@@ -597,8 +601,10 @@ struct System<'a, M: Mechanism> {
     t0: f64,
     warning_active: &'a mut bool,
     warnings: &'a mut Vec<String>,
-    /// The simulation's count of model evaluations.
-    evaluations: &'a mut u64,
+    /// Model evaluations so far. A count of its own, not a reference to the simulation's:
+    /// a store through a reference could, as far as the compiler knows, change the values,
+    /// which it would then read back from memory after every evaluation.
+    evaluations: u64,
     /// The inputs stay at their values over the step (no derivatives) and the values hold
     /// exactly those: loading them at every stage would write what is there.
     inputs_fixed: bool,
@@ -614,7 +620,6 @@ impl<'a, M: Mechanism> System<'a, M> {
         t0: f64,
         warning_active: &'a mut bool,
         warnings: &'a mut Vec<String>,
-        evaluations: &'a mut u64,
     ) -> Self {
         // `load` writes u + dt (d1 + dt d2 / 2), which is u exactly when d1 = d2 = 0 and u is
         // not -0 (-0 + 0 = +0); `evaluate` writes derivatives and outputs, never inputs.
@@ -631,7 +636,7 @@ impl<'a, M: Mechanism> System<'a, M> {
             t0,
             warning_active,
             warnings,
-            evaluations,
+            evaluations: 0,
             inputs_fixed,
         }
     }
@@ -677,14 +682,21 @@ impl<M: Mechanism> System<'_, M> {
         if !self.holds(t, y) {
             self.load(t, y);
             M::evaluate(self.values);
-            *self.evaluations += 1;
+            self.evaluations += 1;
         }
     }
 
     #[inline(always)]
     fn load(&mut self, t: f64, y: &[f64]) {
+        // `y` is read before anything is stored: as far as the compiler knows the values
+        // may overlap `y`, and a store first would make it read back from memory the stage
+        // the solver has just computed in registers, on the stages' critical path.
+        let mut states = M::State::ZERO;
+        for (s, &x) in states.as_mut_slice().iter_mut().zip(y) {
+            *s = x;
+        }
         self.values.set_time(t);
-        for (&vr, &x) in M::STATES.iter().zip(y) {
+        for (&vr, &x) in M::STATES.iter().zip(states.as_slice()) {
             self.values.set(vr, x);
         }
         if self.inputs_fixed {
@@ -709,15 +721,20 @@ impl<M: Mechanism> OdeSystem for System<'_, M> {
         self.evaluate_at(t, y);
         // A derivative that is a state (x' = v) is taken from y, which the values hold too:
         // the same number without a round trip through memory on the stages' critical path.
+        // All are read before any is stored, for the reason given in `load`.
+        let mut derivatives = M::State::ZERO;
         for ((&vr, &state), d) in M::DERIVATIVES
             .iter()
             .zip(M::DERIVATIVES_AMONG_STATES)
-            .zip(dydt.iter_mut())
+            .zip(derivatives.as_mut_slice())
         {
             *d = match state {
                 Some(j) => y[j],
                 None => self.values.get(vr).unwrap_or(f64::NAN),
             };
+        }
+        for (d, &x) in dydt.iter_mut().zip(derivatives.as_slice()) {
+            *d = x;
         }
     }
 

@@ -68,6 +68,17 @@ impl Controller {
         }
     }
 
+    /// Resumes from a remembered `err_prev`: this controller itself when it is the one that
+    /// remembered it (no logarithm to take again), else [`Controller::new`].
+    #[inline]
+    pub(crate) fn resume(self, err_prev: f64) -> Self {
+        if err_prev.to_bits() == self.err_prev.to_bits() {
+            self
+        } else {
+            Controller::new(self.control, err_prev)
+        }
+    }
+
     /// What to remember for the next call.
     #[inline]
     pub(crate) fn err_prev(&self) -> f64 {
@@ -145,6 +156,18 @@ mod tests {
     #[test]
     fn the_floor_logarithm_is_exact() {
         assert_eq!(LOG2_ERR_PREV_FLOOR, ERR_PREV_FLOOR.log2());
+    }
+
+    #[test]
+    fn resuming_proposes_what_a_new_controller_does() {
+        let mut c = Controller::new(DOPRI5, 1.0);
+        c.after_accept(0.1, 0.0123);
+        for prev in [0.0123, 0.5, 1e-5, f64::NAN] {
+            let (mut resumed, mut new) = (c.resume(prev), Controller::new(DOPRI5, prev));
+            assert_eq!(resumed.err_prev().to_bits(), new.err_prev().to_bits());
+            let (a, b) = (resumed.after_accept(0.1, 0.3), new.after_accept(0.1, 0.3));
+            assert_eq!(a.to_bits(), b.to_bits(), "err_prev {prev}");
+        }
     }
 
     #[test]

@@ -15,7 +15,7 @@
 
 use super::controller::Control;
 use super::norm::ratio_sq;
-use super::runge_kutta::{combine, evaluate, Method, RungeKutta};
+use super::runge_kutta::{all_finite, combine, evaluate, Method, RungeKutta};
 use super::{OdeSystem, StateVector, Tolerance};
 
 // Nodes c_i (stage i is evaluated at t + c_i h).
@@ -134,7 +134,9 @@ impl<V: StateVector> Default for Dp853<V> {
 }
 
 impl<V: StateVector> Dp853<V> {
-    /// Stages 2..12, the new point and f there; false as soon as anything is non-finite.
+    /// Stages 2..12, the new point and f there; false as soon as a stage argument (which a
+    /// non-finite derivative before it makes non-finite), the new point or f there is
+    /// non-finite.
     #[inline(always)]
     fn stages<S: OdeSystem + ?Sized>(
         &mut self,
@@ -149,7 +151,11 @@ impl<V: StateVector> Dp853<V> {
             k, y_stage, y_new, ..
         } = self;
         let [k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13] = k;
-        let mut eval = |tt: f64, arg: &V, k: &mut V| evaluate(sys, evals, tt, arg, k);
+        // A derivative is checked where it is next used, not here (see `evaluate`).
+        let mut eval = |tt: f64, arg: &V, k: &mut V| {
+            evaluate(sys, evals, tt, arg, k);
+            true
+        };
         combine(y_stage, y, h, [(A21, &*k1)])
             && eval(t + C2 * h, y_stage, k2)
             && combine(y_stage, y, h, [(A31, &*k1), (A32, &*k2)])
@@ -258,6 +264,9 @@ impl<V: StateVector> Dp853<V> {
                 ],
             )
             && eval(t_new, y_new, k13)
+            // f at the new point enters no error estimate: checked here, as it becomes the
+            // next step's first stage (FSAL).
+            && all_finite(k13)
     }
 
     /// The 3rd-order error norm of the last attempted step (NaN before any).

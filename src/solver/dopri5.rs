@@ -86,8 +86,9 @@ impl<V: StateVector> Dp5<V> {
     /// Stages 2..7 of one step of size `h` from `(t, y)` with `k1 = f(t, y)` already
     /// set; fills `y_new` (5th order), `k7 = f(t_new, y_new)` and `err`. `t_new` is
     /// passed separately so the last step uses the exact end time. Stops early and
-    /// returns false as soon as a stage argument or derivative is non-finite, so the
-    /// rhs is never fed NaN by the solver.
+    /// returns false as soon as a stage argument (which a non-finite derivative before it
+    /// makes non-finite), the new point or the error is non-finite, so the rhs is never
+    /// fed NaN by the solver.
     #[inline(always)]
     fn stages<S: OdeSystem + ?Sized>(
         &mut self,
@@ -110,7 +111,11 @@ impl<V: StateVector> Dp5<V> {
             y_new,
             err,
         } = self;
-        let mut eval = |tt: f64, arg: &V, k: &mut V| evaluate(sys, evals, tt, arg, k);
+        // A derivative is checked where it is next used, not here (see `evaluate`).
+        let mut eval = |tt: f64, arg: &V, k: &mut V| {
+            evaluate(sys, evals, tt, arg, k);
+            true
+        };
 
         combine(y_stage, y, h, [(A21, &*k1)])
             && eval(t + C2 * h, y_stage, k2)

@@ -188,15 +188,41 @@ pub trait OdeSystem {
 
 /// Mixed error tolerance: component i may err by about `atol + rtol·|y_i|`.
 ///
-/// `rtol` is raised to [`MIN_RTOL`] if smaller. Both must be finite and non-negative;
-/// `atol == 0` (pure relative control) is allowed but fails on components that cross
-/// zero with a nonzero error.
+/// Valid by construction ([`Tolerance::new`]): both finite and non-negative, `rtol` raised
+/// to [`MIN_RTOL`] if smaller, so the solver checks nothing per call. `atol == 0` (pure
+/// relative control) is allowed but fails on components that cross zero with a nonzero
+/// error.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerance {
-    /// Relative tolerance (clamped below at [`MIN_RTOL`]).
-    pub rtol: f64,
-    /// Absolute tolerance, in the units of the state.
-    pub atol: f64,
+    rtol: f64,
+    atol: f64,
+}
+
+impl Tolerance {
+    /// `rtol` relative (raised to [`MIN_RTOL`] if smaller) and `atol` absolute, in the
+    /// units of the state; `None` if either is negative or not finite.
+    pub const fn new(rtol: f64, atol: f64) -> Option<Tolerance> {
+        if rtol.is_finite() && rtol >= 0.0 && atol.is_finite() && atol >= 0.0 {
+            Some(Tolerance {
+                rtol: rtol.max(MIN_RTOL),
+                atol,
+            })
+        } else {
+            None
+        }
+    }
+
+    /// The relative tolerance (at least [`MIN_RTOL`]).
+    #[inline(always)]
+    pub fn rtol(&self) -> f64 {
+        self.rtol
+    }
+
+    /// The absolute tolerance.
+    #[inline(always)]
+    pub fn atol(&self) -> f64 {
+        self.atol
+    }
 }
 
 /// Work done by one [`Dopri5::integrate`] call (not cumulative).

@@ -4,7 +4,7 @@
 
 use super::controller::{Control, Controller};
 use super::initial_step::initial_step;
-use super::{OdeSystem, SolverError, SolverMemory, StateVector, StepStats, Tolerance, MIN_RTOL};
+use super::{OdeSystem, SolverError, SolverMemory, StateVector, StepStats, Tolerance};
 
 /// A leftover shorter than this fraction of the step is absorbed into the step
 /// instead of being taken as a micro-step.
@@ -53,9 +53,13 @@ pub(crate) fn combine<V: StateVector, const K: usize>(
     finite
 }
 
-/// `k = f(t, arg)`, counted; false if any entry of `k` is non-finite. A function rather
-/// than a closure in each method's stages so that it is always inlined (the closure was
-/// left as a call per stage).
+/// `k = f(t, arg)`, counted. A function rather than a closure in each method's stages so
+/// that it is always inlined (the closure was left as a call per stage).
+///
+/// `k` is not checked here: every derivative but the one at the new point enters a later
+/// stage argument with a nonzero weight, and a non-finite entry times a nonzero weight is
+/// non-finite, so [`combine`]'s check catches it before the rhs sees it (the methods check
+/// the new point's derivative themselves). One check per stage instead of two.
 #[inline(always)]
 pub(crate) fn evaluate<V: StateVector, S: OdeSystem + ?Sized>(
     sys: &mut S,
@@ -63,10 +67,9 @@ pub(crate) fn evaluate<V: StateVector, S: OdeSystem + ?Sized>(
     t: f64,
     arg: &V,
     k: &mut V,
-) -> bool {
+) {
     sys.rhs(t, arg.as_slice(), k.as_mut_slice());
     *evals += 1;
-    all_finite(k)
 }
 
 /// Whether every entry is finite (without stopping early: no branch per entry).
@@ -88,8 +91,9 @@ pub trait Method<V: StateVector>: Clone + std::fmt::Debug + Default {
     fn scratch(&mut self) -> (&V, &mut V, &mut V);
     /// One step of size `h` from `(t, y)` with `k1 = f(t, y)`: computes the new point
     /// (read with [`Method::y_new`]), f there, and returns the error norm (≤ 1: acceptable),
-    /// or NaN as soon as a stage argument or derivative is non-finite (the rhs is never fed
-    /// NaN by the solver). `t_new` is the exact end time of the step.
+    /// or NaN if a stage derivative, argument or the new point is non-finite (caught at the
+    /// latest in the next stage argument: the rhs is never fed NaN by the solver). `t_new`
+    /// is the exact end time of the step.
     #[allow(clippy::too_many_arguments)]
     fn attempt<S: OdeSystem + ?Sized>(
         &mut self,
@@ -115,6 +119,9 @@ pub struct RungeKutta<V: StateVector, T: Method<V>> {
     max_steps: u64,
     mem: SolverMemory,
     pub(crate) method: T,
+    /// The controller as the last accepted step left it: `mem.err_prev` with its logarithm,
+    /// kept so a call resuming from it needs no logarithm (see [`Controller::resume`]).
+    controller: Controller,
     /// rhs evaluations during the current call.
     evals: u64,
     _state: std::marker::PhantomData<V>,
@@ -133,6 +140,7 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
             max_steps: DEFAULT_MAX_STEPS,
             mem: SolverMemory::FRESH,
             method: T::default(),
+            controller: Controller::new(T::CONTROL, SolverMemory::FRESH.err_prev),
             evals: 0,
             _state: std::marker::PhantomData,
         }
@@ -168,8 +176,8 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
     /// accepted step.
     ///
     /// # Panics
-    /// If `*t` or `t_end` is not finite or `t_end < *t`, or if a tolerance is negative or
-    /// not finite. These are caller bugs; the FMU layer validates them before calling.
+    /// If `*t` or `t_end` is not finite or `t_end < *t`: a caller bug; the FMU layer
+    /// validates them before calling. (A [`Tolerance`] is valid by construction.)
     pub fn integrate<S: OdeSystem + ?Sized>(
         &mut self,
         sys: &mut S,
@@ -183,10 +191,6 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
             "integrate needs finite t <= t_end, got t = {} and t_end = {t_end}",
             *t
         );
-        assert!(
-            tol.rtol.is_finite() && tol.rtol >= 0.0 && tol.atol.is_finite() && tol.atol >= 0.0,
-            "tolerances must be finite and non-negative, got {tol:?}"
-        );
         let mut stats = StepStats::default();
         if t_end == *t {
             return Ok(stats);
@@ -195,10 +199,6 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
             *t = t_end;
             return Ok(stats);
         }
-        let tol = Tolerance {
-            rtol: tol.rtol.max(MIN_RTOL),
-            atol: tol.atol,
-        };
         self.evals = 0;
         let result = self.run(sys, t, t_end, y, tol, &mut stats);
         stats.rhs_evals = self.evals;
@@ -241,7 +241,7 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
                 )
             }
         };
-        let mut controller = Controller::new(T::CONTROL, self.mem.err_prev);
+        let mut controller = self.controller.resume(self.mem.err_prev);
         // After a rejection the next accepted step may not grow (dopri5.f `REJECT`).
         // Every call ends on an accepted step, so this never needs to be remembered.
         let mut last_rejected = false;
@@ -313,6 +313,7 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
                     err_prev: controller.err_prev(),
                     ..self.mem
                 };
+                self.controller = controller;
                 if last {
                     return Ok(());
                 }

@@ -98,7 +98,7 @@ impl OdeSystem for Rational {
 }
 
 fn tol(x: f64) -> Tolerance {
-    Tolerance { rtol: x, atol: x }
+    Tolerance::new(x, x).unwrap()
 }
 
 fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
@@ -466,6 +466,63 @@ fn nan_rhs_reports_non_finite_at_last_good_point() {
     assert!((y[0] - (-t).exp()).abs() < 1e-7);
 }
 
+/// x'' = -x as (x, v), except that one evaluation (the `nan_at`-th) returns NaN in one
+/// component; checks that the solver never feeds it a non-finite point.
+struct NanOnce {
+    calls: usize,
+    nan_at: usize,
+    component: usize,
+}
+impl OdeSystem for NanOnce {
+    fn rhs(&mut self, _t: f64, y: &[f64], dydt: &mut [f64]) {
+        assert!(
+            y.iter().all(|v| v.is_finite()),
+            "solver passed a non-finite y at evaluation {}",
+            self.calls + 1
+        );
+        self.calls += 1;
+        dydt[0] = y[1];
+        dydt[1] = -y[0];
+        if self.calls == self.nan_at {
+            dydt[self.component] = f64::NAN;
+        }
+    }
+}
+
+/// A NaN derivative at each stage of a step in turn: the step is rejected and retried,
+/// never accepted, and the rhs never sees it (derivatives are checked where they are next
+/// used, so a stage whose check was missed would fail here).
+fn check_nan_at_every_stage<T: Method<[f64; 2]>>(stages: usize) {
+    for stage in 1..=stages {
+        for component in 0..2 {
+            let mut solver = RungeKutta::<[f64; 2], T>::new();
+            let mut sys = NanOnce {
+                calls: 0,
+                nan_at: usize::MAX,
+                component,
+            };
+            let (mut t, mut y) = (0.0, [1.0, 0.0]);
+            solver
+                .integrate(&mut sys, &mut t, 0.5, &mut y, tol(1e-8))
+                .unwrap();
+            // The next call evaluates k1 at its start, then the first step's stages.
+            sys.nan_at = sys.calls + 1 + stage;
+            let stats = solver
+                .integrate(&mut sys, &mut t, 1.0, &mut y, tol(1e-8))
+                .unwrap_or_else(|e| panic!("NaN at stage {stage}: {e}"));
+            assert!(stats.rejected >= 1, "NaN at stage {stage} was accepted");
+            let err = (y[0] - 1f64.cos()).abs().max((y[1] + 1f64.sin()).abs());
+            assert!(err < 1e-7, "NaN at stage {stage}: error {err:e}");
+        }
+    }
+}
+
+#[test]
+fn a_nan_derivative_at_any_stage_rejects_the_step() {
+    check_nan_at_every_stage::<Dp5<[f64; 2]>>(6);
+    check_nan_at_every_stage::<Dp853<[f64; 2]>>(12);
+}
+
 #[test]
 fn nan_at_start_is_reported_without_stepping() {
     struct AlwaysNan;
@@ -674,7 +731,7 @@ fn rtol_is_clamped_at_ten_ulp() {
                 &mut t,
                 5.0,
                 &mut y,
-                Tolerance { rtol, atol: 1e-14 },
+                Tolerance::new(rtol, 1e-14).unwrap(),
             )
             .unwrap();
         assert_eq!(t, 5.0);
@@ -728,10 +785,7 @@ fn pure_relative_tolerance_with_zero_component() {
         &mut t,
         2.0,
         &mut y,
-        Tolerance {
-            rtol: 1e-8,
-            atol: 0.0,
-        },
+        Tolerance::new(1e-8, 0.0).unwrap(),
     )
     .unwrap();
     assert!((y[0] - (-2f64).exp()).abs() < 1e-7);
