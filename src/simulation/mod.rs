@@ -591,6 +591,16 @@ pub fn variable<M: Mechanism>(vr: u32) -> Result<&'static Variable, String> {
     })
 }
 
+/// `y` (which the solver passes with exactly `V::DIM` entries) as a fixed-size vector. A
+/// copy of constant length is a few moves; one of the slice's length would be a call of
+/// `memcpy` where the length is not known at compile time.
+#[inline(always)]
+fn fixed_size<V: StateVector>(y: &[f64]) -> V {
+    let mut v = V::ZERO;
+    v.as_mut_slice().copy_from_slice(&y[..V::DIM]);
+    v
+}
+
 /// The mechanism seen by the ODE solver: states in, derivatives out, inputs interpolated
 /// from the communication point.
 struct System<'a, M: Mechanism> {
@@ -691,10 +701,7 @@ impl<M: Mechanism> System<'_, M> {
         // `y` is read before anything is stored: as far as the compiler knows the values
         // may overlap `y`, and a store first would make it read back from memory the stage
         // the solver has just computed in registers, on the stages' critical path.
-        let mut states = M::State::ZERO;
-        for (s, &x) in states.as_mut_slice().iter_mut().zip(y) {
-            *s = x;
-        }
+        let states: M::State = fixed_size(y);
         self.values.set_time(t);
         for (&vr, &x) in M::STATES.iter().zip(states.as_slice()) {
             self.values.set(vr, x);
@@ -721,20 +728,15 @@ impl<M: Mechanism> OdeSystem for System<'_, M> {
         self.evaluate_at(t, y);
         // A derivative that is a state (x' = v) is taken from y, which the values hold too:
         // the same number without a round trip through memory on the stages' critical path.
-        // All are read before any is stored, for the reason given in `load`.
-        let mut derivatives = M::State::ZERO;
         for ((&vr, &state), d) in M::DERIVATIVES
             .iter()
             .zip(M::DERIVATIVES_AMONG_STATES)
-            .zip(derivatives.as_mut_slice())
+            .zip(dydt.iter_mut())
         {
             *d = match state {
                 Some(j) => y[j],
                 None => self.values.get(vr).unwrap_or(f64::NAN),
             };
-        }
-        for (d, &x) in dydt.iter_mut().zip(derivatives.as_slice()) {
-            *d = x;
         }
     }
 
