@@ -266,7 +266,18 @@ impl<M: Mechanism> Simulation<M> {
 
     /// Checks every parameter against its declared bounds and the mechanism's own rules,
     /// computes the calculated parameters and the outputs.
+    #[inline]
     pub fn update(&mut self) -> Result<(), String> {
+        // Nothing set since the last update, the case of every step in a plain run: a test
+        // of two flags where it is called, not a call.
+        if !(self.dirty || self.stale) {
+            return Ok(());
+        }
+        self.bring_up_to_date()
+    }
+
+    #[inline(never)]
+    fn bring_up_to_date(&mut self) -> Result<(), String> {
         if !self.dirty {
             if self.stale {
                 // As the full update below, without what only parameters change.
@@ -483,6 +494,7 @@ impl<M: Mechanism> Simulation<M> {
         // once per communication point, where they become visible.
         system.evaluate_at(time, self.y.as_slice());
         self.counters.evaluations += system.evaluations;
+        let inputs_fixed = system.inputs_fixed;
         complete_point::<M>(system.values);
         if let Some(name) = self.first_non_finite() {
             self.undo(t, &start);
@@ -497,14 +509,17 @@ impl<M: Mechanism> Simulation<M> {
                 ),
             });
         }
-        // The inputs move on along their polynomials to the new communication point (with
-        // no derivatives set, they stay as they were).
-        let dt = time - t;
-        for (i, &vr) in self.layout.inputs.iter().enumerate() {
-            let [d1, d2] = self.input_derivatives[i];
-            self.inputs[i] += dt * (d1 + 0.5 * dt * d2);
-            self.input_derivatives[i] = [d1 + dt * d2, d2];
-            self.values.set(vr, self.inputs[i]);
+        // The inputs move on along their polynomials to the new communication point. Held
+        // inputs (no derivatives, see `System::inputs_fixed`) stay bit for bit what they
+        // were, which the values hold already: nothing to do.
+        if !inputs_fixed {
+            let dt = time - t;
+            for (i, &vr) in self.layout.inputs.iter().enumerate() {
+                let [d1, d2] = self.input_derivatives[i];
+                self.inputs[i] += dt * (d1 + 0.5 * dt * d2);
+                self.input_derivatives[i] = [d1 + dt * d2, d2];
+                self.values.set(vr, self.inputs[i]);
+            }
         }
         self.values
             .set_time(if result.is_ok() { t_end } else { time });
