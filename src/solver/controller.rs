@@ -85,11 +85,13 @@ impl Controller {
         self.err_prev
     }
 
-    /// Next step size after an accepted step (`0 <= err <= 1`); remembers `err`.
+    /// Next step size after an accepted step whose error norm squared is `err_squared`
+    /// (`0 <= err_squared <= 1`); remembers the norm. Squared as the methods return it: the
+    /// square root, needed only to remember the norm, stays off the way to the proposal.
     #[inline]
-    pub(crate) fn after_accept(&mut self, h: f64, err: f64) -> f64 {
+    pub(crate) fn after_accept(&mut self, h: f64, err_squared: f64) -> f64 {
         // Below 1e-300 (0 included) the factor is long clamped to the largest growth.
-        let log2_err = err.max(1e-300).log2();
+        let log2_err = 0.5 * err_squared.max(1e-300).log2();
         let Control {
             beta,
             expo1,
@@ -99,8 +101,8 @@ impl Controller {
         let x = expo1 * log2_err - beta * self.log2_err_prev;
         let fac = x.clamp(-EXP2_RANGE, EXP2_RANGE).exp2();
         let fac = (fac / SAFE).clamp(min_inv_growth, max_shrink);
-        if err >= ERR_PREV_FLOOR {
-            self.err_prev = err;
+        if err_squared >= ERR_PREV_FLOOR * ERR_PREV_FLOOR {
+            self.err_prev = err_squared.sqrt();
             self.log2_err_prev = log2_err;
         } else {
             *self = Controller::new(self.control, ERR_PREV_FLOOR);
@@ -108,11 +110,11 @@ impl Controller {
         h / fac
     }
 
-    /// Smaller step after a rejected step (`err > 1`, finite). The memory is left alone,
-    /// as in `dopri5.f`.
+    /// Smaller step after a rejected step whose error norm squared is `err_squared`
+    /// (`> 1`, finite). The memory is left alone, as in `dopri5.f`.
     #[inline]
-    pub(crate) fn after_reject(&self, h: f64, err: f64) -> f64 {
-        h / (err.powf(self.control.expo1) / SAFE).min(self.control.max_shrink)
+    pub(crate) fn after_reject(&self, h: f64, err_squared: f64) -> f64 {
+        h / (err_squared.powf(0.5 * self.control.expo1) / SAFE).min(self.control.max_shrink)
     }
 }
 
@@ -138,10 +140,12 @@ mod tests {
         for &prev in &errs {
             for &err in &errs {
                 let mut c = Controller::new(DOPRI5, prev);
-                let h = c.after_accept(0.37, err);
+                let h = c.after_accept(0.37, err * err);
                 let r = reference(0.37, err, prev);
                 worst = worst.max((h - r).abs() / r);
-                assert_eq!(c.err_prev(), err.max(ERR_PREV_FLOOR));
+                // Remembered as the square root of the square: within an ulp.
+                let remembered = err.max(ERR_PREV_FLOOR);
+                assert!((c.err_prev() - remembered).abs() <= f64::EPSILON * remembered);
             }
         }
         assert!(worst < 1e-14, "relative difference {worst:e}");
@@ -161,11 +165,13 @@ mod tests {
     #[test]
     fn resuming_proposes_what_a_new_controller_does() {
         let mut c = Controller::new(DOPRI5, 1.0);
-        c.after_accept(0.1, 0.0123);
-        for prev in [0.0123, 0.5, 1e-5, f64::NAN] {
+        // 0.125 and its square are exact: the controller remembers 0.125 itself.
+        c.after_accept(0.1, 0.125 * 0.125);
+        assert_eq!(c.err_prev(), 0.125);
+        for prev in [0.125, 0.5, 1e-5, f64::NAN] {
             let (mut resumed, mut new) = (c.resume(prev), Controller::new(DOPRI5, prev));
             assert_eq!(resumed.err_prev().to_bits(), new.err_prev().to_bits());
-            let (a, b) = (resumed.after_accept(0.1, 0.3), new.after_accept(0.1, 0.3));
+            let (a, b) = (resumed.after_accept(0.1, 0.09), new.after_accept(0.1, 0.09));
             assert_eq!(a.to_bits(), b.to_bits(), "err_prev {prev}");
         }
     }
@@ -174,6 +180,7 @@ mod tests {
     fn growth_and_shrink_are_bounded() {
         let mut c = Controller::new(DOPRI5, 1.0);
         assert_eq!(c.after_accept(1.0, 0.0), 10.0);
+        // An error norm of 1e6, squared.
         assert_eq!(c.after_reject(1.0, 1e12), 0.2);
     }
 }

@@ -274,9 +274,9 @@ impl<V: StateVector> Dp853<V> {
         self.err3
     }
 
-    /// `dop853.f`'s error norm: `|h|·E5² / sqrt(N·(E5² + 0.01·E3²))`, with E5 and E3 the
-    /// RMS sums of the 5th- and 3rd-order differences scaled by
-    /// `atol + rtol·max(|y|, |y_new|)`.
+    /// The square of `dop853.f`'s error norm `|h|·E5² / sqrt(N·(E5² + 0.01·E3²))`, with E5
+    /// and E3 the RMS sums of the 5th- and 3rd-order differences scaled by
+    /// `atol + rtol·max(|y|, |y_new|)` (squared: see [`Method::attempt`]).
     #[inline(always)]
     fn error_norm(&mut self, h: f64, y: &V, tol: Tolerance) -> f64 {
         let k = |i: usize| self.k[i].as_slice();
@@ -309,7 +309,7 @@ impl<V: StateVector> Dp853<V> {
         if deno <= 0.0 {
             deno = 1.0;
         }
-        h.abs() * e5 / (V::DIM as f64 * deno).sqrt()
+        (h * e5) * (h * e5) / (V::DIM as f64 * deno)
     }
 }
 

@@ -5,7 +5,7 @@
 //! becomes the next step's first stage, so an accepted step costs 6 rhs evaluations.
 
 use super::controller::Control;
-use super::norm::error_norm;
+use super::norm::error_norm_squared;
 use super::runge_kutta::{all_finite, combine, evaluate, Method, RungeKutta};
 use super::{OdeSystem, StateVector, Tolerance};
 
@@ -205,7 +205,7 @@ impl<V: StateVector> Method<V> for Dp5<V> {
         evals: &mut u64,
     ) -> f64 {
         if self.stages(sys, t, h, t_new, y, evals) {
-            error_norm(
+            error_norm_squared(
                 self.err.as_slice(),
                 y.as_slice(),
                 self.y_new.as_slice(),

@@ -137,7 +137,7 @@ impl<V: StateVector> Solver<V> {
             let mut controller = Controller::new(Dp5::<V>::CONTROL, ERR_PREV_FLOOR);
             let err = self.dop853.method.err3();
             if err <= 1.0 {
-                let h = controller.after_accept(interval, err);
+                let h = controller.after_accept(interval, err * err);
                 if runge_kutta::reaches(h, interval) {
                     self.mem = SolverMemory {
                         h_next: Some(h),

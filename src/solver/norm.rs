@@ -14,11 +14,13 @@ pub(crate) fn ratio_sq(num: f64, scale: f64) -> f64 {
     }
 }
 
-/// RMS over i of `err_i / (atol + rtol·max(|y_i|, |y_new_i|))`; a step is acceptable
-/// when this is ≤ 1. Using the larger of the two endpoints keeps components that pass
-/// near zero from demanding absurdly small steps. Returns 0 for an empty system.
+/// The square of the RMS over i of `err_i / (atol + rtol·max(|y_i|, |y_new_i|))`; a step
+/// is acceptable when this is ≤ 1. Using the larger of the two endpoints keeps components
+/// that pass near zero from demanding absurdly small steps. Returns 0 for an empty system.
+/// Squared, so that no square root delays the step-size controller (see
+/// [`Method::attempt`](super::Method::attempt)).
 #[inline(always)]
-pub(crate) fn error_norm(err: &[f64], y: &[f64], y_new: &[f64], tol: Tolerance) -> f64 {
+pub(crate) fn error_norm_squared(err: &[f64], y: &[f64], y_new: &[f64], tol: Tolerance) -> f64 {
     debug_assert!(err.len() == y.len() && y.len() == y_new.len());
     if err.is_empty() {
         return 0.0;
@@ -28,7 +30,7 @@ pub(crate) fn error_norm(err: &[f64], y: &[f64], y_new: &[f64], tol: Tolerance) 
         .zip(y.iter().zip(y_new))
         .map(|(&e, (&a, &b))| ratio_sq(e, tol.atol + tol.rtol * a.abs().max(b.abs())))
         .sum();
-    (sum / err.len() as f64).sqrt()
+    sum / err.len() as f64
 }
 
 /// RMS of `v_i / (atol + rtol·|y_i|)`, the norm the initial step heuristic uses.

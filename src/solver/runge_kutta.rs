@@ -90,7 +90,9 @@ pub trait Method<V: StateVector>: Clone + std::fmt::Debug + Default {
     /// Scratch vectors (the initial step heuristic's probe point and its derivative).
     fn scratch(&mut self) -> (&V, &mut V, &mut V);
     /// One step of size `h` from `(t, y)` with `k1 = f(t, y)`: computes the new point
-    /// (read with [`Method::y_new`]), f there, and returns the error norm (≤ 1: acceptable),
+    /// (read with [`Method::y_new`]), f there, and returns the square of the error norm
+    /// (≤ 1: acceptable; squared because the square root would sit on the chain from the
+    /// last stage through the step-size controller, which the processor waits for),
     /// or NaN if a stage derivative, argument or the new point is non-finite (caught at the
     /// latest in the next stage argument: the rhs is never fed NaN by the solver). `t_new`
     /// is the exact end time of the step.
@@ -272,25 +274,26 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
                 (h, *t + h)
             };
 
-            let err = (self.method).attempt(sys, *t, h_step, t_new, y, tol, &mut self.evals);
+            let err_squared =
+                (self.method).attempt(sys, *t, h_step, t_new, y, tol, &mut self.evals);
 
-            if !err.is_finite() {
+            if !err_squared.is_finite() {
                 stats.rejected += 1;
                 last_rejected = true;
                 h = h_step / NON_FINITE_SHRINK;
                 if h < h_min(*t) {
                     return Err(SolverError::NonFinite { t: *t });
                 }
-            } else if err > 1.0 {
+            } else if err_squared > 1.0 {
                 stats.rejected += 1;
                 last_rejected = true;
-                h = controller.after_reject(h_step, err);
+                h = controller.after_reject(h_step, err_squared);
                 if h < h_min(*t) {
                     return Err(SolverError::StepSizeTooSmall { t: *t, h });
                 }
             } else {
                 stats.accepted += 1;
-                let mut h_new = controller.after_accept(h_step, err);
+                let mut h_new = controller.after_accept(h_step, err_squared);
                 if last_rejected {
                     h_new = h_new.min(h_step);
                 }
