@@ -21,7 +21,6 @@
 //! state: the singularity of the notes' massless version).
 
 use mechfmu::model::{lit, Experiment, Mechanism, Monitor, Scalar, Variable};
-use mechfmu::nalgebra::{Matrix3, Vector3};
 
 mechfmu::mechanism! {
     /// A luffing crane driven by its drives' force and torque: a boom of moment of inertia
@@ -108,9 +107,11 @@ impl Mechanism for CraneDynamics {
                 [ m l (2 ẋ θ̇ sin s + x θ̇² cos s - g sin φ)              ]
 
         `M` is positive definite (`det M = m l² [J_boom (m_trolley + m sin² s) + μ m_trolley x²]`)
-        and is solved by Cholesky at every evaluation. The tension is the notes' formula (a)
-        on the computed motion, and `N` (boom on trolley, along `j_A`) follows from the
-        trolley's Newton law across the boom:
+        and is solved at every evaluation by eliminating `ẍ` and `θ̈` with the first two rows
+        (whose pivots `μ` and `J_boom + μ x²` are > 0; `M₁₂ = 0`), which leaves `φ̈` over the
+        Schur complement `det M / (μ (J_boom + μ x²)) > 0`. The tension is the notes'
+        formula (a) on the computed motion, and `N` (boom on trolley, along `j_A`) follows
+        from the trolley's Newton law across the boom:
 
             T = m [(ẍ - θ̇² x) sin s + (2 θ̇ ẋ + θ̈ x) cos s + l φ̇² + g cos φ]
             N = m_trolley (2 ẋ θ̇ + x θ̈ + g cos θ) + T cos s
@@ -155,39 +156,45 @@ impl Mechanism for CraneDynamics {
         let two = lit::<S>(2.0);
         let (m, l, g, x) = (v.m, v.l, v.g, v.x);
         let mu = m + v.m_trolley;
-        let s = v.theta - v.phi;
-        let (sin_s, cos_s) = (s.sin(), s.cos());
-        let (sin_phi, cos_phi) = (v.phi.sin(), v.phi.cos());
-        let (sin_th, cos_th) = (v.theta.sin(), v.theta.cos());
+        // One sincos call each for θ and φ; sin s and cos s (s = θ - φ) follow from the
+        // angle-difference identities, equal to sin(θ - φ) and cos(θ - φ) up to rounding.
+        let (sin_th, cos_th) = v.theta.sin_cos();
+        let (sin_phi, cos_phi) = v.phi.sin_cos();
+        let sin_s = sin_th * cos_phi - cos_th * sin_phi;
+        let cos_s = cos_th * cos_phi + sin_th * sin_phi;
         let (xd, thd, phd) = (v.x_dot, v.theta_dot, v.phi_dot);
 
-        // Lagrange's equations M(q) q̈ = f (derivation in the module documentation).
-        let m13 = m * l * cos_s;
-        let m23 = -m * l * x * sin_s;
-        #[rustfmt::skip]
-        let mass = Matrix3::new(
-            mu,  S::zero(),             m13,
-            S::zero(), v.J_boom + mu * x * x, m23,
-            m13, m23,                   m * l * l,
-        );
-        let f = Vector3::new(
-            v.F + mu * x * thd * thd - m * l * phd * phd * sin_s - mu * g * sin_th,
-            v.tau - two * mu * x * xd * thd - m * l * x * phd * phd * cos_s - mu * g * x * cos_th,
-            m * l * (two * xd * thd * sin_s + x * thd * thd * cos_s - g * sin_phi),
-        );
-        // M is positive definite whenever J_boom, m_trolley > 0 (see above), so Cholesky
-        // succeeds; NaN (which the solver rejects) would only flag a broken invariant.
-        let acc = mass
-            .cholesky()
-            .map(|c| c.solve(&f))
-            .unwrap_or_else(|| Vector3::repeat(lit::<S>(f64::NAN)));
-        v.x_ddot = acc[0];
-        v.theta_ddot = acc[1];
-        v.phi_ddot = acc[2];
+        // Lagrange's equations M(q) q̈ = f (derivation in the module documentation), with
+        //     M = [ a  0  c ]
+        //         [ 0  b  d ]
+        //         [ c  d  e ]
+        let a = mu;
+        let b = v.J_boom + mu * x * x;
+        let c = m * l * cos_s;
+        let d = -m * l * x * sin_s;
+        let e = m * l * l;
+        let f1 = v.F + mu * x * thd * thd - m * l * phd * phd * sin_s - mu * g * sin_th;
+        let f2 =
+            v.tau - two * mu * x * xd * thd - m * l * x * phd * phd * cos_s - mu * g * x * cos_th;
+        let f3 = m * l * (two * xd * thd * sin_s + x * thd * thd * cos_s - g * sin_phi);
+        // Solved exactly by elimination (no Cholesky, no square roots): the first two rows
+        // give ẍ = (f1 - c φ̈)/a and θ̈ = (f2 - d φ̈)/b, and the third then reads
+        // (e - c²/a - d²/b) φ̈ = f3 - c f1/a - d f2/b. The pivots a = μ and b = J_boom + μ x²
+        // are > 0, and the Schur complement e - c²/a - d²/b = det M/(a b) is > 0 because M is
+        // positive definite (see above). The reciprocals depend on the positions only, not
+        // on the velocities the right-hand side brings in, so no division waits for f.
+        let inv_a = a.recip();
+        let inv_b = b.recip();
+        let (c_a, d_b) = (c * inv_a, d * inv_b);
+        let inv_schur = (e - c * c_a - d * d_b).recip();
+        let phi_ddot = (f3 - c_a * f1 - d_b * f2) * inv_schur;
+        let x_ddot = (f1 - c * phi_ddot) * inv_a;
+        let theta_ddot = (f2 - d * phi_ddot) * inv_b;
+        (v.x_ddot, v.theta_ddot, v.phi_ddot) = (x_ddot, theta_ddot, phi_ddot);
 
         // The notes' formula (a): Newton's law on the payload along the cable.
-        let a_radial = v.x_ddot - thd * thd * x;
-        let a_normal = two * thd * xd + v.theta_ddot * x;
+        let a_radial = x_ddot - thd * thd * x;
+        let a_normal = two * thd * xd + theta_ddot * x;
         v.T = m * (a_radial * sin_s + a_normal * cos_s + l * phd * phd + g * cos_phi);
         // The drives' power: the rate of W_drives.
         v.P_drives = v.F * xd + v.tau * thd;
@@ -199,9 +206,10 @@ impl Mechanism for CraneDynamics {
         let half = lit::<S>(0.5);
         let two = lit::<S>(2.0);
         let (m, l, g, x) = (v.m, v.l, v.g, v.x);
-        let cos_s = (v.theta - v.phi).cos();
-        let (sin_phi, cos_phi) = (v.phi.sin(), v.phi.cos());
-        let (sin_th, cos_th) = (v.theta.sin(), v.theta.cos());
+        // As in `evaluate`: cos s by the angle-difference identity.
+        let (sin_th, cos_th) = v.theta.sin_cos();
+        let (sin_phi, cos_phi) = v.phi.sin_cos();
+        let cos_s = cos_th * cos_phi + sin_th * sin_phi;
         let (xd, thd, phd) = (v.x_dot, v.theta_dot, v.phi_dot);
 
         // The trolley along j_A: m_trolley (2 ẋ θ̇ + x θ̈) = N - T cos s - m_trolley g cos θ,

@@ -276,7 +276,7 @@ fn invalid_parameters_and_start_values_are_rejected_at_initialization() {
 
 #[test]
 fn directional_derivatives_match_finite_differences() {
-    // The equations run on dual numbers through the Cholesky solve: the exact derivatives
+    // The equations run on dual numbers through the elimination: the exact derivatives
     // of the accelerations, T and N with respect to every state and input, against central
     // differences of the outputs at initialization.
     let base = [

@@ -338,6 +338,7 @@ impl Mechanism for RigidBody {
         let tau = Vector3::new(v.tau_x, v.tau_y, v.tau_z);
         let r_c = Vector3::new(v.r_Cx, v.r_Cy, v.r_Cz);
         let i_b = inertia_about_pivot(v);
+        let i_b_inverse = inverse_of_inertia(v);
 
         // Rᵀ Z, the ground vertical in body axes, is the third row of R (body → ground) of
         // q/|q|: R's entries are quadratic in q, so it is that row written in q, over |q|²
@@ -355,11 +356,7 @@ impl Mechanism for RigidBody {
         // I_B ω̇ = tau + r_C × (Rᵀ(-M g Z)) - ω × (I_B ω).
         let h_body = i_b * w;
         let moment = tau + r_c.cross(&weight) - w.cross(&h_body);
-        // I_B is positive definite (checked in `calculate`), so Cholesky applies; NaN
-        // otherwise makes the solver stop with a message rather than go on silently.
-        let w_dot = i_b
-            .cholesky()
-            .map_or(Vector3::repeat(lit::<S>(f64::NAN)), |c| c.solve(&moment));
+        let w_dot = i_b_inverse * moment;
         (v.w_x_dot, v.w_y_dot, v.w_z_dot) = (w_dot.x, w_dot.y, w_dot.z);
 
         // q̇ = ½ q ⊗ (0, ω) - k_q (|q|² - 1) q: the second term only changes |q| (see the
@@ -399,6 +396,31 @@ fn inertia_about_pivot<S: Scalar>(v: &RigidBodyValues<S>) -> Matrix3<S> {
         v.I_Bxy, v.I_Byy, v.I_Byz,
         v.I_Bxz, v.I_Byz, v.I_Bzz,
     )
+}
+
+/// `I_B⁻¹` in closed form, the adjugate over the determinant. It depends on the parameters
+/// only, so its one division runs beside the state-dependent work and `ω̇ = I_B⁻¹ (...)` is
+/// a matrix-vector product with no division waiting for the moment (a Cholesky solve puts
+/// six divisions in a row there, after three square roots). `I_B` is positive definite
+/// (checked in `calculate`: its smallest principal moment exceeds 1e-12 of the largest),
+/// so `det I_B > 0`; like a Cholesky solve, the result is exact up to rounding errors of
+/// the order of cond(I_B) times the unit roundoff.
+fn inverse_of_inertia<S: Scalar>(v: &RigidBodyValues<S>) -> Matrix3<S> {
+    let (a, b, c) = (v.I_Bxx, v.I_Byy, v.I_Bzz);
+    let (d, e, f) = (v.I_Bxy, v.I_Bxz, v.I_Byz);
+    // Cofactors of the symmetric [[a, d, e], [d, b, f], [e, f, c]].
+    let (c11, c22, c33) = (b * c - f * f, a * c - e * e, a * b - d * d);
+    let (c12, c13, c23) = (e * f - d * c, d * f - b * e, d * e - a * f);
+    let inv_det = (a * c11 + d * c12 + e * c13).recip();
+    let (i11, i22, i33) = (c11 * inv_det, c22 * inv_det, c33 * inv_det);
+    let (i12, i13, i23) = (c12 * inv_det, c13 * inv_det, c23 * inv_det);
+    #[rustfmt::skip]
+    let inverse = Matrix3::new(
+        i11, i12, i13,
+        i12, i22, i23,
+        i13, i23, i33,
+    );
+    inverse
 }
 
 mechfmu::export_fmu!(RigidBody);
