@@ -182,6 +182,7 @@ impl<M: Mechanism> Simulation<M> {
     /// Sets value references to values, checking each is settable in `phase` and finite.
     /// All or nothing: on error no value has changed.
     pub fn set_real(&mut self, vrs: &[u32], values: &[f64], phase: SetPhase) -> Result<(), String> {
+        let mut sets_parameter = false;
         for (&vr, &value) in vrs.iter().zip(values) {
             let var = variable::<M>(vr)?;
             if !var.settable(phase) {
@@ -198,12 +199,18 @@ impl<M: Mechanism> Simulation<M> {
             if !value.is_finite() {
                 return Err(format!("{} = {value} is not a finite number", var.name));
             }
-            if phase == SetPhase::Running && var.causality == crate::model::Causality::Parameter {
-                var.check_value(value)?;
+            if var.causality == crate::model::Causality::Parameter {
+                sets_parameter = true;
+                if phase == SetPhase::Running {
+                    var.check_value(value)?;
+                }
             }
         }
         let running = phase == SetPhase::Running;
-        let saved = running.then(|| self.values.clone());
+        // What to go back to if the calculated parameters cannot be computed: only a
+        // parameter set while running can cause that (inputs alone, set at every step by
+        // most importers, need no copy of every value).
+        let saved = (running && sets_parameter).then(|| self.values.clone());
         let mut parameter_changed = false;
         let mut input_changed = false;
         for (&vr, &value) in vrs.iter().zip(values) {
