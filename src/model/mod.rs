@@ -14,7 +14,7 @@ pub use layout::{
     continuous_references, count_continuous, count_states, derivatives_among_states,
     state_references,
 };
-pub use scalar::{lit, Scalar};
+pub use scalar::{cos, lit, sin, sin_cos, Scalar};
 pub use variable::{Causality, Initial, SetPhase, Variability, Variable};
 
 /// The FMU's `DefaultExperiment`, and the tolerance used when the importer gives none.

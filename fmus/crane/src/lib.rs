@@ -8,7 +8,7 @@
 //! tension) with `i_A·i_B = -sin s`, `j_A·i_B = -cos s`, `i_A·j_B = cos s`,
 //! `j_A·j_B = -sin s` and `J = sin φ j_B - cos φ i_B`.
 
-use mechfmu::model::{lit, Experiment, Mechanism, Monitor, Scalar, Variable};
+use mechfmu::model::{lit, sin_cos, Experiment, Mechanism, Monitor, Scalar, Variable};
 
 mechfmu::mechanism! {
     /// A luffing crane: a boom pivoting at O at angle theta above the horizontal, a trolley
@@ -124,8 +124,8 @@ impl Mechanism for Crane {
     fn evaluate<S: Scalar>(v: &mut CraneValues<S>) {
         let two = lit::<S>(2.0);
         let s = v.theta - v.phi;
-        let (sin_s, cos_s) = (s.sin(), s.cos());
-        let (sin_phi, cos_phi) = (v.phi.sin(), v.phi.cos());
+        let (sin_s, cos_s) = sin_cos(s);
+        let (sin_phi, cos_phi) = sin_cos(v.phi);
         // The trolley's acceleration in the boom frame: along i_A (radial) and j_A
         // (Coriolis + Euler).
         let a_radial = v.x_ddot - v.theta_dot * v.theta_dot * v.x;
@@ -148,8 +148,8 @@ impl Mechanism for Crane {
     /// reads, and `P_drives`, the rate of `W_drives`, stay in `evaluate`).
     fn outputs<S: Scalar>(v: &mut CraneValues<S>) {
         let half = lit::<S>(0.5);
-        let (sin_phi, cos_phi) = (v.phi.sin(), v.phi.cos());
-        let (sin_th, cos_th) = (v.theta.sin(), v.theta.cos());
+        let (sin_phi, cos_phi) = sin_cos(v.phi);
+        let (sin_th, cos_th) = sin_cos(v.theta);
         v.payload_x = v.x * cos_th + v.l * sin_phi;
         v.payload_y = v.x * sin_th - v.l * cos_phi;
         let vel_x = v.x_dot * cos_th - v.x * v.theta_dot * sin_th + v.l * v.phi_dot * cos_phi;

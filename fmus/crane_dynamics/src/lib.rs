@@ -20,7 +20,7 @@
 //! all > 0 when `J_boom, m_trolley > 0` (with either one zero, `det M` vanishes at some
 //! state: the singularity of the notes' massless version).
 
-use mechfmu::model::{lit, Experiment, Mechanism, Monitor, Scalar, Variable};
+use mechfmu::model::{lit, sin_cos, Experiment, Mechanism, Monitor, Scalar, Variable};
 
 mechfmu::mechanism! {
     /// A luffing crane driven by its drives' force and torque: a boom of moment of inertia
@@ -158,8 +158,8 @@ impl Mechanism for CraneDynamics {
         let mu = m + v.m_trolley;
         // One sincos call each for θ and φ; sin s and cos s (s = θ - φ) follow from the
         // angle-difference identities, equal to sin(θ - φ) and cos(θ - φ) up to rounding.
-        let (sin_th, cos_th) = v.theta.sin_cos();
-        let (sin_phi, cos_phi) = v.phi.sin_cos();
+        let (sin_th, cos_th) = sin_cos(v.theta);
+        let (sin_phi, cos_phi) = sin_cos(v.phi);
         let sin_s = sin_th * cos_phi - cos_th * sin_phi;
         let cos_s = cos_th * cos_phi + sin_th * sin_phi;
         let (xd, thd, phd) = (v.x_dot, v.theta_dot, v.phi_dot);
@@ -207,8 +207,8 @@ impl Mechanism for CraneDynamics {
         let two = lit::<S>(2.0);
         let (m, l, g, x) = (v.m, v.l, v.g, v.x);
         // As in `evaluate`: cos s by the angle-difference identity.
-        let (sin_th, cos_th) = v.theta.sin_cos();
-        let (sin_phi, cos_phi) = v.phi.sin_cos();
+        let (sin_th, cos_th) = sin_cos(v.theta);
+        let (sin_phi, cos_phi) = sin_cos(v.phi);
         let cos_s = cos_th * cos_phi + sin_th * sin_phi;
         let (xd, thd, phd) = (v.x_dot, v.theta_dot, v.phi_dot);
 

@@ -3,7 +3,7 @@
 //!
 //! `m ẍ + c ẋ + k x = F + F0 sin(ω t)`
 
-use mechfmu::model::{Experiment, Mechanism, Scalar, Variable};
+use mechfmu::model::{sin, Experiment, Mechanism, Scalar, Variable};
 
 mechfmu::mechanism! {
     /// A mass on a spring and a damper, driven by an input force F and a harmonic force
@@ -79,7 +79,7 @@ impl Mechanism for Oscillator {
         let harmonic = if v.F0 == S::zero() {
             S::zero()
         } else {
-            v.F0 * (v.omega * v.time).sin()
+            v.F0 * sin(v.omega * v.time)
         };
         let forcing = v.F + harmonic;
         v.x_ddot = (forcing - v.c * v.x_dot - v.k * v.x) / v.m;

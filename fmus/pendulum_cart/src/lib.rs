@@ -35,7 +35,7 @@
 //! `F_N + F2 - M g = 0`, so `F_N = (M+m) g + m l (θ̈ sin θ + θ̇² cos θ)`: at the bottom of a
 //! swing the rod's centripetal acceleration points up and the cart is pressed down harder.
 
-use mechfmu::model::{lit, Experiment, Mechanism, Scalar, Variable};
+use mechfmu::model::{lit, sin_cos, Experiment, Mechanism, Scalar, Variable};
 use mechfmu::nalgebra::Matrix2;
 
 mechfmu::mechanism! {
@@ -130,7 +130,7 @@ impl Mechanism for PendulumCart {
     }
 
     fn evaluate<S: Scalar>(v: &mut PendulumCartValues<S>) {
-        let (sin, cos) = (v.theta.sin(), v.theta.cos());
+        let (sin, cos) = sin_cos(v.theta);
         let ml = v.m * v.l;
         let i_a = lit::<S>(7.0 / 3.0) * ml * v.l;
 
@@ -150,7 +150,7 @@ impl Mechanism for PendulumCart {
     /// What no derivative needs: the normal force and the energy, from the accelerations
     /// `evaluate` computed.
     fn outputs<S: Scalar>(v: &mut PendulumCartValues<S>) {
-        let (sin, cos) = (v.theta.sin(), v.theta.cos());
+        let (sin, cos) = sin_cos(v.theta);
         let ml = v.m * v.l;
         let i_a = lit::<S>(7.0 / 3.0) * ml * v.l;
 
