@@ -8,24 +8,13 @@
 
 use libfuzzer_sys::fuzz_target;
 use mechfmu::fmi2::ffi::*;
-use mechfmu::fmi2::fmu_state::FmuState;
+use mechfmu::fmi2::fmu_state::{reseal, FmuState};
 use mechfmu::harness::Harness;
 use mechfmu::model::Declaration;
 use oscillator::Oscillator;
 use std::sync::OnceLock;
 
 type Fmu = Harness<Oscillator>;
-
-fn repair(bytes: &mut [u8]) {
-    if bytes.len() < 8 {
-        return;
-    }
-    let n = bytes.len() - 8;
-    let h = bytes[..n].iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
-        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
-    });
-    bytes[n..].copy_from_slice(&h.to_le_bytes());
-}
 
 /// Real serialized states: after a few steps, and right after instantiation.
 fn bases() -> &'static [Vec<u8>; 2] {
@@ -57,7 +46,7 @@ fuzz_target!(|data: &[u8]| {
     let bytes = if mode & 1 == 0 {
         let mut b = rest.to_vec();
         if mode & 2 != 0 {
-            repair(&mut b);
+            reseal(&mut b);
         }
         b
     } else {
@@ -67,7 +56,7 @@ fuzz_target!(|data: &[u8]| {
             b[at] = edit[2];
         }
         if mode & 4 == 0 {
-            repair(&mut b);
+            reseal(&mut b);
         }
         b
     };

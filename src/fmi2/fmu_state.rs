@@ -61,6 +61,16 @@ fn fnv(bytes: &[u8]) -> u64 {
     })
 }
 
+/// Rewrites the checksum (the last 8 bytes) of serialized bytes to match the rest, so edited
+/// bytes get past it to the fields behind (for fuzzing); fewer than 8 bytes are left alone.
+pub fn reseal(bytes: &mut [u8]) {
+    let Some(n) = bytes.len().checked_sub(8) else {
+        return;
+    };
+    let checksum = fnv(&bytes[..n]);
+    bytes[n..].copy_from_slice(&checksum.to_le_bytes());
+}
+
 impl FmuState {
     /// The serialized bytes of this state, for mechanism `M`.
     pub fn to_bytes<M: Mechanism>(&self) -> Vec<u8> {
@@ -307,5 +317,21 @@ impl Reader<'_> {
         }
         String::from_utf8(self.take(n)?.to_vec())
             .map_err(|_| "serialized FMU state has a non-UTF-8 name".into())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{fnv, reseal};
+
+    #[test]
+    fn reseal_writes_the_checksum_of_what_precedes_it() {
+        let mut bytes: Vec<u8> = (0..24).collect();
+        reseal(&mut bytes);
+        assert_eq!(bytes[16..], fnv(&bytes[..16]).to_le_bytes());
+        assert_eq!(bytes[..16], (0..16).collect::<Vec<u8>>()[..]);
+        let mut short = [1u8, 2, 3];
+        reseal(&mut short);
+        assert_eq!(short, [1, 2, 3]);
     }
 }
