@@ -81,6 +81,7 @@ impl<M: Mechanism> Simulation<M> {
                 let mut dydt = M::State::ZERO;
                 let mut warnings = Vec::new();
                 let mut warning_active = false;
+                let inputs_fixed = sim.inputs_held();
                 let mut system = System::<M>::new(
                     &mut sim.values,
                     &sim.layout,
@@ -89,6 +90,7 @@ impl<M: Mechanism> Simulation<M> {
                     t0,
                     &mut warning_active,
                     &mut warnings,
+                    inputs_fixed,
                 );
                 if part == Part::Rhs {
                     for i in 0..n {

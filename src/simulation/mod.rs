@@ -80,6 +80,9 @@ pub struct Simulation<M: Mechanism> {
     /// Only inputs changed since the outputs were last computed: the parameters are as
     /// checked, the calculated parameters current; the outputs need one evaluation.
     stale: bool,
+    /// Whether the inputs are held over the next step (see [`Simulation::inputs_held`]),
+    /// once known: forgotten by everything that sets inputs, their derivatives or values.
+    held: Option<bool>,
     counters: Counters,
 }
 
@@ -96,6 +99,7 @@ impl<M: Mechanism> Clone for Simulation<M> {
             warning_active: self.warning_active,
             dirty: self.dirty,
             stale: self.stale,
+            held: self.held,
             counters: self.counters,
         }
     }
@@ -125,6 +129,7 @@ impl<M: Mechanism> Simulation<M> {
             warning_active: false,
             dirty: true,
             stale: false,
+            held: None,
             counters: Counters::default(),
         };
         sim.reset();
@@ -133,6 +138,7 @@ impl<M: Mechanism> Simulation<M> {
 
     /// Back to the start values, start time 0, default tolerance, a fresh solver.
     pub fn reset(&mut self) {
+        self.held = None;
         self.values = start_values::<M>(0.0);
         for (i, &vr) in self.layout.inputs.iter().enumerate() {
             self.inputs[i] = self.values.get(vr).unwrap_or(0.0);
@@ -182,6 +188,7 @@ impl<M: Mechanism> Simulation<M> {
     /// Sets value references to values, checking each is settable in `phase` and finite.
     /// All or nothing: on error no value has changed.
     pub fn set_real(&mut self, vrs: &[u32], values: &[f64], phase: SetPhase) -> Result<(), String> {
+        self.held = None;
         let mut sets_parameter = false;
         for (&vr, &value) in vrs.iter().zip(values) {
             let var = variable::<M>(vr)?;
@@ -285,6 +292,7 @@ impl<M: Mechanism> Simulation<M> {
 
     #[inline(never)]
     fn bring_up_to_date(&mut self) -> Result<(), String> {
+        self.held = None;
         if !self.dirty {
             if self.stale {
                 // As the full update below, without what only parameters change.
@@ -379,6 +387,7 @@ impl<M: Mechanism> Simulation<M> {
 
     /// Restores a saved state; `Err` if it was not saved from this mechanism's layout.
     pub fn restore(&mut self, saved: &SavedState) -> Result<(), String> {
+        self.held = None;
         let n = M::VARIABLES.len();
         if saved.values.len() != n + 1
             || saved.inputs.len() != self.inputs.len()
@@ -419,6 +428,7 @@ impl<M: Mechanism> Simulation<M> {
         for ((&vr, &order), &value) in vrs.iter().zip(orders).zip(values) {
             self.input_derivative_slot(vr, order, value)?;
         }
+        self.held = None;
         for ((&vr, &order), &value) in vrs.iter().zip(orders).zip(values) {
             let (i, k) = self.input_derivative_slot(vr, order, value)?;
             self.input_derivatives[i][k] = value;
@@ -483,6 +493,7 @@ impl<M: Mechanism> Simulation<M> {
         let (start, memory, warning_active) = (self.y, self.solver.memory(), self.warning_active);
         let mut report = StepReport::default();
         let mut time = t;
+        let inputs_fixed = self.inputs_held();
         let mut system = System::<M>::new(
             &mut self.values,
             &self.layout,
@@ -491,6 +502,7 @@ impl<M: Mechanism> Simulation<M> {
             t,
             &mut self.warning_active,
             &mut report.warnings,
+            inputs_fixed,
         );
         let result =
             self.solver
@@ -501,7 +513,6 @@ impl<M: Mechanism> Simulation<M> {
         // once per communication point, where they become visible.
         system.evaluate_at(time, self.y.as_slice());
         self.counters.evaluations += system.evaluations;
-        let inputs_fixed = system.inputs_fixed;
         complete_point::<M>(system.values);
         if let Some(name) = self.first_non_finite() {
             self.undo(t, &start);
@@ -545,12 +556,34 @@ impl<M: Mechanism> Simulation<M> {
         }
     }
 
+    /// Whether the inputs stay at their values over the next step and the values hold
+    /// exactly those, so that the stages need not load them (see `System::inputs_fixed`).
+    /// Known from the last step unless something was set since: a step with held inputs
+    /// changes neither the inputs nor their derivatives, and one with moving inputs leaves
+    /// their derivatives nonzero.
+    #[inline]
+    fn inputs_held(&mut self) -> bool {
+        if let Some(held) = self.held {
+            return held;
+        }
+        // `load` writes u + dt (d1 + dt d2 / 2), which is u exactly when d1 = d2 = 0 and u is
+        // not -0 (-0 + 0 = +0); `evaluate` writes derivatives and outputs, never inputs.
+        let held = self.input_derivatives.iter().all(|d| *d == [0.0; 2])
+            && (self.layout.inputs.iter().zip(&self.inputs)).all(|(&vr, &u)| {
+                u.to_bits() != (-0.0f64).to_bits()
+                    && self.values.get(vr).map(f64::to_bits) == Some(u.to_bits())
+            });
+        self.held = Some(held);
+        held
+    }
+
     /// Back to the values at the start of a step, from its time and states: they were the
     /// complete evaluation at that point (`update` leaves them so, and so does every
     /// step), and an evaluation is a function of the states, inputs (still those at `t`),
     /// parameters and time, so evaluating again gives them back bit for bit. Cheaper than
     /// copying all the values at the start of every step for a path taken so rarely.
     fn undo(&mut self, t: f64, states: &M::State) {
+        self.held = None;
         self.values.set_time(t);
         for (&vr, &x) in M::STATES.iter().zip(states.as_slice()) {
             self.values.set(vr, x);
@@ -652,14 +685,8 @@ impl<'a, M: Mechanism> System<'a, M> {
         t0: f64,
         warning_active: &'a mut bool,
         warnings: &'a mut Vec<String>,
+        inputs_fixed: bool,
     ) -> Self {
-        // `load` writes u + dt (d1 + dt d2 / 2), which is u exactly when d1 = d2 = 0 and u is
-        // not -0 (-0 + 0 = +0); `evaluate` writes derivatives and outputs, never inputs.
-        let inputs_fixed = input_derivatives.iter().all(|d| *d == [0.0; 2])
-            && layout.inputs.iter().zip(inputs).all(|(&vr, &u)| {
-                u.to_bits() != (-0.0f64).to_bits()
-                    && values.get(vr).map(f64::to_bits) == Some(u.to_bits())
-            });
         System {
             values,
             layout,
@@ -744,10 +771,10 @@ impl<M: Mechanism> System<'_, M> {
     }
 }
 
-impl<M: Mechanism> OdeSystem for System<'_, M> {
+impl<M: Mechanism> System<'_, M> {
+    /// The derivatives the values hold, into `dydt`.
     #[inline(always)]
-    fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) {
-        self.evaluate_at(t, y);
+    fn read_derivatives(&self, y: &[f64], dydt: &mut [f64]) {
         // A derivative that is a state (x' = v) is taken from y, which the values hold too:
         // the same number without a round trip through memory on the stages' critical path.
         for ((&vr, &state), d) in M::DERIVATIVES
@@ -760,6 +787,25 @@ impl<M: Mechanism> OdeSystem for System<'_, M> {
                 None => self.values.get(vr).unwrap_or(f64::NAN),
             };
         }
+    }
+}
+
+impl<M: Mechanism> OdeSystem for System<'_, M> {
+    /// A stage: a point the values do not hold (stages are new points), so no check for it.
+    #[inline(always)]
+    fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) {
+        self.load(t, y);
+        M::evaluate(self.values);
+        self.evaluations += 1;
+        self.read_derivatives(y, dydt);
+    }
+
+    /// The start of a communication step: the values hold it already, evaluated, unless
+    /// something was set since (the previous step's last stage was evaluated there).
+    #[inline(always)]
+    fn rhs_at_start(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) {
+        self.evaluate_at(t, y);
+        self.read_derivatives(y, dydt);
     }
 
     fn accepted(&mut self, t: f64, y: &[f64]) -> Result<(), String> {

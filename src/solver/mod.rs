@@ -178,6 +178,13 @@ pub trait OdeSystem {
     /// until the next call. Non-finite outputs are tolerated and make the solver retry
     /// with a smaller step.
     fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]);
+    /// dy/dt at the point an integration call starts from, which the system may hold
+    /// already (its last evaluation, at the end of the previous call): it can return that
+    /// instead of evaluating again. The stages, whose points are new, call [`OdeSystem::rhs`]
+    /// and pay no such check. Default: `rhs`.
+    fn rhs_at_start(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) {
+        self.rhs(t, y, dydt);
+    }
     /// Called for every point the error test accepts, before it is committed. Err(message)
     /// refuses it: the integration stops at the previous point (the last valid one), which
     /// `t` and `y` keep -> SolverError::Stopped.

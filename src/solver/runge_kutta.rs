@@ -219,7 +219,7 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
         if !all_finite(y) {
             return Err(SolverError::NonFinite { t: *t });
         }
-        sys.rhs(*t, y.as_slice(), self.method.k1().as_mut_slice());
+        sys.rhs_at_start(*t, y.as_slice(), self.method.k1().as_mut_slice());
         self.evals += 1;
         if !all_finite(self.method.k1()) {
             return Err(SolverError::NonFinite { t: *t });
