@@ -230,3 +230,68 @@ fn derivatives_of_outputs_come_from_outputs() {
         "{rate:?} {expected}"
     );
 }
+
+#[test]
+fn the_remembered_answer_to_whether_inputs_are_held_is_always_the_fresh_one() {
+    // After every kind of call, the remembered answer is the one computed afresh.
+    fn check(sim: &mut Simulation<Split>, when: &str) {
+        let remembered = sim.inputs_held();
+        let mut fresh = sim.clone();
+        fresh.held = None;
+        assert_eq!(remembered, fresh.inputs_held(), "{when}");
+    }
+    let mut sim = started(&[]);
+    let h = 0.01;
+    check(&mut sim, "after initialization");
+    sim.step(0.0, h).unwrap();
+    check(&mut sim, "after a step with a held input");
+    let saved = sim.save();
+    sim.set_input_derivatives(&[F], &[1], &[5.0]).unwrap();
+    check(&mut sim, "after setting an input derivative");
+    assert!(!sim.inputs_held());
+    let moving = sim.save();
+    let f = sim.values().F;
+    sim.step(sim.time(), h).unwrap();
+    assert_eq!(sim.values().F, f + 5.0 * h, "the input moved over the step");
+    check(&mut sim, "after a step with a moving input");
+    sim.set_real(&[F], &[-0.0], SetPhase::Running).unwrap();
+    check(&mut sim, "after setting an input to -0");
+    sim.set_real(&[F], &[3.0], SetPhase::Running).unwrap();
+    check(&mut sim, "after setting an input");
+    assert!(sim.inputs_held());
+    sim.step(sim.time(), h).unwrap();
+    assert_eq!(sim.values().F, 3.0);
+    sim.restore(&moving).unwrap();
+    check(&mut sim, "after restoring a state with a moving input");
+    sim.step(sim.time(), h).unwrap();
+    sim.restore(&saved).unwrap();
+    check(&mut sim, "after restoring a state");
+    sim.set_input_derivatives(&[F], &[2], &[1.0]).unwrap();
+    sim.step(sim.time(), h).unwrap();
+    sim.reset();
+    check(&mut sim, "after a reset");
+}
+
+#[test]
+fn a_step_starts_from_the_evaluation_the_last_one_ended_with() {
+    // FSAL across communication steps: the first stage of a step is the evaluation at the
+    // end of the previous one, so a step costs its stages only (6 per Dopri5 attempt, 12
+    // per Dop853 one); the stages themselves never skip an evaluation.
+    let mut sim = started(&[]);
+    let h = 0.01;
+    sim.step(0.0, h).unwrap();
+    for _ in 0..20 {
+        let stages = if sim.solver.high_order(h) { 12 } else { 6 };
+        let (evaluations, _) = calls();
+        let report = sim.step(sim.time(), h).unwrap();
+        let attempts = report.stats.accepted + report.stats.rejected;
+        assert_eq!(calls().0 - evaluations, stages * attempts);
+    }
+    // Something set in between: the start is evaluated again, once.
+    sim.set_real(&[F], &[0.5], SetPhase::Running).unwrap();
+    let stages = if sim.solver.high_order(h) { 12 } else { 6 };
+    let (evaluations, _) = calls();
+    let report = sim.step(sim.time(), h).unwrap();
+    let attempts = report.stats.accepted + report.stats.rejected;
+    assert_eq!(calls().0 - evaluations, stages * attempts + 1);
+}
