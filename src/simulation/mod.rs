@@ -800,10 +800,11 @@ impl<M: Mechanism> OdeSystem for System<'_, M> {
         self.read_derivatives(y, dydt);
     }
 
-    /// The start of a communication step: the values hold it already, evaluated, unless
-    /// something was set since (the previous step's last stage was evaluated there).
+    /// The start of a communication step (the values hold it already, evaluated, unless
+    /// something was set since) or the new point of a solver step (the values hold it when
+    /// the system is at rest: every stage was the same point).
     #[inline(always)]
-    fn rhs_at_start(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) {
+    fn rhs_reusing(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) {
         self.evaluate_at(t, y);
         self.read_derivatives(y, dydt);
     }

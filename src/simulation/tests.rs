@@ -295,3 +295,21 @@ fn a_step_starts_from_the_evaluation_the_last_one_ended_with() {
     let attempts = report.stats.accepted + report.stats.rejected;
     assert_eq!(calls().0 - evaluations, stages * attempts + 1);
 }
+
+#[test]
+fn a_system_at_rest_reuses_its_last_stage_at_the_new_point() {
+    // At rest every stage is the same point, the new point too: its evaluation is the last
+    // stage's (one fewer per attempt); the answer is the same.
+    const X: u32 = 5;
+    let mut sim = started(&[(F, 0.0), (X, 0.0)]);
+    let h = 0.01;
+    sim.step(0.0, h).unwrap();
+    for _ in 0..5 {
+        let stages = if sim.solver.high_order(h) { 12 } else { 6 };
+        let (evaluations, _) = calls();
+        let report = sim.step(sim.time(), h).unwrap();
+        let attempts = report.stats.accepted + report.stats.rejected;
+        assert_eq!(calls().0 - evaluations, (stages - 1) * attempts);
+        assert_eq!((sim.values().x, sim.values().v), (0.0, 0.0));
+    }
+}

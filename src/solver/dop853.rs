@@ -15,7 +15,7 @@
 
 use super::controller::Control;
 use super::norm::ratio_sq;
-use super::runge_kutta::{all_finite, combine, evaluate, Method, RungeKutta};
+use super::runge_kutta::{all_finite, combine, evaluate, evaluate_new_point, Method, RungeKutta};
 use super::{OdeSystem, StateVector, Tolerance};
 
 // Nodes c_i (stage i is evaluated at t + c_i h).
@@ -156,7 +156,7 @@ impl<V: StateVector> Dp853<V> {
             evaluate(sys, evals, tt, arg, k);
             true
         };
-        combine(y_stage, y, h, [(A21, &*k1)])
+        let staged = combine(y_stage, y, h, [(A21, &*k1)])
             && eval(t + C2 * h, y_stage, k2)
             && combine(y_stage, y, h, [(A31, &*k1), (A32, &*k2)])
             && eval(t + C3 * h, y_stage, k3)
@@ -262,8 +262,12 @@ impl<V: StateVector> Dp853<V> {
                     (B11, &*k11),
                     (B12, &*k12),
                 ],
-            )
-            && eval(t_new, y_new, k13)
+            );
+        // The new point, which the system may hold already (see `evaluate_new_point`).
+        staged && {
+            evaluate_new_point(sys, evals, t_new, y_new, k13);
+            true
+        }
             // f at the new point enters no error estimate: checked here, as it becomes the
             // next step's first stage (FSAL).
             && all_finite(k13)

@@ -6,7 +6,7 @@
 
 use super::controller::Control;
 use super::norm::error_norm_squared;
-use super::runge_kutta::{all_finite, combine, evaluate, Method, RungeKutta};
+use super::runge_kutta::{all_finite, combine, evaluate, evaluate_new_point, Method, RungeKutta};
 use super::{OdeSystem, StateVector, Tolerance};
 
 // Nodes c_i.
@@ -116,8 +116,7 @@ impl<V: StateVector> Dp5<V> {
             evaluate(sys, evals, tt, arg, k);
             true
         };
-
-        combine(y_stage, y, h, [(A21, &*k1)])
+        let staged = combine(y_stage, y, h, [(A21, &*k1)])
             && eval(t + C2 * h, y_stage, k2)
             && combine(y_stage, y, h, [(A31, &*k1), (A32, &*k2)])
             && eval(t + C3 * h, y_stage, k3)
@@ -148,8 +147,13 @@ impl<V: StateVector> Dp5<V> {
                 y,
                 h,
                 [(B1, &*k1), (B3, &*k3), (B4, &*k4), (B5, &*k5), (B6, &*k6)],
-            )
-            && eval(t_new, y_new, k7)
+            );
+        // The new point, which the system may hold already (see `evaluate_new_point`).
+        staged
+            && {
+                evaluate_new_point(sys, evals, t_new, y_new, k7);
+                true
+            }
             && {
                 let e = err.as_mut_slice();
                 let (k1, k3, k4, k5, k6, k7) = (

@@ -178,11 +178,12 @@ pub trait OdeSystem {
     /// until the next call. Non-finite outputs are tolerated and make the solver retry
     /// with a smaller step.
     fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]);
-    /// dy/dt at the point an integration call starts from, which the system may hold
-    /// already (its last evaluation, at the end of the previous call): it can return that
-    /// instead of evaluating again. The stages, whose points are new, call [`OdeSystem::rhs`]
-    /// and pay no such check. Default: `rhs`.
-    fn rhs_at_start(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) {
+    /// dy/dt at a point the system may have evaluated last: the start of an integration
+    /// call (the end of the previous one) and the new point of a step (the same as the
+    /// last stage's for a system at rest). A system that keeps its last evaluation can
+    /// return it instead of evaluating again. The other stages, whose points are new, call
+    /// [`OdeSystem::rhs`] and pay for no such check. Default: `rhs`.
+    fn rhs_reusing(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) {
         self.rhs(t, y, dydt);
     }
     /// Called for every point the error test accepts, before it is committed. Err(message)

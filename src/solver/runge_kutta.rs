@@ -72,6 +72,20 @@ pub(crate) fn evaluate<V: StateVector, S: OdeSystem + ?Sized>(
     *evals += 1;
 }
 
+/// [`evaluate`] at the new point of a step, which the system may have evaluated last
+/// ([`OdeSystem::rhs_reusing`]).
+#[inline(always)]
+pub(crate) fn evaluate_new_point<V: StateVector, S: OdeSystem + ?Sized>(
+    sys: &mut S,
+    evals: &mut u64,
+    t: f64,
+    y_new: &V,
+    k: &mut V,
+) {
+    sys.rhs_reusing(t, y_new.as_slice(), k.as_mut_slice());
+    *evals += 1;
+}
+
 /// Whether every entry is finite (without stopping early: no branch per entry).
 #[inline(always)]
 pub(crate) fn all_finite<V: StateVector>(v: &V) -> bool {
@@ -219,7 +233,7 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
         if !all_finite(y) {
             return Err(SolverError::NonFinite { t: *t });
         }
-        sys.rhs_at_start(*t, y.as_slice(), self.method.k1().as_mut_slice());
+        sys.rhs_reusing(*t, y.as_slice(), self.method.k1().as_mut_slice());
         self.evals += 1;
         if !all_finite(self.method.k1()) {
             return Err(SolverError::NonFinite { t: *t });
