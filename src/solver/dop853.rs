@@ -117,9 +117,10 @@ pub struct Dp853<V: StateVector> {
     k: [V; 13],
     y_stage: V,
     y_new: V,
-    /// The 3rd-order embedded solution's error norm of the last attempt (`‖y8 − y3‖`
-    /// scaled like the error test): what a lower-order method would have had to meet.
-    err3: f64,
+    /// The square of the 3rd-order embedded solution's error norm of the last attempt
+    /// (`‖y8 − y3‖` scaled like the error test): what a lower-order method would have had
+    /// to meet. Squared, as the controller takes it (no square root per attempt).
+    err3_squared: f64,
 }
 
 impl<V: StateVector> Default for Dp853<V> {
@@ -128,7 +129,7 @@ impl<V: StateVector> Default for Dp853<V> {
             k: [V::ZERO; 13],
             y_stage: V::ZERO,
             y_new: V::ZERO,
-            err3: f64::NAN,
+            err3_squared: f64::NAN,
         }
     }
 }
@@ -273,9 +274,9 @@ impl<V: StateVector> Dp853<V> {
             && all_finite(k13)
     }
 
-    /// The 3rd-order error norm of the last attempted step (NaN before any).
-    pub(crate) fn err3(&self) -> f64 {
-        self.err3
+    /// The square of the 3rd-order error norm of the last attempted step (NaN before any).
+    pub(crate) fn err3_squared(&self) -> f64 {
+        self.err3_squared
     }
 
     /// The square of `dop853.f`'s error norm `|h|·E5² / sqrt(N·(E5² + 0.01·E3²))`, with E5
@@ -308,7 +309,7 @@ impl<V: StateVector> Dp853<V> {
             e3 += ratio_sq(err3, scale);
             e5 += ratio_sq(err5, scale);
         }
-        self.err3 = h.abs() * (e3 / V::DIM as f64).sqrt();
+        self.err3_squared = (h * h) * (e3 / V::DIM as f64);
         let mut deno = e5 + 0.01 * e3;
         if deno <= 0.0 {
             deno = 1.0;

@@ -135,9 +135,9 @@ impl<V: StateVector> Solver<V> {
         ) {
             // One step covered the interval: would one Dopri5 step have done as well?
             let mut controller = Controller::new(Dp5::<V>::CONTROL, ERR_PREV_FLOOR);
-            let err = self.dop853.method.err3();
-            if err <= 1.0 {
-                let h = controller.after_accept(interval, err * err);
+            let err_squared = self.dop853.method.err3_squared();
+            if err_squared <= 1.0 {
+                let h = controller.after_accept(interval, err_squared);
                 if runge_kutta::reaches(h, interval) {
                     self.mem = SolverMemory {
                         h_next: Some(h),
