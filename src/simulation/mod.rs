@@ -511,7 +511,7 @@ impl<M: Mechanism> Simulation<M> {
         // step they already do: the solver's last stage was evaluated there). The stages
         // computed the derivatives only: the outputs no derivative needs are computed here,
         // once per communication point, where they become visible.
-        system.evaluate_at(time, self.y.as_slice());
+        system.evaluate_at(time, &self.y);
         self.counters.evaluations += system.evaluations;
         complete_point::<M>(system.values);
         if let Some(name) = self.first_non_finite() {
@@ -710,7 +710,7 @@ impl<M: Mechanism> System<'_, M> {
     /// the last stage and the monitor's are saved. Bit-for-bit: the same point gives the
     /// same evaluation (`Mechanism::evaluate` is a function of the values it reads).
     #[inline(always)]
-    fn holds(&self, t: f64, y: &[f64]) -> bool {
+    fn holds(&self, t: f64, y: &M::State) -> bool {
         if self.values.time().to_bits() != t.to_bits() {
             return false;
         }
@@ -718,7 +718,7 @@ impl<M: Mechanism> System<'_, M> {
         // M::STATES is a constant: this unrolls into one comparison per state.
         if !M::STATES
             .iter()
-            .zip(y)
+            .zip(y.as_slice())
             .fold(true, |all, (&vr, &x)| all & same(vr, x))
         {
             return false;
@@ -737,7 +737,7 @@ impl<M: Mechanism> System<'_, M> {
 
     /// Loads (t, y) and evaluates the model there, unless the values already hold it.
     #[inline(always)]
-    fn evaluate_at(&mut self, t: f64, y: &[f64]) {
+    fn evaluate_at(&mut self, t: f64, y: &M::State) {
         if !self.holds(t, y) {
             self.load(t, y);
             M::evaluate(self.values);
@@ -745,48 +745,53 @@ impl<M: Mechanism> System<'_, M> {
         }
     }
 
+    /// Stores the point into the values. The states are read from the solver's vector
+    /// before this (`fixed_size`): as far as the compiler knows the values may overlap it,
+    /// and a store first would make it read back from memory the stage it has just
+    /// computed in registers, on the stages' critical path.
     #[inline(always)]
-    fn load(&mut self, t: f64, y: &[f64]) {
-        // `y` is read before anything is stored: as far as the compiler knows the values
-        // may overlap `y`, and a store first would make it read back from memory the stage
-        // the solver has just computed in registers, on the stages' critical path.
-        let states: M::State = fixed_size(y);
+    fn load(&mut self, t: f64, states: &M::State) {
         self.values.set_time(t);
         for (&vr, &x) in M::STATES.iter().zip(states.as_slice()) {
             self.values.set(vr, x);
         }
-        if self.inputs_fixed {
-            return;
-        }
-        let dt = t - self.t0;
-        for ((&vr, &u), d) in self
-            .layout
-            .inputs
-            .iter()
-            .zip(self.inputs)
-            .zip(self.input_derivatives)
-        {
-            self.values.set(vr, u + dt * (d[0] + 0.5 * dt * d[1]));
+        if !self.inputs_fixed {
+            let dt = t - self.t0;
+            for ((&vr, &u), d) in self
+                .layout
+                .inputs
+                .iter()
+                .zip(self.inputs)
+                .zip(self.input_derivatives)
+            {
+                self.values.set(vr, u + dt * (d[0] + 0.5 * dt * d[1]));
+            }
         }
     }
 }
 
 impl<M: Mechanism> System<'_, M> {
-    /// The derivatives the values hold, into `dydt`.
+    /// The derivatives the values hold at the point `states`, into `dydt`.
+    ///
+    /// All are read before any is written: a store into `dydt` could, as far as the
+    /// compiler knows, change the values, and the derivatives written after it would be
+    /// read back from memory instead of taken from the registers `evaluate` computed them
+    /// in. A derivative that is a state (x' = v) is taken from `states`, the same number
+    /// without a round trip through memory.
     #[inline(always)]
-    fn read_derivatives(&self, y: &[f64], dydt: &mut [f64]) {
-        // A derivative that is a state (x' = v) is taken from y, which the values hold too:
-        // the same number without a round trip through memory on the stages' critical path.
+    fn read_derivatives(&self, states: &M::State, dydt: &mut [f64]) {
+        let mut derivatives = M::State::ZERO;
         for ((&vr, &state), d) in M::DERIVATIVES
             .iter()
             .zip(M::DERIVATIVES_AMONG_STATES)
-            .zip(dydt.iter_mut())
+            .zip(derivatives.as_mut_slice())
         {
             *d = match state {
-                Some(j) => y[j],
+                Some(j) => states.as_slice()[j],
                 None => self.values.get(vr).unwrap_or(f64::NAN),
             };
         }
+        dydt[..M::State::DIM].copy_from_slice(derivatives.as_slice());
     }
 }
 
@@ -794,10 +799,12 @@ impl<M: Mechanism> OdeSystem for System<'_, M> {
     /// A stage: a point the values do not hold (stages are new points), so no check for it.
     #[inline(always)]
     fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) {
-        self.load(t, y);
+        let states: M::State = fixed_size(y);
+        self.load(t, &states);
         M::evaluate(self.values);
+        self.read_derivatives(&states, dydt);
+        // Counted last, for the reason `read_derivatives` reads before it writes.
         self.evaluations += 1;
-        self.read_derivatives(y, dydt);
     }
 
     /// The start of a communication step (the values hold it already, evaluated, unless
@@ -805,15 +812,16 @@ impl<M: Mechanism> OdeSystem for System<'_, M> {
     /// the system is at rest: every stage was the same point).
     #[inline(always)]
     fn rhs_reusing(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) {
-        self.evaluate_at(t, y);
-        self.read_derivatives(y, dydt);
+        let states: M::State = fixed_size(y);
+        self.evaluate_at(t, &states);
+        self.read_derivatives(&states, dydt);
     }
 
     fn accepted(&mut self, t: f64, y: &[f64]) -> Result<(), String> {
         if !M::MONITORED {
             return Ok(());
         }
-        self.evaluate_at(t, y);
+        self.evaluate_at(t, &fixed_size(y));
         match M::monitor(self.values) {
             Monitor::Valid => *self.warning_active = false,
             Monitor::Warning(message) => {
