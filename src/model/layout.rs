@@ -153,12 +153,29 @@ pub const fn derivatives_among_states<const N: usize>(
     out
 }
 
-/// The number of continuous variables, at compile time.
+/// A set of variables a mechanism needs as a compile-time list of value references.
 #[doc(hidden)]
-pub const fn count_continuous(variables: &[Variable]) -> usize {
+#[derive(Clone, Copy)]
+pub enum Selection {
+    /// The continuous variables: the values a step must leave finite.
+    Continuous,
+    /// The inputs: the values a stage loads when they move over a step.
+    Inputs,
+}
+
+const fn selected(variable: &Variable, selection: Selection) -> bool {
+    match selection {
+        Selection::Continuous => matches!(variable.variability, Variability::Continuous),
+        Selection::Inputs => matches!(variable.causality, Causality::Input),
+    }
+}
+
+/// The number of variables in `selection`, at compile time.
+#[doc(hidden)]
+pub const fn count_selected(variables: &[Variable], selection: Selection) -> usize {
     let (mut i, mut n) = (0, 0);
     while i < variables.len() {
-        if matches!(variables[i].variability, Variability::Continuous) {
+        if selected(&variables[i], selection) {
             n += 1;
         }
         i += 1;
@@ -166,22 +183,26 @@ pub const fn count_continuous(variables: &[Variable]) -> usize {
     n
 }
 
-/// The value references of the `N` continuous variables, in declaration order: the values a
-/// step must leave finite, as constants, so checking them after every step is a few
-/// comparisons rather than a loop over a list.
+/// The value references of the `N` variables in `selection`, in declaration order, as
+/// constants: a loop over them unrolls into accesses to known fields (checking the values
+/// after every step is a few comparisons; storing the inputs at a stage cannot, as far as
+/// the compiler knows, overwrite the states stored beside them).
 #[doc(hidden)]
-pub const fn continuous_references<const N: usize>(variables: &[Variable]) -> [usize; N] {
+pub const fn selected_references<const N: usize>(
+    variables: &[Variable],
+    selection: Selection,
+) -> [usize; N] {
     let mut out = [0; N];
     let (mut i, mut n) = (0, 0);
     while i < variables.len() {
-        if matches!(variables[i].variability, Variability::Continuous) {
+        if selected(&variables[i], selection) {
             out[n] = i;
             n += 1;
         }
         i += 1;
     }
     if n != N {
-        panic!("mechanism!: continuous variable count mismatch");
+        panic!("mechanism!: variable count mismatch");
     }
     out
 }

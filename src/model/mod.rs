@@ -11,8 +11,8 @@ mod variable;
 pub use layout::{check_declaration, Layout};
 #[doc(hidden)]
 pub use layout::{
-    continuous_references, count_continuous, count_states, derivatives_among_states,
-    state_references,
+    count_selected, count_states, derivatives_among_states, selected_references, state_references,
+    Selection,
 };
 pub use scalar::{cos, lit, sin, sin_cos, Scalar};
 pub use variable::{Causality, Initial, SetPhase, Variability, Variable};
@@ -64,6 +64,8 @@ pub trait Declaration: Send + Sync + 'static {
     const DERIVATIVES_AMONG_STATES: &'static [Option<usize>];
     /// The value references of the continuous variables (which a step must leave finite).
     const CONTINUOUS: &'static [usize];
+    /// The value references of the inputs, in declaration order ([`Layout::inputs`]).
+    const INPUTS: &'static [usize];
 
     /// Values that are all zero.
     fn zeros<S: Scalar>() -> Self::Values<S>;
@@ -312,7 +314,10 @@ macro_rules! mechanism {
             ];
             const _: () = $crate::model::check_declaration(VARIABLES);
             const N_STATES: usize = $crate::model::count_states(VARIABLES);
-            const N_CONTINUOUS: usize = $crate::model::count_continuous(VARIABLES);
+            const N_CONTINUOUS: usize =
+                $crate::model::count_selected(VARIABLES, $crate::model::Selection::Continuous);
+            const N_INPUTS: usize =
+                $crate::model::count_selected(VARIABLES, $crate::model::Selection::Inputs);
 
             impl $crate::model::Declaration for $name {
                 const NAME: &'static str = stringify!($name);
@@ -326,8 +331,15 @@ macro_rules! mechanism {
                     &$crate::model::state_references::<N_STATES>(VARIABLES, true);
                 const DERIVATIVES_AMONG_STATES: &'static [Option<usize>] =
                     &$crate::model::derivatives_among_states::<N_STATES>(VARIABLES);
-                const CONTINUOUS: &'static [usize] =
-                    &$crate::model::continuous_references::<N_CONTINUOUS>(VARIABLES);
+                const CONTINUOUS: &'static [usize] = &$crate::model::selected_references::<
+                    N_CONTINUOUS,
+                >(
+                    VARIABLES, $crate::model::Selection::Continuous
+                );
+                const INPUTS: &'static [usize] = &$crate::model::selected_references::<N_INPUTS>(
+                    VARIABLES,
+                    $crate::model::Selection::Inputs,
+                );
 
                 fn zeros<S: $crate::model::Scalar>() -> $values<S> {
                     $values { time: S::zero(), $( $var: S::zero(), )* }
@@ -389,5 +401,30 @@ mod tests {
         assert_eq!(Probe::DERIVATIVES_AMONG_STATES, [None]);
         // The parameter `a` is fixed; the state and the output are continuous.
         assert_eq!(Probe::CONTINUOUS, [1, 2]);
+        assert_eq!(Probe::INPUTS, [] as [usize; 0]);
+    }
+
+    crate::mechanism! {
+        /// Inputs between other variables.
+        pub struct Driven / DrivenValues {
+            /// k
+            k: Variable::parameter("1", 1.0),
+            /// u
+            u: Variable::input("1", 0.0),
+            /// x
+            x: Variable::state("1", 0.0, "x_dot"),
+            /// w
+            w: Variable::input("1", 0.0),
+            /// x_dot
+            x_dot: Variable::output("1"),
+        }
+    }
+
+    #[test]
+    fn compile_time_inputs_are_the_layouts() {
+        assert_eq!(Driven::INPUTS, [1, 3]);
+        let layout = super::Layout::new(Driven::VARIABLES).unwrap();
+        assert_eq!(Driven::INPUTS, layout.inputs);
+        assert_eq!(Driven::STATES, layout.states);
     }
 }

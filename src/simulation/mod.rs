@@ -496,7 +496,6 @@ impl<M: Mechanism> Simulation<M> {
         let inputs_fixed = self.inputs_held();
         let mut system = System::<M>::new(
             &mut self.values,
-            &self.layout,
             &self.inputs,
             &self.input_derivatives,
             t,
@@ -660,7 +659,6 @@ fn fixed_size<V: StateVector>(y: &[f64]) -> V {
 /// from the communication point.
 struct System<'a, M: Mechanism> {
     values: &'a mut M::Values<f64>,
-    layout: &'a Layout,
     inputs: &'a [f64],
     input_derivatives: &'a [[f64; 2]],
     t0: f64,
@@ -679,7 +677,6 @@ impl<'a, M: Mechanism> System<'a, M> {
     #[allow(clippy::too_many_arguments)]
     fn new(
         values: &'a mut M::Values<f64>,
-        layout: &'a Layout,
         inputs: &'a [f64],
         input_derivatives: &'a [[f64; 2]],
         t0: f64,
@@ -689,7 +686,6 @@ impl<'a, M: Mechanism> System<'a, M> {
     ) -> Self {
         System {
             values,
-            layout,
             inputs,
             input_derivatives,
             t0,
@@ -727,8 +723,7 @@ impl<M: Mechanism> System<'_, M> {
             return true;
         }
         let dt = t - self.t0;
-        self.layout
-            .inputs
+        M::INPUTS
             .iter()
             .zip(self.inputs)
             .zip(self.input_derivatives)
@@ -757,9 +752,10 @@ impl<M: Mechanism> System<'_, M> {
         }
         if !self.inputs_fixed {
             let dt = t - self.t0;
-            for ((&vr, &u), d) in self
-                .layout
-                .inputs
+            // `M::INPUTS` is a constant: stores into known fields, which the compiler can
+            // tell from the states' (with the layout's list it could not, and the equations
+            // would read the states back from memory).
+            for ((&vr, &u), d) in M::INPUTS
                 .iter()
                 .zip(self.inputs)
                 .zip(self.input_derivatives)
