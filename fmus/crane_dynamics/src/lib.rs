@@ -153,9 +153,7 @@ impl Mechanism for CraneDynamics {
     }
 
     // Inlined into the solver's stages, the states and derivatives pass in registers, not
-    // through memory: the step is 15 % faster (not so for RigidBody's larger equations, whose
-    // twelve inlined copies in the 8th-order method overflow the processor's decoded-
-    // instruction cache).
+    // through memory: the step is 15 % faster.
     #[inline(always)]
     fn evaluate<S: Scalar>(v: &mut CraneDynamicsValues<S>) {
         let two = lit::<S>(2.0);

@@ -219,6 +219,42 @@ fn tensor_with_products_of_inertia() {
     }
 }
 
+/// `I_B⁻¹` times `I_B` (both as the FMU reports them) is the identity, for a tensor with
+/// products of inertia moved to a pivot, a box about its centre and a thin rod on an arm.
+#[test]
+fn inverse_inertia_inverts_the_tensor() {
+    let mut moved = PRODUCTS.to_vec();
+    moved.extend([("r_Cx", 0.1), ("r_Cy", -0.2), ("r_Cz", 0.05)]);
+    let rod = [
+        ("I_xx", 1e-6),
+        ("I_yy", 0.02),
+        ("I_zz", 0.02),
+        ("r_Cx", 0.0),
+        ("r_Cy", 0.0),
+        ("r_Cz", -0.5),
+    ];
+    let entry = |fmu: &mut Fmu, prefix: &str, i: usize, j: usize| {
+        let axes = ["x", "y", "z"];
+        let (a, b) = (axes[i.min(j)], axes[i.max(j)]);
+        fmu.get(&format!("{prefix}{a}{b}"))
+    };
+    for (params, tol) in [(&moved[..], 1e-14), (&[][..], 1e-15), (&rod[..], 1e-14)] {
+        let mut fmu = initialized(params, 1e-8);
+        for i in 0..3 {
+            for j in 0..3 {
+                let product: f64 = (0..3)
+                    .map(|k| entry(&mut fmu, "I_Binv_", i, k) * entry(&mut fmu, "I_B", k, j))
+                    .sum();
+                let want = if i == j { 1.0 } else { 0.0 };
+                assert!(
+                    (product - want).abs() <= tol,
+                    "{params:?}: (I_B⁻¹ I_B)[{i}][{j}] = {product}"
+                );
+            }
+        }
+    }
+}
+
 // ---------------------------------------------------------------------------- rejections
 
 /// Initialization with `params` fails with fmi2Error and a message containing every
