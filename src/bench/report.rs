@@ -251,7 +251,8 @@ impl Report {
         let _ = writeln!(o, "  evals/acc/rej: model evaluations, accepted and rejected solver steps per fmi2DoStep.");
         let _ = writeln!(o, "  Split of ns/step, from the parts run alone in the FMU on the same trajectory (mechfmu_bench):");
         let _ = writeln!(o, "  rhs = the model's equations (evaluate at every stage, outputs and any projection once per step);");
-        let _ = writeln!(o, "  ns/eval = one stage evaluation; copy = states in, derivatives out (vr lookup); solver = Runge-Kutta");
+        let _ = writeln!(o, "  ns/eval = one stage evaluation (the states stored into the named values, evaluate); copy = what the");
+        let _ = writeln!(o, "  solver's callback adds to that (derivatives out, vr lookup, its bookkeeping); solver = Runge-Kutta");
         let _ = writeln!(o, "  arithmetic and error control; step = Simulation::step's checks and bookkeeping; fmi = the C call,");
         let _ = writeln!(o, "  instance/state checks, unwinding guard. >rhs = all but rhs; plumb. = copy + step + fmi.\n");
 

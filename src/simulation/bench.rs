@@ -2,7 +2,7 @@
 //! FMU's own compiled code, so the benchmark can time them from outside and tell the
 //! model's equations from the solver and from the FMI layer.
 
-use super::{Simulation, System};
+use super::{fixed_size, Simulation, System};
 use crate::model::{Mechanism, ValueSet};
 use crate::solver::{OdeSystem, StateVector};
 
@@ -12,6 +12,11 @@ pub enum Part {
     /// `Mechanism::evaluate` alone: the right-hand side's own work, each evaluation
     /// waiting for the previous one's derivatives as a solver's stages do (without
     /// `Mechanism::outputs`, which runs once per communication point, not per stage).
+    /// The walk is [`Part::Rhs`]'s with the callback taken out, so the two differ by
+    /// what the callback adds to storing the states into the values: reading the
+    /// derivatives out and its own bookkeeping. (An earlier walk that updated the states in
+    /// place in the values paid a store-forwarding stall of its own and came out slower
+    /// than the callback it was subtracted from.)
     Evaluate,
     /// The solver's callback: load the state into the values, evaluate, read the
     /// derivatives (the evaluation plus the copying around it), chained the same way.
@@ -41,6 +46,35 @@ impl Part {
 }
 
 impl<M: Mechanism> Simulation<M> {
+    /// The states the values hold, as the solver's vector.
+    fn state_vector(&self) -> M::State {
+        let mut y = M::State::ZERO;
+        for (y, &vr) in y.as_mut_slice().iter_mut().zip(M::STATES) {
+            *y = self.values.get(vr).unwrap_or(0.0);
+        }
+        y
+    }
+
+    /// The solver's view of this simulation over a step from `t0`, as `Simulation::step`
+    /// builds it.
+    fn system<'a>(
+        &'a mut self,
+        t0: f64,
+        warning_active: &'a mut bool,
+        warnings: &'a mut Vec<String>,
+    ) -> System<'a, M> {
+        let inputs_fixed = self.inputs_held();
+        System::new(
+            &mut self.values,
+            &self.inputs,
+            &self.input_derivatives,
+            t0,
+            warning_active,
+            warnings,
+            inputs_fixed,
+        )
+    }
+
     /// Repeats `part` `n` times on a copy of this simulation (which is left as it was).
     /// `h` is the communication step of [`Part::Step`] and [`Part::Integrate`]; for
     /// [`Part::Evaluate`] and [`Part::Rhs`] it is the time span the `n` evaluations are
@@ -60,63 +94,65 @@ impl<M: Mechanism> Simulation<M> {
         let mut sum = 0.0;
         match part {
             Part::Evaluate => {
-                let mut values = sim.values.clone();
+                // `Part::Rhs`'s walk without the callback: the same state vector through
+                // `black_box`, stored into the same values (which the callback also stores
+                // them into), the same Euler update. With a copy of the values of its own,
+                // which the compiler could keep in registers, the walk measured what the
+                // compiler made of that copy (RigidBody's spilled and came out slower than
+                // the callback).
+                let mut y = sim.state_vector();
+                let values = &mut sim.values;
                 for i in 0..n {
                     values.set_time(t0 + (i + 1) as f64 * dt);
-                    M::evaluate(std::hint::black_box(&mut values));
-                    // Chained as a solver's stages are: the next evaluation's states wait
-                    // for this one's derivatives (an explicit Euler walk over the span).
-                    for (&s, &d) in M::STATES.iter().zip(M::DERIVATIVES) {
-                        let x = values.get(s).unwrap_or(0.0) + dt * values.get(d).unwrap_or(0.0);
+                    let arg: M::State = fixed_size(std::hint::black_box(y.as_slice()));
+                    for (&x, &s) in arg.as_slice().iter().zip(M::STATES) {
                         values.set(s, x);
                     }
+                    M::evaluate(values);
+                    for (y, &d) in y.as_mut_slice().iter_mut().zip(M::DERIVATIVES) {
+                        *y += dt * values.get(d).unwrap_or(0.0);
+                    }
                 }
-                sum += values.get(d).unwrap_or(0.0);
+                sum += y.as_slice().first().copied().unwrap_or(0.0);
             }
-            Part::Rhs | Part::Integrate => {
-                let mut y = M::State::ZERO;
-                for (y, &vr) in y.as_mut_slice().iter_mut().zip(M::STATES) {
-                    *y = sim.values.get(vr).unwrap_or(0.0);
-                }
+            Part::Rhs => {
+                let mut y = sim.state_vector();
                 let mut dydt = M::State::ZERO;
-                let mut warnings = Vec::new();
-                let mut warning_active = false;
-                let inputs_fixed = sim.inputs_held();
-                let mut system = System::<M>::new(
-                    &mut sim.values,
-                    &sim.layout,
-                    &sim.inputs,
-                    &sim.input_derivatives,
-                    t0,
-                    &mut warning_active,
-                    &mut warnings,
-                    inputs_fixed,
-                );
-                if part == Part::Rhs {
-                    for i in 0..n {
-                        system.rhs(
-                            t0 + (i + 1) as f64 * dt,
-                            std::hint::black_box(y.as_slice()),
-                            dydt.as_mut_slice(),
-                        );
-                        // The same Euler walk as `Part::Evaluate`'s, so the difference of
-                        // the two is what the callback adds.
-                        for (y, &f) in y.as_mut_slice().iter_mut().zip(dydt.as_slice()) {
-                            *y += dt * f;
-                        }
+                let (mut warnings, mut warning_active) = (Vec::new(), false);
+                // A system of its own, whose address nothing else sees. One whose address
+                // had escaped (as `Part::Integrate`'s does, into the solver's code) has its
+                // pointer to the values read back from memory after every store through it,
+                // and the derivatives with it: the solver's stages do not pay that.
+                let mut system = sim.system(t0, &mut warning_active, &mut warnings);
+                for i in 0..n {
+                    system.rhs(
+                        t0 + (i + 1) as f64 * dt,
+                        std::hint::black_box(y.as_slice()),
+                        dydt.as_mut_slice(),
+                    );
+                    // The same Euler walk as `Part::Evaluate`'s, so the difference of
+                    // the two is what the callback adds.
+                    for (y, &f) in y.as_mut_slice().iter_mut().zip(dydt.as_slice()) {
+                        *y += dt * f;
                     }
-                    sum = y.as_slice().first().copied().unwrap_or(0.0);
-                } else {
-                    let mut t = t0;
-                    for _ in 0..n {
-                        let t_end = t + h;
-                        system.t0 = t;
-                        sim.solver
-                            .integrate(&mut system, &mut t, t_end, &mut y, sim.tolerance)
-                            .map_err(|e| e.to_string())?;
-                    }
-                    sum = y.as_slice().first().copied().unwrap_or(0.0);
                 }
+                sum = y.as_slice().first().copied().unwrap_or(0.0);
+            }
+            Part::Integrate => {
+                let mut y = sim.state_vector();
+                let (mut warnings, mut warning_active) = (Vec::new(), false);
+                let tolerance = sim.tolerance;
+                let mut solver = sim.solver.clone();
+                let mut system = sim.system(t0, &mut warning_active, &mut warnings);
+                let mut t = t0;
+                for _ in 0..n {
+                    let t_end = t + h;
+                    system.t0 = t;
+                    solver
+                        .integrate(&mut system, &mut t, t_end, &mut y, tolerance)
+                        .map_err(|e| e.to_string())?;
+                }
+                sum = y.as_slice().first().copied().unwrap_or(0.0);
             }
             Part::Point => {
                 let mut values = sim.values.clone();

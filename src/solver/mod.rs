@@ -104,6 +104,10 @@ impl<V: StateVector> Solver<V> {
     }
 
     /// [`RungeKutta::integrate`] with the method the interval calls for.
+    ///
+    /// Never inlined, for the reason `Simulation::step` is not: the benchmark's
+    /// `Part::Integrate` runs the very code a step runs.
+    #[inline(never)]
     pub fn integrate<S: OdeSystem + ?Sized>(
         &mut self,
         sys: &mut S,
