@@ -413,24 +413,32 @@ impl Mechanism for RigidBody {
     }
 }
 
-/// `I_B`, the inertia tensor about the pivot (body axes), from its calculated entries.
+/// The symmetric matrix with diagonal `(xx, yy, zz)` and off-diagonal entries `xy`, `xz`,
+/// `yz`.
 #[rustfmt::skip]
-fn inertia_about_pivot<S: Scalar>(v: &RigidBodyValues<S>) -> Matrix3<S> {
+fn symmetric<S: Scalar>([xx, yy, zz, xy, xz, yz]: [S; 6]) -> Matrix3<S> {
     Matrix3::new(
-        v.I_Bxx, v.I_Bxy, v.I_Bxz,
-        v.I_Bxy, v.I_Byy, v.I_Byz,
-        v.I_Bxz, v.I_Byz, v.I_Bzz,
+        xx, xy, xz,
+        xy, yy, yz,
+        xz, yz, zz,
     )
 }
 
+/// `I_B`, the inertia tensor about the pivot (body axes), from its calculated entries.
+fn inertia_about_pivot<S: Scalar>(v: &RigidBodyValues<S>) -> Matrix3<S> {
+    symmetric([v.I_Bxx, v.I_Byy, v.I_Bzz, v.I_Bxy, v.I_Bxz, v.I_Byz])
+}
+
 /// `I_B⁻¹`, from its calculated entries.
-#[rustfmt::skip]
 fn inverse_inertia_about_pivot<S: Scalar>(v: &RigidBodyValues<S>) -> Matrix3<S> {
-    Matrix3::new(
-        v.I_Binv_xx, v.I_Binv_xy, v.I_Binv_xz,
-        v.I_Binv_xy, v.I_Binv_yy, v.I_Binv_yz,
-        v.I_Binv_xz, v.I_Binv_yz, v.I_Binv_zz,
-    )
+    symmetric([
+        v.I_Binv_xx,
+        v.I_Binv_yy,
+        v.I_Binv_zz,
+        v.I_Binv_xy,
+        v.I_Binv_xz,
+        v.I_Binv_yz,
+    ])
 }
 
 /// `I_B⁻¹` in closed form, the adjugate over the determinant (symmetric by construction).
