@@ -82,49 +82,27 @@ const fn str_eq(a: &str, b: &str) -> bool {
     true
 }
 
-/// The number of states (variables with a declared derivative), at compile time.
+/// The value references of the `N` states' derivatives, in the states' order:
+/// [`Layout::derivatives`] at compile time, so the solver's callbacks index the values with
+/// constants (the states' own are `selected_references` of [`Selection::States`]).
 #[doc(hidden)]
-pub const fn count_states(variables: &[Variable]) -> usize {
-    let (mut i, mut n) = (0, 0);
-    while i < variables.len() {
-        if variables[i].derivative.is_some() {
-            n += 1;
+pub const fn derivative_references<const N: usize>(variables: &[Variable]) -> [usize; N] {
+    let mut out = selected_references::<N>(variables, Selection::States);
+    let mut k = 0;
+    while k < N {
+        let i = out[k];
+        let Some(der) = variables[i].derivative else {
+            unreachable!()
+        };
+        let mut j = 0;
+        while j < variables.len() && (j == i || !str_eq(variables[j].name, der)) {
+            j += 1;
         }
-        i += 1;
-    }
-    n
-}
-
-/// The value references of the `N` states (`derivatives == false`) or of their derivatives
-/// (`true`), in declaration order: [`Layout::states`] and [`Layout::derivatives`] at compile
-/// time, so the solver's callbacks index the values with constants.
-#[doc(hidden)]
-pub const fn state_references<const N: usize>(
-    variables: &[Variable],
-    derivatives: bool,
-) -> [usize; N] {
-    let mut out = [0; N];
-    let (mut i, mut n) = (0, 0);
-    while i < variables.len() {
-        if let Some(der) = variables[i].derivative {
-            out[n] = if derivatives {
-                let mut j = 0;
-                while j < variables.len() && (j == i || !str_eq(variables[j].name, der)) {
-                    j += 1;
-                }
-                if j == variables.len() {
-                    panic!("mechanism!: a state's derivative names no other declared variable");
-                }
-                j
-            } else {
-                i
-            };
-            n += 1;
+        if j == variables.len() {
+            panic!("mechanism!: a state's derivative names no other declared variable");
         }
-        i += 1;
-    }
-    if n != N {
-        panic!("mechanism!: state count mismatch");
+        out[k] = j;
+        k += 1;
     }
     out
 }
@@ -136,8 +114,8 @@ pub const fn state_references<const N: usize>(
 pub const fn derivatives_among_states<const N: usize>(
     variables: &[Variable],
 ) -> [Option<usize>; N] {
-    let states = state_references::<N>(variables, false);
-    let derivatives = state_references::<N>(variables, true);
+    let states = selected_references::<N>(variables, Selection::States);
+    let derivatives = derivative_references::<N>(variables);
     let mut out = [None; N];
     let mut i = 0;
     while i < N {
@@ -157,6 +135,8 @@ pub const fn derivatives_among_states<const N: usize>(
 #[doc(hidden)]
 #[derive(Clone, Copy)]
 pub enum Selection {
+    /// The states (variables with a declared derivative).
+    States,
     /// The continuous variables: the values a step must leave finite.
     Continuous,
     /// The inputs: the values a stage loads when they move over a step.
@@ -165,6 +145,7 @@ pub enum Selection {
 
 const fn selected(variable: &Variable, selection: Selection) -> bool {
     match selection {
+        Selection::States => variable.derivative.is_some(),
         Selection::Continuous => matches!(variable.variability, Variability::Continuous),
         Selection::Inputs => matches!(variable.causality, Causality::Input),
     }

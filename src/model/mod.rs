@@ -11,8 +11,7 @@ mod variable;
 pub use layout::{check_declaration, Layout};
 #[doc(hidden)]
 pub use layout::{
-    count_selected, count_states, derivatives_among_states, selected_references, state_references,
-    Selection,
+    count_selected, derivative_references, derivatives_among_states, selected_references, Selection,
 };
 pub use scalar::{cos, lit, sin, sin_cos, Scalar};
 pub use variable::{Causality, Initial, SetPhase, Variability, Variable};
@@ -313,7 +312,8 @@ macro_rules! mechanism {
                 $( $crate::model::Variable::named($decl, stringify!($var), concat!("" $(, $vdoc)*)), )*
             ];
             const _: () = $crate::model::check_declaration(VARIABLES);
-            const N_STATES: usize = $crate::model::count_states(VARIABLES);
+            const N_STATES: usize =
+                $crate::model::count_selected(VARIABLES, $crate::model::Selection::States);
             const N_CONTINUOUS: usize =
                 $crate::model::count_selected(VARIABLES, $crate::model::Selection::Continuous);
             const N_INPUTS: usize =
@@ -325,16 +325,19 @@ macro_rules! mechanism {
                 const VARIABLES: &'static [$crate::model::Variable] = VARIABLES;
                 type Values<S: $crate::model::Scalar> = $values<S>;
                 type State = [f64; N_STATES];
-                const STATES: &'static [usize] =
-                    &$crate::model::state_references::<N_STATES>(VARIABLES, false);
+                const STATES: &'static [usize] = &$crate::model::selected_references::<N_STATES>(
+                    VARIABLES,
+                    $crate::model::Selection::States,
+                );
                 const DERIVATIVES: &'static [usize] =
-                    &$crate::model::state_references::<N_STATES>(VARIABLES, true);
+                    &$crate::model::derivative_references::<N_STATES>(VARIABLES);
                 const DERIVATIVES_AMONG_STATES: &'static [Option<usize>] =
                     &$crate::model::derivatives_among_states::<N_STATES>(VARIABLES);
                 const CONTINUOUS: &'static [usize] = &$crate::model::selected_references::<
                     N_CONTINUOUS,
                 >(
-                    VARIABLES, $crate::model::Selection::Continuous
+                    VARIABLES,
+                    $crate::model::Selection::Continuous,
                 );
                 const INPUTS: &'static [usize] = &$crate::model::selected_references::<N_INPUTS>(
                     VARIABLES,

@@ -2,7 +2,7 @@
 //! FMU's own compiled code, so the benchmark can time them from outside and tell the
 //! model's equations from the solver and from the FMI layer.
 
-use super::{fixed_size, Simulation, System};
+use super::{fixed_size, store_point, Simulation, System};
 use crate::model::{Mechanism, ValueSet};
 use crate::solver::{OdeSystem, StateVector};
 
@@ -46,15 +46,6 @@ impl Part {
 }
 
 impl<M: Mechanism> Simulation<M> {
-    /// The states the values hold, as the solver's vector.
-    fn state_vector(&self) -> M::State {
-        let mut y = M::State::ZERO;
-        for (y, &vr) in y.as_mut_slice().iter_mut().zip(M::STATES) {
-            *y = self.values.get(vr).unwrap_or(0.0);
-        }
-        y
-    }
-
     /// The solver's view of this simulation over a step from `t0`, as `Simulation::step`
     /// builds it.
     fn system<'a>(
@@ -103,11 +94,8 @@ impl<M: Mechanism> Simulation<M> {
                 let mut y = sim.state_vector();
                 let values = &mut sim.values;
                 for i in 0..n {
-                    values.set_time(t0 + (i + 1) as f64 * dt);
                     let arg: M::State = fixed_size(std::hint::black_box(y.as_slice()));
-                    for (&x, &s) in arg.as_slice().iter().zip(M::STATES) {
-                        values.set(s, x);
-                    }
+                    store_point::<M>(values, t0 + (i + 1) as f64 * dt, &arg);
                     M::evaluate(values);
                     for (y, &d) in y.as_mut_slice().iter_mut().zip(M::DERIVATIVES) {
                         *y += dt * values.get(d).unwrap_or(0.0);

@@ -490,9 +490,7 @@ impl<M: Mechanism> Simulation<M> {
                 "communicationStepSize = {h} is too small to advance from t = {t}"
             )));
         }
-        for (y, &vr) in self.y.as_mut_slice().iter_mut().zip(M::STATES) {
-            *y = self.values.get(vr).unwrap_or(f64::NAN);
-        }
+        self.y = self.state_vector();
         // What to go back to if the step ends on values that are not numbers: the states
         // at t are enough, the rest of the values at t is their evaluation (see `undo`).
         let (start, memory, warning_active) = (self.y, self.solver.memory(), self.warning_active);
@@ -588,11 +586,17 @@ impl<M: Mechanism> Simulation<M> {
     /// copying all the values at the start of every step for a path taken so rarely.
     fn undo(&mut self, t: f64, states: &M::State) {
         self.held = None;
-        self.values.set_time(t);
-        for (&vr, &x) in M::STATES.iter().zip(states.as_slice()) {
-            self.values.set(vr, x);
-        }
+        store_point::<M>(&mut self.values, t, states);
         self.evaluate_at_point();
+    }
+
+    /// The states the values hold, as the solver's vector.
+    fn state_vector(&self) -> M::State {
+        let mut y = M::State::ZERO;
+        for (y, &vr) in y.as_mut_slice().iter_mut().zip(M::STATES) {
+            *y = self.values.get(vr).unwrap_or(f64::NAN);
+        }
+        y
     }
 
     /// The first continuous variable that is not finite. `M::CONTINUOUS` is a constant, so
@@ -658,6 +662,15 @@ fn fixed_size<V: StateVector>(y: &[f64]) -> V {
     let mut v = V::ZERO;
     v.as_mut_slice().copy_from_slice(&y[..V::DIM]);
     v
+}
+
+/// Stores the time and the states into the values (nothing else: not the inputs).
+#[inline(always)]
+fn store_point<M: Mechanism>(values: &mut M::Values<f64>, t: f64, states: &M::State) {
+    values.set_time(t);
+    for (&vr, &x) in M::STATES.iter().zip(states.as_slice()) {
+        values.set(vr, x);
+    }
 }
 
 /// The mechanism seen by the ODE solver: states in, derivatives out, inputs interpolated
@@ -751,10 +764,7 @@ impl<M: Mechanism> System<'_, M> {
     /// computed in registers, on the stages' critical path.
     #[inline(always)]
     fn load(&mut self, t: f64, states: &M::State) {
-        self.values.set_time(t);
-        for (&vr, &x) in M::STATES.iter().zip(states.as_slice()) {
-            self.values.set(vr, x);
-        }
+        store_point::<M>(self.values, t, states);
         if !self.inputs_fixed {
             let dt = t - self.t0;
             // `M::INPUTS` is a constant: stores into known fields, which the compiler can
