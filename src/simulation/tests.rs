@@ -315,3 +315,54 @@ fn a_system_at_rest_reuses_its_last_stage_at_the_new_point() {
         assert_eq!((sim.values().x, sim.values().v), (0.0, 0.0));
     }
 }
+
+#[test]
+fn a_step_refuses_arguments_it_cannot_do_and_changes_nothing() {
+    let rejected = |sim: &mut Simulation<Split>, t: f64, h: f64, why: &str| {
+        let before = visible(sim);
+        match sim.step(t, h) {
+            Err(StepFailure::Rejected(message)) => assert!(
+                message.contains(why),
+                "step({t:e}, {h:e}): {message:?} does not say {why:?}"
+            ),
+            other => panic!("step({t:e}, {h:e}) was not refused: {other:?}"),
+        }
+        assert_eq!(
+            visible(sim),
+            before,
+            "step({t:e}, {h:e}) changed the values"
+        );
+    };
+    let mut sim = started(&[]);
+    for h in [
+        f64::NAN,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        0.0,
+        -0.0,
+        -1e-3,
+        -5e-324,
+    ] {
+        rejected(&mut sim, 0.0, h, "must be a finite number > 0");
+    }
+    for t in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 1e-3, -1e-3] {
+        rejected(&mut sim, t, 1e-3, "does not match the FMU's time");
+    }
+    // Within 1e-9 of the step (or of the time) counts as the FMU's time.
+    sim.step(0.0, 1e-3).unwrap();
+    sim.step(1e-3 + 1e-13, 1e-3).unwrap();
+    assert_eq!(sim.time(), 2e-3 + 1e-13);
+    // A step that rounds away at this time, or overflows it.
+    let mut far = started(&[]);
+    far.setup(None, 1e6).unwrap();
+    far.update().unwrap();
+    rejected(&mut far, 1e6, 1e-20, "too small to advance");
+    let mut last = started(&[]);
+    last.setup(None, 1.5e308).unwrap();
+    last.update().unwrap();
+    rejected(&mut last, 1.5e308, 1e308, "too small to advance");
+    // The smallest step there is still advances from 0.
+    let mut tiny = started(&[]);
+    tiny.step(0.0, 5e-324).unwrap();
+    assert_eq!(tiny.time(), 5e-324);
+}
