@@ -366,3 +366,30 @@ fn a_step_refuses_arguments_it_cannot_do_and_changes_nothing() {
     tiny.step(0.0, 5e-324).unwrap();
     assert_eq!(tiny.time(), 5e-324);
 }
+
+#[test]
+fn every_non_finite_continuous_variable_is_found_and_no_finite_one() {
+    let mut sim = started(&[]);
+    sim.step(0.0, 0.01).unwrap();
+    assert_eq!(sim.first_non_finite(), None);
+    let good = sim.values;
+    for extreme in [f64::MAX, -f64::MAX, f64::MIN_POSITIVE, 5e-324, -0.0] {
+        for &vr in Split::CONTINUOUS {
+            sim.values = good;
+            sim.values.set(vr, extreme);
+            assert_eq!(sim.first_non_finite(), None, "vr {vr} = {extreme:e}");
+        }
+    }
+    for bad in [f64::NAN, -f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        for &vr in Split::CONTINUOUS {
+            sim.values = good;
+            sim.values.set(vr, bad);
+            let name = Split::VARIABLES[vr].name;
+            assert_eq!(sim.first_non_finite(), Some(name), "{name} = {bad}");
+        }
+    }
+    // A fixed parameter is not checked after a step (it cannot change during one).
+    sim.values = good;
+    sim.values.set(0, f64::NAN);
+    assert_eq!(sim.first_non_finite(), None);
+}
