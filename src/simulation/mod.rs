@@ -70,7 +70,6 @@ pub struct Simulation<M: Mechanism> {
     inputs: Vec<f64>,
     /// First and second time derivatives of the inputs at the communication point.
     input_derivatives: Vec<[f64; 2]>,
-    y: M::State,
     solver: Solver<M::State>,
     tolerance: Tolerance,
     /// Whether the monitor's warning condition holds (so it is logged once per episode).
@@ -93,7 +92,6 @@ impl<M: Mechanism> Clone for Simulation<M> {
             values: self.values.clone(),
             inputs: self.inputs.clone(),
             input_derivatives: self.input_derivatives.clone(),
-            y: self.y,
             solver: self.solver.clone(),
             tolerance: self.tolerance,
             warning_active: self.warning_active,
@@ -123,7 +121,6 @@ impl<M: Mechanism> Simulation<M> {
             values: start_values::<M>(0.0),
             inputs: vec![0.0; n_inputs],
             input_derivatives: vec![[0.0; 2]; n_inputs],
-            y: M::State::ZERO,
             solver: Solver::new(),
             tolerance: default_tolerance::<M>(),
             warning_active: false,
@@ -496,10 +493,10 @@ impl<M: Mechanism> Simulation<M> {
                 "communicationStepSize = {h} is too small to advance from t = {t}"
             )));
         }
-        self.y = self.state_vector();
+        let mut y = self.state_vector();
         // What to go back to if the step ends on values that are not numbers: the states
         // at t are enough, the rest of the values at t is their evaluation (see `undo`).
-        let (start, memory, warning_active) = (self.y, self.solver.memory(), self.warning_active);
+        let (start, memory, warning_active) = (y, self.solver.memory(), self.warning_active);
         let mut report = StepReport::default();
         let mut time = t;
         let inputs_fixed = self.inputs_held();
@@ -512,14 +509,14 @@ impl<M: Mechanism> Simulation<M> {
             &mut report.warnings,
             inputs_fixed,
         );
-        let result =
-            self.solver
-                .integrate(&mut system, &mut time, t_end, &mut self.y, self.tolerance);
+        let result = self
+            .solver
+            .integrate(&mut system, &mut time, t_end, &mut y, self.tolerance);
         // Whatever happened, the values describe the last accepted point (after a successful
         // step they already do: the solver's last stage was evaluated there). The stages
         // computed the derivatives only: the outputs no derivative needs are computed here,
         // once per communication point, where they become visible.
-        system.evaluate_at(time, &self.y);
+        system.evaluate_at(time, &y);
         self.counters.evaluations += system.evaluations;
         complete_point::<M>(system.values);
         if let Some(name) = self.first_non_finite() {
