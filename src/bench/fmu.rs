@@ -417,6 +417,7 @@ pub enum Part {
     Step = 2,
     Integrate = 3,
     Point = 4,
+    IntegrateIsolated = 5,
 }
 
 impl Drop for Instance<'_> {

@@ -9,6 +9,7 @@
 use super::clock::{cpu_ns, num, Stat};
 use super::fmu::{Binary, Instance, Part};
 use crate::fmi2::ffi::{fmi2OK, fmi2Warning};
+use crate::simulation::isolate;
 use serde_json::{json, Value};
 
 /// How much to measure.
@@ -47,6 +48,11 @@ pub struct StepFigures {
     /// The model's work at the communication point (`point`: projection and the
     /// evaluation after it, `outputs`), which `sim_step` includes.
     pub point_ns: Stat,
+    /// `fmi2DoStep` and the solver alone (`integrate`) again, each call isolated from the
+    /// next (`simulation::isolate`): what they cost without overlapping each other in the
+    /// processor. NaN where the processor or the binary cannot isolate calls.
+    pub isolated_ns: Stat,
+    pub integrate_isolated_ns: Stat,
 }
 
 /// Where the ns of one `fmi2DoStep` go (differences of medians, so a small part can come
@@ -66,6 +72,19 @@ pub struct Split {
     pub step: f64,
     /// The FMI layer: the C call, instance and state checks, unwinding guard, stop time.
     pub fmi: f64,
+}
+
+/// The plumbing (as [`Split::runtime`]) from the loops with every call isolated: what its
+/// own instructions take. The rest of the plumbing is overlap lost: back to back, the
+/// solver's calls overlap each other, and the step's and FMI layer's instructions between
+/// them take up the room that overlap needs.
+#[derive(Clone, Copy, Debug)]
+pub struct Isolated {
+    /// `fmi2DoStep` isolated minus the solver isolated, the point's model work and the
+    /// callback's copying (timed back to back: each evaluation waits for the last anyway).
+    pub plumbing: f64,
+    /// The plumbing back to back minus `plumbing`.
+    pub overlap_lost: f64,
 }
 
 impl Split {
@@ -92,8 +111,21 @@ impl StepFigures {
         }
     }
 
+    /// The plumbing's own execution, and the overlap it costs (see [`Isolated`]).
+    pub fn isolated(&self) -> Isolated {
+        let s = self.split();
+        let plumbing =
+            self.isolated_ns.median - self.integrate_isolated_ns.median - self.point_ns.median
+                + s.copying;
+        Isolated {
+            plumbing,
+            overlap_lost: s.runtime() - plumbing,
+        }
+    }
+
     pub fn to_json(&self) -> Value {
         let s = self.split();
+        let iso = self.isolated();
         json!({
             "h": self.h,
             "tol": self.tol,
@@ -108,6 +140,8 @@ impl StepFigures {
                 "integrate": self.integrate_ns.to_json(),
                 "simulation_step": self.sim_step_ns.to_json(),
                 "point": self.point_ns.to_json(),
+                "do_step_isolated": self.isolated_ns.to_json(),
+                "integrate_isolated": self.integrate_isolated_ns.to_json(),
             },
             "split_ns_per_step": {
                 "rhs": num(s.rhs),
@@ -119,6 +153,8 @@ impl StepFigures {
             "rhs_ns_per_eval": num(self.evaluate_ns.median / self.evals),
             "beyond_rhs_ns_per_step": num(s.beyond_rhs()),
             "runtime_plumbing_ns_per_step": num(s.runtime()),
+            "runtime_plumbing_isolated_ns_per_step": num(iso.plumbing),
+            "overlap_lost_ns_per_step": num(iso.overlap_lost),
         })
     }
 }
@@ -131,12 +167,21 @@ pub fn steps_per_run(binary: &Binary, h: f64, effort: Effort) -> usize {
 
 /// The timed loop of one run, from an initialized instance: CPU ns of the `n` steps and
 /// the counters' change.
-fn step_loop(inst: &mut Instance, h: f64, n: usize) -> Result<(f64, [u64; 4]), String> {
+/// With `isolated`, each call is isolated from the next (`simulation::isolate`).
+fn step_loop(
+    inst: &mut Instance,
+    h: f64,
+    n: usize,
+    isolated: bool,
+) -> Result<(f64, [u64; 4]), String> {
     let before = inst.counters().unwrap_or_default();
     let mut t = inst.binary.description.start;
     let t0 = cpu_ns();
     for _ in 0..n {
         let status = inst.do_step(t, h);
+        if isolated {
+            isolate();
+        }
         if status > fmi2Warning {
             return Err(format!(
                 "fmi2DoStep({t}, {h}) returned {status}: {}",
@@ -164,7 +209,7 @@ pub fn step_run(
 ) -> Result<(f64, [u64; 4]), String> {
     let start = inst.binary.description.start;
     inst.start(tol, start, &[], !fresh)?;
-    step_loop(inst, h, n)
+    step_loop(inst, h, n, false)
 }
 
 /// ns per `fmi2DoStep` at `(h, tol)`, its work, and its parts alone.
@@ -179,7 +224,10 @@ pub fn step_figures(
     // Warm-up (caches, branch predictors, page faults), and the work per run.
     let (_, work) = step_run(&mut inst, tol, h, n, true)?;
     let parts = binary.has_counters();
-    let mut samples: [Vec<f64>; 6] = Default::default();
+    let mut samples: [Vec<f64>; 8] = Default::default();
+    // Isolated calls where the processor has the barrier and the binary the part (one
+    // built before it answers fmi2Error to part 5).
+    let isolating = parts && isolate() && inst.bench(Part::IntegrateIsolated, 1, h).is_ok();
     let start = binary.description.start;
     for _ in 0..effort.runs {
         inst.start(tol, start, &[], true)?;
@@ -199,7 +247,15 @@ pub fn step_figures(
                 samples[k].push((cpu_ns() - t0) as f64 / n as f64);
             }
         }
-        let (ns, _) = step_loop(&mut inst, h, n)?;
+        if isolating {
+            let t0 = cpu_ns();
+            inst.bench(Part::IntegrateIsolated, n as u64, h)?;
+            samples[7].push((cpu_ns() - t0) as f64 / n as f64);
+            let (ns, _) = step_loop(&mut inst, h, n, true)?;
+            samples[6].push(ns / n as f64);
+            inst.start(tol, start, &[], true)?;
+        }
+        let (ns, _) = step_loop(&mut inst, h, n, false)?;
         samples[0].push(ns / n as f64);
     }
     let per_step = |k: usize| {
@@ -222,6 +278,8 @@ pub fn step_figures(
         integrate_ns: Stat::of(&samples[3]),
         sim_step_ns: Stat::of(&samples[4]),
         point_ns: Stat::of(&samples[5]),
+        isolated_ns: Stat::of(&samples[6]),
+        integrate_isolated_ns: Stat::of(&samples[7]),
     })
 }
 

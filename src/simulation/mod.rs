@@ -6,7 +6,7 @@ mod derivatives;
 #[cfg(test)]
 mod tests;
 
-pub use bench::Part;
+pub use bench::{isolate, Part};
 
 use crate::model::{evaluate_all, Layout, Mechanism, Monitor, SetPhase, ValueSet, Variable};
 use crate::solver::{

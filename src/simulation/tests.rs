@@ -393,3 +393,49 @@ fn every_non_finite_continuous_variable_is_found_and_no_finite_one() {
     sim.values.set(0, f64::NAN);
     assert_eq!(sim.first_non_finite(), None);
 }
+
+/// `mechfmu bench` times the solver's calls isolated from each other to tell the
+/// plumbing's own instructions from the overlap they cost: the isolated loop must run the
+/// very steps of the back-to-back one, on a copy, and the codes the benchmark sends must
+/// name the parts the FMU runs.
+#[test]
+fn the_isolated_solver_loop_integrates_what_the_back_to_back_one_does() {
+    use super::{isolate, Part};
+    use crate::bench::fmu::Part as Code;
+    for (code, part) in [
+        (Code::Evaluate, Part::Evaluate),
+        (Code::Rhs, Part::Rhs),
+        (Code::Step, Part::Step),
+        (Code::Integrate, Part::Integrate),
+        (Code::Point, Part::Point),
+    ] {
+        assert_eq!(Part::from_code(code as u32), Some(part));
+    }
+    let isolating = isolate();
+    assert_eq!(
+        Part::from_code(Code::IntegrateIsolated as u32),
+        isolating.then_some(Part::IntegrateIsolated)
+    );
+    assert_eq!(Part::from_code(Code::IntegrateIsolated as u32 + 1), None);
+
+    let mut sim = started(&[]);
+    let before = visible(&mut sim);
+    let back_to_back = sim.bench(Part::Integrate, 50, 0.01).unwrap();
+    let isolated = sim.bench(Part::IntegrateIsolated, 50, 0.01).unwrap();
+    assert_eq!(back_to_back.to_bits(), isolated.to_bits());
+    // The checksum is x after the 50 steps: it moved from x(0) = 0.5, as a step does.
+    let mut stepped = started(&[]);
+    let mut t = 0.0;
+    for _ in 0..50 {
+        stepped.step(t, 0.01).unwrap();
+        t += 0.01;
+    }
+    let x = stepped.values().get(5).unwrap();
+    assert_eq!(
+        isolated.to_bits(),
+        x.to_bits(),
+        "{isolated} != x(0.5) = {x}"
+    );
+    assert_ne!(x, 0.5);
+    assert_eq!(visible(&mut sim), before, "the part ran on a copy");
+}
