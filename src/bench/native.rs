@@ -9,7 +9,7 @@
 use super::clock::{cpu_ns, num, Stat};
 use super::fmu::{Binary, Instance, Part};
 use crate::fmi2::ffi::{fmi2OK, fmi2Warning};
-use crate::simulation::isolate;
+use crate::simulation::{isolate, ISOLATES};
 use serde_json::{json, Value};
 
 /// How much to measure.
@@ -227,7 +227,7 @@ pub fn step_figures(
     let mut samples: [Vec<f64>; 8] = Default::default();
     // Isolated calls where the processor has the barrier and the binary the part (one
     // built before it answers fmi2Error to part 5).
-    let isolating = parts && isolate() && inst.bench(Part::IntegrateIsolated, 1, h).is_ok();
+    let isolating = parts && ISOLATES && inst.bench(Part::IntegrateIsolated, 1, h).is_ok();
     let start = binary.description.start;
     for _ in 0..effort.runs {
         inst.start(tol, start, &[], true)?;

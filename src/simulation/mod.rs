@@ -6,7 +6,7 @@ mod derivatives;
 #[cfg(test)]
 mod tests;
 
-pub use bench::{isolate, Part};
+pub use bench::{isolate, Part, ISOLATES};
 
 use crate::model::{evaluate_all, Layout, Mechanism, Monitor, SetPhase, ValueSet, Variable};
 use crate::solver::{
