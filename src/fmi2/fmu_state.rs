@@ -9,7 +9,7 @@
 //! | model identifier, GUID | u32 length + UTF-8 bytes, each |
 //! | values (every variable by value reference, then time) | u32 count + f64 each |
 //! | inputs, then their 1st and 2nd derivatives | u32 count + f64 × 3 each |
-//! | solver: next step size (u8 present + f64), error memory (f64) | |
+//! | solver: next step size (u8 present + f64), log2 of the error memory (f64) | |
 //! | tolerance: rtol, atol | f64, f64 |
 //! | flags: 1 warning active, 2 values dirty, 4 terminated, 8 solver on its 8th-order method | u8 |
 //! | state-machine state | u16 |
@@ -26,8 +26,8 @@ use crate::simulation::SavedState;
 use crate::solver::{SolverMemory, Tolerance};
 
 const MAGIC: &[u8; 8] = b"mechfmuS";
-/// 2: the solver's method among the flags.
-const FORMAT_VERSION: u32 = 2;
+/// 2: the solver's method among the flags. 3: the solver's error memory as its logarithm.
+const FORMAT_VERSION: u32 = 3;
 /// Marks live in-memory FMU states handed to the importer.
 pub(crate) const STATE_MAGIC: u64 = 0x6d65_6368_7374_6174; // "mechstat"
 
@@ -95,7 +95,7 @@ impl FmuState {
             f(&mut w, d[1]);
         });
         opt(&mut w, self.sim.solver.h_next);
-        f(&mut w, self.sim.solver.err_prev);
+        f(&mut w, self.sim.solver.log2_err_prev);
         f(&mut w, self.sim.tolerance.rtol());
         f(&mut w, self.sim.tolerance.atol());
         w.push(
@@ -172,22 +172,27 @@ impl FmuState {
             .map(|_| Ok([r.f64()?, r.f64()?]))
             .collect::<Result<Vec<_>, String>>()?;
         let h_next = r.opt_f64()?;
-        if h_next.is_some_and(|h| !(h.is_finite() && h > 0.0)) {
-            return Err("serialized FMU state has an invalid solver step size".into());
-        }
-        let err_prev = r.f64()?;
+        let log2_err_prev = r.f64()?;
         let (rtol, atol) = (r.f64()?, r.f64()?);
-        if ![err_prev, rtol, atol]
-            .iter()
-            .all(|x| x.is_finite() && *x > 0.0)
-        {
-            return Err("serialized FMU state has an invalid tolerance or solver memory".into());
+        if ![rtol, atol].iter().all(|x| x.is_finite() && *x > 0.0) {
+            return Err("serialized FMU state has an invalid tolerance".into());
         }
         let tolerance =
             Tolerance::new(rtol, atol).ok_or("serialized FMU state has an invalid tolerance")?;
         let flags = r.u8()?;
         if flags & !15 != 0 {
             return Err(format!("serialized FMU state has unknown flags {flags:#x}"));
+        }
+        let solver = SolverMemory {
+            h_next,
+            log2_err_prev,
+            high_order: flags & 8 != 0,
+        };
+        if !solver.is_valid() {
+            return Err(format!(
+                "serialized FMU state has a solver memory the solver cannot have \
+                 (next step size {h_next:?}, log2 of the error memory {log2_err_prev})"
+            ));
         }
         let state_bits = r.u16()?;
         let model_state = STATES
@@ -240,11 +245,7 @@ impl FmuState {
                 values,
                 inputs,
                 input_derivatives,
-                solver: SolverMemory {
-                    h_next,
-                    err_prev,
-                    high_order: flags & 8 != 0,
-                },
+                solver,
                 tolerance,
                 warning_active: flags & 1 != 0,
                 dirty: flags & 2 != 0,

@@ -28,66 +28,47 @@ const SAFE: f64 = 0.9;
 /// Floor of the remembered error, so a step with (nearly) zero error cannot make the
 /// next proposal explode through the `err_prev^BETA` denominator.
 pub(crate) const ERR_PREV_FLOOR: f64 = 1e-4;
-/// `log2(ERR_PREV_FLOOR)` (checked by a test): a fresh controller, and every step whose
-/// error is below the floor, need no logarithm.
-const LOG2_ERR_PREV_FLOOR: f64 = -13.287712379549449;
+/// `log2(ERR_PREV_FLOOR)` (checked by a test): the memory of a fresh controller, and of
+/// every step whose error is below the floor.
+pub(crate) const LOG2_ERR_PREV_FLOOR: f64 = -13.287712379549449;
 
 /// `2^x` for the factor: outside [-8, 8] the clamps below decide alone (and `log2 0`
 /// is -inf).
 const EXP2_RANGE: f64 = 8.0;
 
-/// The controller's memory during one integration call: the error norm of the last
-/// accepted step (floored at [`ERR_PREV_FLOOR`]) and its base-2 logarithm.
+/// The controller's memory during one integration call: `log2` of the error norm of the
+/// last accepted step, floored at `log2(ERR_PREV_FLOOR)`. The logarithm, not the norm, is
+/// what the formula uses and what the solver remembers ([`SolverMemory`]): no square root
+/// to take, and a memory restored elsewhere proposes bit for bit what it would have here.
+///
+/// [`SolverMemory`]: super::SolverMemory
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Controller {
     control: Control,
-    err_prev: f64,
     log2_err_prev: f64,
 }
 
 impl Controller {
-    /// Resumes from a remembered `err_prev` (a non-finite one, as from a forged state,
-    /// counts as the floor).
+    /// Resumes from a remembered `log2_err_prev` (the solver memory's, valid by
+    /// construction: finite, at least the floor's).
     #[inline]
-    pub(crate) fn new(control: Control, err_prev: f64) -> Self {
-        let err_prev = if err_prev.is_finite() {
-            err_prev.max(ERR_PREV_FLOOR)
-        } else {
-            ERR_PREV_FLOOR
-        };
-        // Without a PI term (beta = 0) the logarithm is never used.
-        let log2_err_prev = if err_prev == ERR_PREV_FLOOR || control.beta == 0.0 {
-            LOG2_ERR_PREV_FLOOR
-        } else {
-            err_prev.log2()
-        };
+    pub(crate) fn new(control: Control, log2_err_prev: f64) -> Self {
         Controller {
             control,
-            err_prev,
             log2_err_prev,
-        }
-    }
-
-    /// Resumes from a remembered `err_prev`: this controller itself when it is the one that
-    /// remembered it (no logarithm to take again), else [`Controller::new`].
-    #[inline]
-    pub(crate) fn resume(self, err_prev: f64) -> Self {
-        if err_prev.to_bits() == self.err_prev.to_bits() {
-            self
-        } else {
-            Controller::new(self.control, err_prev)
         }
     }
 
     /// What to remember for the next call.
     #[inline]
-    pub(crate) fn err_prev(&self) -> f64 {
-        self.err_prev
+    pub(crate) fn log2_err_prev(&self) -> f64 {
+        self.log2_err_prev
     }
 
     /// Next step size after an accepted step whose error norm squared is `err_squared`
-    /// (`0 <= err_squared <= 1`); remembers the norm. Squared as the methods return it: the
-    /// square root, needed only to remember the norm, stays off the way to the proposal.
+    /// (`0 <= err_squared <= 1`); remembers the norm's logarithm. Squared as the methods
+    /// return it: `log2` of the square is twice that of the norm, so no square root is
+    /// taken at all.
     #[inline]
     pub(crate) fn after_accept(&mut self, h: f64, err_squared: f64) -> f64 {
         // Below 1e-300 (0 included) the factor is long clamped to the largest growth.
@@ -101,12 +82,11 @@ impl Controller {
         let x = expo1 * log2_err - beta * self.log2_err_prev;
         let fac = x.clamp(-EXP2_RANGE, EXP2_RANGE).exp2();
         let fac = (fac / SAFE).clamp(min_inv_growth, max_shrink);
-        if err_squared >= ERR_PREV_FLOOR * ERR_PREV_FLOOR {
-            self.err_prev = err_squared.sqrt();
-            self.log2_err_prev = log2_err;
+        self.log2_err_prev = if err_squared >= ERR_PREV_FLOOR * ERR_PREV_FLOOR {
+            log2_err
         } else {
-            *self = Controller::new(self.control, ERR_PREV_FLOOR);
-        }
+            LOG2_ERR_PREV_FLOOR
+        };
         h / fac
     }
 
@@ -131,6 +111,11 @@ mod tests {
         h / (fac / SAFE).clamp(c.min_inv_growth, c.max_shrink)
     }
 
+    /// A controller that remembers the error norm `err_prev`.
+    fn remembering(err_prev: f64) -> Controller {
+        Controller::new(DOPRI5, err_prev.max(ERR_PREV_FLOOR).log2())
+    }
+
     #[test]
     fn proposals_match_the_two_power_formula() {
         let errs = [
@@ -139,46 +124,28 @@ mod tests {
         let mut worst = 0.0f64;
         for &prev in &errs {
             for &err in &errs {
-                let mut c = Controller::new(DOPRI5, prev);
+                let mut c = remembering(prev);
                 let h = c.after_accept(0.37, err * err);
                 let r = reference(0.37, err, prev);
                 worst = worst.max((h - r).abs() / r);
-                // Remembered as the square root of the square: within an ulp.
-                let remembered = err.max(ERR_PREV_FLOOR);
-                assert!((c.err_prev() - remembered).abs() <= f64::EPSILON * remembered);
+                // Remembered as half the logarithm of the square: within rounding.
+                let remembered = err.max(ERR_PREV_FLOOR).log2();
+                let d = (c.log2_err_prev() - remembered).abs();
+                assert!(d <= 1e-14, "err {err}: remembered {}", c.log2_err_prev());
             }
         }
         assert!(worst < 1e-14, "relative difference {worst:e}");
-        // Non-finite memory restarts from the floor.
-        assert_eq!(Controller::new(DOPRI5, f64::NAN).err_prev(), ERR_PREV_FLOOR);
-        assert_eq!(
-            Controller::new(DOPRI5, f64::INFINITY).err_prev(),
-            ERR_PREV_FLOOR
-        );
     }
 
     #[test]
     fn the_floor_logarithm_is_exact() {
         assert_eq!(LOG2_ERR_PREV_FLOOR, ERR_PREV_FLOOR.log2());
-    }
-
-    #[test]
-    fn resuming_proposes_what_a_new_controller_does() {
-        let mut c = Controller::new(DOPRI5, 1.0);
-        // 0.125 and its square are exact: the controller remembers 0.125 itself.
-        c.after_accept(0.1, 0.125 * 0.125);
-        assert_eq!(c.err_prev(), 0.125);
-        for prev in [0.125, 0.5, 1e-5, f64::NAN] {
-            let (mut resumed, mut new) = (c.resume(prev), Controller::new(DOPRI5, prev));
-            assert_eq!(resumed.err_prev().to_bits(), new.err_prev().to_bits());
-            let (a, b) = (resumed.after_accept(0.1, 0.09), new.after_accept(0.1, 0.09));
-            assert_eq!(a.to_bits(), b.to_bits(), "err_prev {prev}");
-        }
+        assert_eq!(remembering(0.0).log2_err_prev(), LOG2_ERR_PREV_FLOOR);
     }
 
     #[test]
     fn growth_and_shrink_are_bounded() {
-        let mut c = Controller::new(DOPRI5, 1.0);
+        let mut c = Controller::new(DOPRI5, 0.0);
         assert_eq!(c.after_accept(1.0, 0.0), 10.0);
         // An error norm of 1e6, squared.
         assert_eq!(c.after_reject(1.0, 1e12), 0.2);

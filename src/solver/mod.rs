@@ -28,7 +28,7 @@ pub use dop853::{Dop853, Dp853};
 pub use dopri5::{Dopri5, Dp5};
 pub use runge_kutta::{Method, RungeKutta};
 
-use controller::{Controller, ERR_PREV_FLOOR};
+use controller::{Controller, LOG2_ERR_PREV_FLOOR};
 
 use std::fmt;
 
@@ -138,14 +138,14 @@ impl<V: StateVector> Solver<V> {
             })
         ) {
             // One step covered the interval: would one Dopri5 step have done as well?
-            let mut controller = Controller::new(Dp5::<V>::CONTROL, ERR_PREV_FLOOR);
+            let mut controller = Controller::new(Dp5::<V>::CONTROL, LOG2_ERR_PREV_FLOOR);
             let err_squared = self.dop853.method.err3_squared();
             if err_squared <= 1.0 {
                 let h = controller.after_accept(interval, err_squared);
                 if runge_kutta::reaches(h, interval) {
                     self.mem = SolverMemory {
                         h_next: Some(h),
-                        err_prev: controller.err_prev(),
+                        log2_err_prev: controller.log2_err_prev(),
                         high_order: false,
                     };
                 }
@@ -250,14 +250,19 @@ pub struct StepStats {
 
 /// Everything of the solver's own that influences the future: the step size to try next
 /// (None = choose one with the initial-step heuristic), and the PI controller's memory.
-/// Plain data (Copy), so an FMU can snapshot/serialize/restore it and continue bit-for-bit.
+/// Plain data (Copy), so an FMU can snapshot/serialize/restore it and continue bit-for-bit,
+/// in this solver or any other.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolverMemory {
     /// Step size to try first in the next call; `None` runs the initial-step heuristic.
     pub h_next: Option<f64>,
-    /// Error norm of the last accepted step, floored at 1e-4 (Hairer's `FACOLD`); it
-    /// damps the controller (the "I" of PI). 1e-4 for a fresh solver.
-    pub err_prev: f64,
+    /// `log2` of the error norm of the last accepted step, floored at `log2(1e-4)` (Hairer's
+    /// `FACOLD`), so between about -13.3 and 0: it damps the controller (the "I" of PI).
+    /// The floor's for a fresh solver. The logarithm is what the controller computes and
+    /// uses, so a memory restored anywhere proposes what it would have where it was saved
+    /// (remembering the norm, a restored controller took `log2` of its square root, which
+    /// differs from half the `log2` of the square in the last bit for ~30 % of norms).
+    pub log2_err_prev: f64,
     /// Whether the 8th-order method is running (see [`Solver`]); `h_next` and `err_prev`
     /// are its controller's. False for a fresh solver.
     pub high_order: bool,
@@ -267,9 +272,17 @@ impl SolverMemory {
     /// The memory of a freshly constructed solver.
     pub const FRESH: SolverMemory = SolverMemory {
         h_next: None,
-        err_prev: controller::ERR_PREV_FLOOR,
+        log2_err_prev: LOG2_ERR_PREV_FLOOR,
         high_order: false,
     };
+
+    /// Whether this memory is one the solver can have, so that restoring it cannot make
+    /// the solver misbehave (for memories read from outside, such as serialized FMU
+    /// states): a finite, positive step size, a logarithm between the floor's and 0.
+    pub fn is_valid(&self) -> bool {
+        self.h_next.is_none_or(|h| h.is_finite() && h > 0.0)
+            && (LOG2_ERR_PREV_FLOOR..=0.0).contains(&self.log2_err_prev)
+    }
 }
 
 impl Default for SolverMemory {

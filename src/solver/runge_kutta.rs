@@ -135,9 +135,6 @@ pub struct RungeKutta<V: StateVector, T: Method<V>> {
     max_steps: u64,
     mem: SolverMemory,
     pub(crate) method: T,
-    /// The controller as the last accepted step left it: `mem.err_prev` with its logarithm,
-    /// kept so a call resuming from it needs no logarithm (see [`Controller::resume`]).
-    controller: Controller,
     /// rhs evaluations during the current call.
     evals: u64,
     _state: std::marker::PhantomData<V>,
@@ -156,7 +153,6 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
             max_steps: DEFAULT_MAX_STEPS,
             mem: SolverMemory::FRESH,
             method: T::default(),
-            controller: Controller::new(T::CONTROL, SolverMemory::FRESH.err_prev),
             evals: 0,
             _state: std::marker::PhantomData,
         }
@@ -257,7 +253,7 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
                 )
             }
         };
-        let mut controller = self.controller.resume(self.mem.err_prev);
+        let mut controller = Controller::new(T::CONTROL, self.mem.log2_err_prev);
         // After a rejection the next accepted step may not grow (dopri5.f `REJECT`).
         // Every call ends on an accepted step, so this never needs to be remembered.
         let mut last_rejected = false;
@@ -327,10 +323,9 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
                 *t = t_new;
                 self.mem = SolverMemory {
                     h_next: Some(h_new),
-                    err_prev: controller.err_prev(),
+                    log2_err_prev: controller.log2_err_prev(),
                     ..self.mem
                 };
-                self.controller = controller;
                 if last {
                     return Ok(());
                 }

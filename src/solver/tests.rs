@@ -401,8 +401,7 @@ fn tiny_leftover_is_absorbed_not_micro_stepped() {
     let run = |solver: &mut Dopri5<[f64; 2]>, span: f64| {
         solver.restore(SolverMemory {
             h_next: Some(h),
-            err_prev: 1e-4,
-            high_order: false,
+            ..SolverMemory::FRESH
         });
         let (mut t, mut y) = (1.0, Oscillator::exact(1.0));
         let st = solver
@@ -1012,4 +1011,63 @@ fn solver_memory_restores_bit_for_bit_on_either_method() {
         let rc = communicate(&mut c, (&mut tc, &mut yc), h, 5, 1e-8);
         assert_eq!((ta, ya, a.memory(), ra), (tc, yc, c.memory(), rc));
     }
+}
+
+/// Every call restored into a fresh solver from the memory before it: the same steps, to the
+/// last bit. The intervals hold several steps, so each call's first step is the remembered
+/// proposal, which the fresh controller must make exactly as the running one did.
+#[test]
+fn a_memory_restored_in_a_fresh_solver_continues_bit_for_bit() {
+    let tl = tol(1e-9);
+    let mut a = Dopri5::new();
+    let (mut t, mut y) = (0.0, [1.0, 0.0]);
+    let mut several = 0;
+    for k in 1..=400 {
+        let t_end = 0.25 * f64::from(k);
+        let (memory, t_start, y_start) = (a.memory(), t, y);
+        let st = a
+            .integrate(&mut Forced { max_err: 0.0 }, &mut t, t_end, &mut y, tl)
+            .unwrap();
+        several += usize::from(st.accepted > 1);
+        let mut b = Dopri5::new();
+        b.restore(memory);
+        let (mut tb, mut yb) = (t_start, y_start);
+        let stb = b
+            .integrate(&mut Forced { max_err: 0.0 }, &mut tb, t_end, &mut yb, tl)
+            .unwrap();
+        assert_eq!(
+            (y.map(f64::to_bits), st, a.memory()),
+            (yb.map(f64::to_bits), stb, b.memory()),
+            "call {k}"
+        );
+    }
+    assert!(several > 300, "only {several} calls took several steps");
+}
+
+#[test]
+fn only_memories_the_solver_can_have_are_valid() {
+    let mut solver = Dopri5::new();
+    assert!(solver.memory().is_valid());
+    let (mut t, mut y) = (0.0, [1.0, 0.0]);
+    solver
+        .integrate(&mut Forced { max_err: 0.0 }, &mut t, 3.0, &mut y, tol(1e-8))
+        .unwrap();
+    let ran = solver.memory();
+    assert!(ran.is_valid() && ran.h_next.is_some());
+    assert!(ran.log2_err_prev > SolverMemory::FRESH.log2_err_prev && ran.log2_err_prev <= 0.0);
+    let forged = |h_next: Option<f64>, log2_err_prev: f64| SolverMemory {
+        h_next,
+        log2_err_prev,
+        ..ran
+    };
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        assert!(
+            !forged(Some(bad), ran.log2_err_prev).is_valid(),
+            "h_next {bad}"
+        );
+    }
+    for bad in [f64::NAN, 0.5, -13.3, f64::NEG_INFINITY] {
+        assert!(!forged(ran.h_next, bad).is_valid(), "log2_err_prev {bad}");
+    }
+    assert!(forged(None, 0.0).is_valid());
 }

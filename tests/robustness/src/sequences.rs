@@ -1734,7 +1734,7 @@ pub fn fix_checksum(b: &mut [u8]) {
     b[n..].copy_from_slice(&c.to_le_bytes());
 }
 
-/// Offsets of the fields of a serialized state (format version 2), if it parses.
+/// Offsets of the fields of a serialized state (format version 3), if it parses.
 pub struct Layout {
     pub values: usize,
     pub n_values: usize,
