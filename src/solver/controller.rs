@@ -36,6 +36,13 @@ pub(crate) const LOG2_ERR_PREV_FLOOR: f64 = -13.287712379549449;
 /// is -inf).
 const EXP2_RANGE: f64 = 8.0;
 
+/// Whether `log2_err_prev` is one the controller can remember: between the floor's and 0
+/// (an accepted error norm is at most 1).
+#[inline]
+pub(crate) fn can_remember(log2_err_prev: f64) -> bool {
+    (LOG2_ERR_PREV_FLOOR..=0.0).contains(&log2_err_prev)
+}
+
 /// The controller's memory during one integration call: `log2` of the error norm of the
 /// last accepted step, floored at `log2(ERR_PREV_FLOOR)`. The logarithm, not the norm, is
 /// what the formula uses and what the solver remembers ([`SolverMemory`]): no square root
@@ -49,13 +56,18 @@ pub(crate) struct Controller {
 }
 
 impl Controller {
-    /// Resumes from a remembered `log2_err_prev` (the solver memory's, valid by
-    /// construction: finite, at least the floor's).
+    /// Resumes from a remembered `log2_err_prev`; one the controller cannot have
+    /// remembered (non-finite or out of range, as in a forged memory handed to `restore`)
+    /// counts as the floor's.
     #[inline]
     pub(crate) fn new(control: Control, log2_err_prev: f64) -> Self {
         Controller {
             control,
-            log2_err_prev,
+            log2_err_prev: if can_remember(log2_err_prev) {
+                log2_err_prev
+            } else {
+                LOG2_ERR_PREV_FLOOR
+            },
         }
     }
 
@@ -141,6 +153,13 @@ mod tests {
     fn the_floor_logarithm_is_exact() {
         assert_eq!(LOG2_ERR_PREV_FLOOR, ERR_PREV_FLOOR.log2());
         assert_eq!(remembering(0.0).log2_err_prev(), LOG2_ERR_PREV_FLOOR);
+        // A memory the controller cannot have had counts as the floor.
+        for forged in [f64::NAN, f64::INFINITY, 0.5, -14.0] {
+            assert_eq!(
+                Controller::new(DOPRI5, forged).log2_err_prev(),
+                LOG2_ERR_PREV_FLOOR
+            );
+        }
     }
 
     #[test]

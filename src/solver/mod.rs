@@ -28,7 +28,7 @@ pub use dop853::{Dop853, Dp853};
 pub use dopri5::{Dopri5, Dp5};
 pub use runge_kutta::{Method, RungeKutta};
 
-use controller::{Controller, LOG2_ERR_PREV_FLOOR};
+use controller::{can_remember, Controller, LOG2_ERR_PREV_FLOOR};
 
 use std::fmt;
 
@@ -263,8 +263,8 @@ pub struct SolverMemory {
     /// (remembering the norm, a restored controller took `log2` of its square root, which
     /// differs from half the `log2` of the square in the last bit for ~30 % of norms).
     pub log2_err_prev: f64,
-    /// Whether the 8th-order method is running (see [`Solver`]); `h_next` and `err_prev`
-    /// are its controller's. False for a fresh solver.
+    /// Whether the 8th-order method is running (see [`Solver`]); `h_next` and
+    /// `log2_err_prev` are its controller's. False for a fresh solver.
     pub high_order: bool,
 }
 
@@ -280,8 +280,7 @@ impl SolverMemory {
     /// the solver misbehave (for memories read from outside, such as serialized FMU
     /// states): a finite, positive step size, a logarithm between the floor's and 0.
     pub fn is_valid(&self) -> bool {
-        self.h_next.is_none_or(|h| h.is_finite() && h > 0.0)
-            && (LOG2_ERR_PREV_FLOOR..=0.0).contains(&self.log2_err_prev)
+        self.h_next.is_none_or(|h| h.is_finite() && h > 0.0) && can_remember(self.log2_err_prev)
     }
 }
 
