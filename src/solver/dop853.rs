@@ -14,7 +14,7 @@
 #![allow(clippy::excessive_precision)]
 
 use super::controller::Control;
-use super::norm::ratio_sq;
+use super::norm::{inverse_scale, ratio_sq};
 use super::runge_kutta::{all_finite, combine, evaluate, evaluate_new_point, Method, RungeKutta};
 use super::{OdeSystem, StateVector, Tolerance};
 
@@ -288,7 +288,7 @@ impl<V: StateVector> Dp853<V> {
         let (y, y_new) = (y.as_slice(), self.y_new.as_slice());
         let (mut e5, mut e3) = (0.0, 0.0);
         for i in 0..V::DIM {
-            let scale = tol.atol + tol.rtol * y[i].abs().max(y_new[i].abs());
+            let inv_scale = inverse_scale(tol, y[i], y_new[i]);
             let b = B1 * k(0)[i]
                 + B6 * k(5)[i]
                 + B7 * k(6)[i]
@@ -306,8 +306,8 @@ impl<V: StateVector> Dp853<V> {
                 + ER10 * k(9)[i]
                 + ER11 * k(10)[i]
                 + ER12 * k(11)[i];
-            e3 += ratio_sq(err3, scale);
-            e5 += ratio_sq(err5, scale);
+            e3 += ratio_sq(err3, inv_scale);
+            e5 += ratio_sq(err5, inv_scale);
         }
         self.err3_squared = (h * h) * (e3 / V::DIM as f64);
         let mut deno = e5 + 0.01 * e3;
@@ -325,8 +325,8 @@ impl<V: StateVector> Method<V> for Dp853<V> {
     const CONTROL: Control = Control {
         beta: 0.0,
         expo1: 1.0 / 8.0,
-        max_shrink: 1.0 / 0.333,
-        min_inv_growth: 1.0 / 6.0,
+        min_growth: 0.333,
+        max_growth: 6.0,
     };
 
     #[inline(always)]

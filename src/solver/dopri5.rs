@@ -184,8 +184,8 @@ impl<V: StateVector> Method<V> for Dp5<V> {
     const CONTROL: Control = Control {
         beta: 0.04,
         expo1: 0.2 - 0.04 * 0.75,
-        max_shrink: 5.0,
-        min_inv_growth: 0.1,
+        min_growth: 0.2,
+        max_growth: 10.0,
     };
 
     #[inline(always)]
