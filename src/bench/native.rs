@@ -62,8 +62,10 @@ pub struct Split {
     /// The model's equations: `Mechanism::evaluate` at the stages, and at the
     /// communication point `project` (with its evaluation) and `outputs`.
     pub rhs: f64,
-    /// Copying states in and derivatives out around each evaluation (value-reference
-    /// lookups included) and the check that reuses an evaluation.
+    /// What the solver's callback adds to each evaluation: the states copied in from the
+    /// solver's slice and the derivatives out into its slice, its count, and the check that
+    /// reuses an evaluation. (Storing the states into the named values and reading the
+    /// derivatives out of them is in `rhs`: equations on named values cannot do without.)
     pub copying: f64,
     /// The solver's own arithmetic: Runge–Kutta stages, error estimate, step-size control.
     pub solver: f64,

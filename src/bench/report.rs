@@ -254,8 +254,8 @@ impl Report {
         let _ = writeln!(o, "  evals/acc/rej: model evaluations, accepted and rejected solver steps per fmi2DoStep.");
         let _ = writeln!(o, "  Split of ns/step, from the parts run alone in the FMU on the same trajectory (mechfmu_bench):");
         let _ = writeln!(o, "  rhs = the model's equations (evaluate at every stage, outputs and any projection once per step);");
-        let _ = writeln!(o, "  ns/eval = one stage evaluation (the states stored into the named values, evaluate); copy = what the");
-        let _ = writeln!(o, "  solver's callback adds to that (derivatives out, vr lookup, its bookkeeping); solver = Runge-Kutta");
+        let _ = writeln!(o, "  ns/eval = one stage evaluation (the states into the named values, evaluate, the derivatives out of");
+        let _ = writeln!(o, "  them); copy = what the solver's callback adds to that (its slices in and out, its count); solver = Runge-Kutta");
         let _ = writeln!(o, "  arithmetic and error control; step = Simulation::step's checks and bookkeeping; fmi = the C call,");
         let _ = writeln!(o, "  instance/state checks, unwinding guard. >rhs = all but rhs; plumb. = copy + step + fmi.");
         let _ = writeln!(o, "  own = the plumbing from fmi2DoStep and the solver timed again with every call isolated from the");

@@ -2,7 +2,7 @@
 //! FMU's own compiled code, so the benchmark can time them from outside and tell the
 //! model's equations from the solver and from the FMI layer.
 
-use super::{fixed_size, store_point, Simulation, System};
+use super::{fixed_size, Simulation, System};
 use crate::model::{Mechanism, ValueSet};
 use crate::solver::{OdeSystem, StateVector};
 
@@ -12,11 +12,12 @@ pub enum Part {
     /// `Mechanism::evaluate` alone: the right-hand side's own work, each evaluation
     /// waiting for the previous one's derivatives as a solver's stages do (without
     /// `Mechanism::outputs`, which runs once per communication point, not per stage).
-    /// The walk is [`Part::Rhs`]'s with the callback taken out, so the two differ by
-    /// what the callback adds to storing the states into the values: reading the
-    /// derivatives out and its own bookkeeping. (An earlier walk that updated the states in
-    /// place in the values paid a store-forwarding stall of its own and came out slower
-    /// than the callback it was subtracted from.)
+    /// The walk is [`Part::Rhs`]'s with the callback's interface taken out: the states
+    /// into the named values, `evaluate`, the derivatives out of them, by the callback's own
+    /// code (`System::derivatives_at`), so the two differ by what the callback adds: the
+    /// solver's slices in and out and its count. (Earlier walks with code of their own paid
+    /// store-forwarding stalls the callback does not, and came out slower than the callback
+    /// they were subtracted from.)
     Evaluate,
     /// The solver's callback: load the state into the values, evaluate, read the
     /// derivatives (the evaluation plus the copying around it), chained the same way.
@@ -108,20 +109,23 @@ impl<M: Mechanism> Simulation<M> {
         let mut sum = 0.0;
         match part {
             Part::Evaluate => {
-                // `Part::Rhs`'s walk without the callback: the same state vector through
-                // `black_box`, stored into the same values (which the callback also stores
-                // them into), the same Euler update. With a copy of the values of its own,
-                // which the compiler could keep in registers, the walk measured what the
-                // compiler made of that copy (RigidBody's spilled and came out slower than
-                // the callback).
+                // `Part::Rhs`'s walk without the callback's interface: the same state
+                // vector through `black_box`, the same `System` code from the states to
+                // the derivatives (`System::derivatives_at`), the same Euler update, but
+                // no slices in and out and no count. Written out here instead (the states
+                // stored and the derivatives read by a loop of this walk's own), RigidBody's
+                // copy of the equations loaded the states across the stores that had
+                // written them, which the processor cannot forward (three stalls per
+                // evaluation that the callback's code does not have), and the callback came
+                // out 4 ns per evaluation faster than the evaluations it calls.
                 let mut y = sim.state_vector();
-                let values = &mut sim.values;
+                let (mut warnings, mut warning_active) = (Vec::new(), false);
+                let mut system = sim.system(t0, &mut warning_active, &mut warnings);
                 for i in 0..n {
                     let arg: M::State = fixed_size(std::hint::black_box(y.as_slice()));
-                    store_point::<M>(values, t0 + (i + 1) as f64 * dt, &arg);
-                    M::evaluate(values);
-                    for (y, &d) in y.as_mut_slice().iter_mut().zip(M::DERIVATIVES) {
-                        *y += dt * values.get(d).unwrap_or(0.0);
+                    let f = system.derivatives_at(t0 + (i + 1) as f64 * dt, &arg);
+                    for (y, &f) in y.as_mut_slice().iter_mut().zip(f.as_slice()) {
+                        *y += dt * f;
                     }
                 }
                 sum += y.as_slice().first().copied().unwrap_or(0.0);

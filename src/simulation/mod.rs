@@ -792,15 +792,15 @@ impl<M: Mechanism> System<'_, M> {
 }
 
 impl<M: Mechanism> System<'_, M> {
-    /// The derivatives the values hold at the point `states`, into `dydt`.
+    /// The derivatives the values hold at the point `states`.
     ///
-    /// All are read before any is written: a store into `dydt` could, as far as the
-    /// compiler knows, change the values, and the derivatives written after it would be
-    /// read back from memory instead of taken from the registers `evaluate` computed them
-    /// in. A derivative that is a state (x' = v) is taken from `states`, the same number
-    /// without a round trip through memory.
+    /// All are read before any is written: a store into the caller's vector could, as far
+    /// as the compiler knows, change the values, and the derivatives written after it would
+    /// be read back from memory instead of taken from the registers `evaluate` computed
+    /// them in. A derivative that is a state (x' = v) is taken from `states`, the same
+    /// number without a round trip through memory.
     #[inline(always)]
-    fn read_derivatives(&self, states: &M::State, dydt: &mut [f64]) {
+    fn read_derivatives(&self, states: &M::State) -> M::State {
         let mut derivatives = M::State::ZERO;
         for ((&vr, &state), d) in M::DERIVATIVES
             .iter()
@@ -812,7 +812,18 @@ impl<M: Mechanism> System<'_, M> {
                 None => self.values.get(vr).unwrap_or(f64::NAN),
             };
         }
-        dydt[..M::State::DIM].copy_from_slice(derivatives.as_slice());
+        derivatives
+    }
+
+    /// The model at a stage: the point into the values, `evaluate`, the derivatives out.
+    /// What the callback ([`OdeSystem::rhs`]) does beyond this is its interface: the
+    /// solver's slices in and out, and the count. The benchmark's walk of evaluations runs
+    /// this very code (`Part::Evaluate`), so the two differ by exactly that.
+    #[inline(always)]
+    fn derivatives_at(&mut self, t: f64, states: &M::State) -> M::State {
+        self.load(t, states);
+        M::evaluate(self.values);
+        self.read_derivatives(states)
     }
 }
 
@@ -820,10 +831,8 @@ impl<M: Mechanism> OdeSystem for System<'_, M> {
     /// A stage: a point the values do not hold (stages are new points), so no check for it.
     #[inline(always)]
     fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) {
-        let states: M::State = fixed_size(y);
-        self.load(t, &states);
-        M::evaluate(self.values);
-        self.read_derivatives(&states, dydt);
+        let derivatives = self.derivatives_at(t, &fixed_size(y));
+        dydt[..M::State::DIM].copy_from_slice(derivatives.as_slice());
         // Counted last, for the reason `read_derivatives` reads before it writes.
         self.evaluations += 1;
     }
@@ -835,7 +844,8 @@ impl<M: Mechanism> OdeSystem for System<'_, M> {
     fn rhs_reusing(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) {
         let states: M::State = fixed_size(y);
         self.evaluate_at(t, &states);
-        self.read_derivatives(&states, dydt);
+        let derivatives = self.read_derivatives(&states);
+        dydt[..M::State::DIM].copy_from_slice(derivatives.as_slice());
     }
 
     fn accepted(&mut self, t: f64, y: &[f64]) -> Result<(), String> {
