@@ -89,13 +89,13 @@ pub fn measure(
     progress: &dyn Fn(&str),
 ) -> Result<Figures, String> {
     let d = &binary.description;
-    let mut steps = Vec::new();
-    for h in STEPS {
-        for tol in TOLERANCES {
-            progress(&format!("{name}: fmi2DoStep at h = {h:e}, tol = {tol:e}"));
-            steps.push(native::step_figures(binary, h, tol, effort)?);
-        }
-    }
+    let configurations: Vec<(f64, f64)> = STEPS
+        .iter()
+        .flat_map(|&h| TOLERANCES.iter().map(move |&tol| (h, tol)))
+        .collect();
+    let steps = native::step_figures(binary, &configurations, effort, &|what| {
+        progress(&format!("{name}: {what}"))
+    })?;
     progress(&format!(
         "{name}: fmi2GetReal, fmi2SetReal, co-simulation cycle"
     ));

@@ -100,6 +100,21 @@ impl Split {
     pub fn runtime(&self) -> f64 {
         self.copying + self.step + self.fmi
     }
+
+    /// Whether the parts the plumbing is made of came out as parts can: none below
+    /// `-noise`. Where one does, the parts timed alone did not run as they do inside the
+    /// step (code layout, inlining) and the plumbing cannot be judged from them.
+    ///
+    /// `step` and `fmi` count as one: their sum is `fmi2DoStep` minus the solver loop and
+    /// the point's model work, and the `Step` part only splits it. A `Step` part that ran
+    /// unlike `fmi2DoStep` (seen: 30-60 ns slower for a whole configuration, `fmi` as
+    /// negative) leaves the plumbing as it is; a solver loop that ran slower than inside the
+    /// step would not, and shows as a negative sum.
+    pub fn adds_up(&self, noise: f64) -> bool {
+        [self.copying, self.solver, self.step + self.fmi]
+            .iter()
+            .all(|&x| x >= -noise)
+    }
 }
 
 impl StepFigures {
@@ -214,75 +229,135 @@ pub fn step_run(
     step_loop(inst, h, n, false)
 }
 
-/// ns per `fmi2DoStep` at `(h, tol)`, its work, and its parts alone.
+/// ns per `fmi2DoStep` at each `(h, tol)`, its work, and its parts alone.
+///
+/// The configurations take turns run by run rather than one after the other: a spell of
+/// the machine running slow (a neighbour on the host) then costs every configuration one
+/// run, which the medians leave out, instead of all the runs of whichever configuration it
+/// fell on (seen: RigidBody at h 1e-2, tol 1e-10, 605 instead of 466 ns in one process of
+/// 20, while three instances of it in other processes never read above 470).
 pub fn step_figures(
     binary: &Binary,
+    configurations: &[(f64, f64)],
+    effort: Effort,
+    progress: &dyn Fn(&str),
+) -> Result<Vec<StepFigures>, String> {
+    let mut benches = Vec::with_capacity(configurations.len());
+    for &(h, tol) in configurations {
+        progress(&format!(
+            "fmi2DoStep at h = {h:e}, tol = {tol:e}: warming up"
+        ));
+        benches.push(StepBench::new(binary, h, tol, effort)?);
+    }
+    progress(&format!(
+        "fmi2DoStep: {} timed runs of each, in turns",
+        effort.runs
+    ));
+    for _ in 0..effort.runs {
+        for bench in &mut benches {
+            bench.run()?;
+        }
+    }
+    Ok(benches.into_iter().map(StepBench::figures).collect())
+}
+
+/// The runs of one configuration: `fmi2DoStep` and the parts alone, interleaved.
+struct StepBench<'a> {
+    inst: Instance<'a>,
     h: f64,
     tol: f64,
-    effort: Effort,
-) -> Result<StepFigures, String> {
-    let n = steps_per_run(binary, h, effort);
-    let mut inst = Instance::new(binary)?;
-    // Warm-up (caches, branch predictors, page faults), and the work per run.
-    let (_, work) = step_run(&mut inst, tol, h, n, true)?;
-    let parts = binary.has_counters();
-    let mut samples: [Vec<f64>; 8] = Default::default();
-    // Isolated calls where the processor has the barrier and the binary the part (one
-    // built before it answers fmi2Error to part 5).
-    let isolating = parts && ISOLATES && inst.bench(Part::IntegrateIsolated, 1, h).is_ok();
-    let start = binary.description.start;
-    for _ in 0..effort.runs {
-        inst.start(tol, start, &[], true)?;
-        if parts {
+    /// Steps per run.
+    n: usize,
+    /// The work of a run (counters: steps, accepted, rejected, evaluations).
+    work: [u64; 4],
+    /// Whether the binary has the parts (`mechfmu_bench`).
+    parts: bool,
+    /// Isolated calls where the processor has the barrier and the binary the part (one
+    /// built before it answers fmi2Error to part 5).
+    isolating: bool,
+    samples: [Vec<f64>; 8],
+}
+
+impl<'a> StepBench<'a> {
+    fn new(binary: &'a Binary, h: f64, tol: f64, effort: Effort) -> Result<Self, String> {
+        let n = steps_per_run(binary, h, effort);
+        let mut inst = Instance::new(binary)?;
+        // Warm-up (caches, branch predictors, page faults), and the work per run.
+        let (_, work) = step_run(&mut inst, tol, h, n, true)?;
+        let parts = binary.has_counters();
+        let isolating = parts && ISOLATES && inst.bench(Part::IntegrateIsolated, 1, h).is_ok();
+        Ok(StepBench {
+            inst,
+            h,
+            tol,
+            n,
+            work,
+            parts,
+            isolating,
+            samples: Default::default(),
+        })
+    }
+
+    /// One timed run of each figure.
+    fn run(&mut self) -> Result<(), String> {
+        let (inst, h, n) = (&mut self.inst, self.h, self.n);
+        let start = inst.binary.description.start;
+        inst.start(self.tol, start, &[], true)?;
+        if self.parts {
             // The parts alone, from the same initial point, interleaved with the step runs
             // so that all see the same machine.
             let span = n as f64 * h;
             for (k, part, count, h) in [
-                (1, Part::Evaluate, work[3], span),
-                (2, Part::Rhs, work[3], span),
+                (1, Part::Evaluate, self.work[3], span),
+                (2, Part::Rhs, self.work[3], span),
                 (3, Part::Integrate, n as u64, h),
                 (4, Part::Step, n as u64, h),
                 (5, Part::Point, n as u64, h),
             ] {
                 let t0 = cpu_ns();
                 inst.bench(part, count, h)?;
-                samples[k].push((cpu_ns() - t0) as f64 / n as f64);
+                self.samples[k].push((cpu_ns() - t0) as f64 / n as f64);
             }
         }
-        if isolating {
+        if self.isolating {
             let t0 = cpu_ns();
             inst.bench(Part::IntegrateIsolated, n as u64, h)?;
-            samples[7].push((cpu_ns() - t0) as f64 / n as f64);
-            let (ns, _) = step_loop(&mut inst, h, n, true)?;
-            samples[6].push(ns / n as f64);
-            inst.start(tol, start, &[], true)?;
+            self.samples[7].push((cpu_ns() - t0) as f64 / n as f64);
+            let (ns, _) = step_loop(inst, h, n, true)?;
+            self.samples[6].push(ns / n as f64);
+            inst.start(self.tol, start, &[], true)?;
         }
-        let (ns, _) = step_loop(&mut inst, h, n, false)?;
-        samples[0].push(ns / n as f64);
+        let (ns, _) = step_loop(inst, h, n, false)?;
+        self.samples[0].push(ns / n as f64);
+        Ok(())
     }
-    let per_step = |k: usize| {
-        if parts {
-            work[k] as f64 / n as f64
-        } else {
-            f64::NAN
+
+    fn figures(self) -> StepFigures {
+        let per_step = |k: usize| {
+            if self.parts {
+                self.work[k] as f64 / self.n as f64
+            } else {
+                f64::NAN
+            }
+        };
+        let samples = &self.samples;
+        StepFigures {
+            h: self.h,
+            tol: self.tol,
+            steps_per_run: self.n,
+            ns: Stat::of(&samples[0]),
+            evals: per_step(3),
+            accepted: per_step(1),
+            rejected: per_step(2),
+            evaluate_ns: Stat::of(&samples[1]),
+            callback_ns: Stat::of(&samples[2]),
+            integrate_ns: Stat::of(&samples[3]),
+            sim_step_ns: Stat::of(&samples[4]),
+            point_ns: Stat::of(&samples[5]),
+            isolated_ns: Stat::of(&samples[6]),
+            integrate_isolated_ns: Stat::of(&samples[7]),
         }
-    };
-    Ok(StepFigures {
-        h,
-        tol,
-        steps_per_run: n,
-        ns: Stat::of(&samples[0]),
-        evals: per_step(3),
-        accepted: per_step(1),
-        rejected: per_step(2),
-        evaluate_ns: Stat::of(&samples[1]),
-        callback_ns: Stat::of(&samples[2]),
-        integrate_ns: Stat::of(&samples[3]),
-        sim_step_ns: Stat::of(&samples[4]),
-        point_ns: Stat::of(&samples[5]),
-        isolated_ns: Stat::of(&samples[6]),
-        integrate_isolated_ns: Stat::of(&samples[7]),
-    })
+    }
 }
 
 /// ns per call of `call` on an instance initialized with the default experiment and
@@ -377,4 +452,31 @@ pub fn cycle(binary: &Binary, h: f64, tol: f64, effort: Effort) -> Result<Stat, 
         }
     }
     Ok(Stat::of(&samples))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Split;
+
+    fn split(copying: f64, solver: f64, step: f64, fmi: f64) -> Split {
+        Split {
+            rhs: 100.0,
+            copying,
+            solver,
+            step,
+            fmi,
+        }
+    }
+
+    #[test]
+    fn the_plumbing_is_judged_from_the_parts_it_is_made_of() {
+        assert!(split(1.0, 40.0, 10.0, 8.0).adds_up(10.0));
+        // The `Step` part alone ran slow: step and fmi move, their sum does not.
+        assert!(split(1.0, 40.0, 56.0, -28.0).adds_up(10.0));
+        // The callback's walk ran faster than the evaluations it calls.
+        assert!(!split(-24.0, 80.0, 3.0, 4.0).adds_up(10.0));
+        // The solver loop ran slower than fmi2DoStep itself.
+        assert!(!split(1.0, 60.0, -20.0, 5.0).adds_up(10.0));
+        assert!(!split(1.0, -11.0, 10.0, 8.0).adds_up(10.0));
+    }
 }

@@ -88,8 +88,8 @@ impl Report {
 
     /// The targets of issue 9, judged on this run's figures.
     ///
-    /// Parts of the split below `-NOISE_NS` mean the parts timed alone are not what runs
-    /// inside the step.
+    /// The plumbing is not judged where the parts it is made of do not add up
+    /// ([`Split::adds_up`](super::native::Split::adds_up)).
     pub fn targets(&self) -> Vec<Target> {
         let mut t = Vec::new();
         for m in &self.mechanisms {
@@ -106,14 +106,11 @@ impl Report {
                 })
             };
             let runtime = worst(&|s| s.runtime());
-            // The split comes from parts timed alone; where one comes out clearly negative
-            // the parts did not run as they do inside the step (code layout, inlining),
-            // and the plumbing cannot be judged from them.
-            let inconsistent = m.steps.iter().map(|s| s.split()).find(|p| {
-                [p.copying, p.solver, p.step, p.fmi]
-                    .iter()
-                    .any(|&x| x < -NOISE_NS)
-            });
+            let inconsistent = m
+                .steps
+                .iter()
+                .map(|s| s.split())
+                .find(|p| !p.adds_up(NOISE_NS));
             t.push(Target {
                 what: format!(
                     "{}: plumbing per fmi2DoStep (checks, lookup, guards, copying)",
