@@ -512,11 +512,20 @@ impl<M: Mechanism> Simulation<M> {
         let result = self
             .solver
             .integrate(&mut system, &mut time, t_end, &mut y, self.tolerance);
-        // Whatever happened, the values describe the last accepted point (after a successful
-        // step they already do: the solver's last stage was evaluated there). The stages
-        // computed the derivatives only: the outputs no derivative needs are computed here,
-        // once per communication point, where they become visible.
-        system.evaluate_at(time, &y);
+        // Whatever happened, the values describe the last accepted point. After a successful
+        // step they already do, without a check: the last evaluation of every accepted step
+        // is its new point (Dopri5's and DOP853's first-same-as-last stage), and the last
+        // step lands on `t_end` exactly. After a failed one they may hold a rejected stage.
+        // (A system without states has no evaluations: its values are still at `t`.) The
+        // stages computed the derivatives only: the outputs no derivative needs are computed
+        // here, once per communication point, where they become visible.
+        if result.is_err() || M::State::DIM == 0 {
+            system.evaluate_at(time, &y);
+        }
+        debug_assert!(
+            system.holds(time, &y),
+            "the values hold the step's end point"
+        );
         self.counters.evaluations += system.evaluations;
         complete_point::<M>(system.values);
         if let Some(name) = self.first_non_finite() {
