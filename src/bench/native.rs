@@ -297,7 +297,8 @@ impl<'a> StepBench<'a> {
         let mut work = [0; 4];
         for _ in 0..PLACEMENTS {
             let mut inst = Instance::new(binary)?;
-            // Warm-up (caches, branch predictors, page faults), and the work per run.
+            // Warm-up (caches, branch predictors, page faults), and the work per run (the
+            // same trajectory, so the same work, on every instance).
             (_, work) = step_run(&mut inst, tol, h, n, true)?;
             instances.push(inst);
         }
@@ -319,9 +320,9 @@ impl<'a> StepBench<'a> {
 
     /// One timed run of each figure, on the next instance at the next stack depth.
     fn run(&mut self) -> Result<(), String> {
-        let turn = self.turn;
+        let placement = self.turn % PLACEMENTS;
         self.turn += 1;
-        deeper(turn % PLACEMENTS, &mut || self.run_here(turn % PLACEMENTS))
+        deeper(placement, &mut || self.run_here(placement))
     }
 
     fn run_here(&mut self, placement: usize) -> Result<(), String> {
