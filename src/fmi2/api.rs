@@ -664,14 +664,14 @@ pub unsafe fn do_step<M: Mechanism>(
                 }
             }
             match inst.sim.step(t, h) {
-                Ok(report) => {
-                    for warning in &report.warnings {
+                Ok(_) => {
+                    for warning in inst.sim.warnings() {
                         inst.logger
                             .log(fmi2Warning, &format!("fmi2DoStep: {warning}"));
                     }
                     inst.last_successful_time = inst.sim.time();
                     inst.last_step_status = fmi2OK;
-                    Ok(if report.warnings.is_empty() {
+                    Ok(if inst.sim.warnings().is_empty() {
                         fmi2OK
                     } else {
                         fmi2Warning

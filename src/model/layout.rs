@@ -141,14 +141,37 @@ pub enum Selection {
     Continuous,
     /// The inputs: the values a stage loads when they move over a step.
     Inputs,
+    /// The continuous variables the solver does not check at a point it accepts: all but
+    /// the states and their derivatives (see `Declaration::CONTINUOUS_UNCHECKED`).
+    ContinuousUnchecked,
 }
 
-const fn selected(variable: &Variable, selection: Selection) -> bool {
+const fn selected(variables: &[Variable], i: usize, selection: Selection) -> bool {
+    let variable = &variables[i];
     match selection {
         Selection::States => variable.derivative.is_some(),
         Selection::Continuous => matches!(variable.variability, Variability::Continuous),
         Selection::Inputs => matches!(variable.causality, Causality::Input),
+        Selection::ContinuousUnchecked => {
+            matches!(variable.variability, Variability::Continuous)
+                && variable.derivative.is_none()
+                && !is_derivative(variables, i)
+        }
     }
+}
+
+/// Whether variable `i` is some state's derivative.
+const fn is_derivative(variables: &[Variable], i: usize) -> bool {
+    let mut j = 0;
+    while j < variables.len() {
+        if let Some(der) = variables[j].derivative {
+            if str_eq(der, variables[i].name) {
+                return true;
+            }
+        }
+        j += 1;
+    }
+    false
 }
 
 /// The number of variables in `selection`, at compile time.
@@ -156,7 +179,7 @@ const fn selected(variable: &Variable, selection: Selection) -> bool {
 pub const fn count_selected(variables: &[Variable], selection: Selection) -> usize {
     let (mut i, mut n) = (0, 0);
     while i < variables.len() {
-        if selected(&variables[i], selection) {
+        if selected(variables, i, selection) {
             n += 1;
         }
         i += 1;
@@ -176,7 +199,7 @@ pub const fn selected_references<const N: usize>(
     let mut out = [0; N];
     let (mut i, mut n) = (0, 0);
     while i < variables.len() {
-        if selected(&variables[i], selection) {
+        if selected(variables, i, selection) {
             out[n] = i;
             n += 1;
         }

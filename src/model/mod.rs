@@ -63,6 +63,9 @@ pub trait Declaration: Send + Sync + 'static {
     const DERIVATIVES_AMONG_STATES: &'static [Option<usize>];
     /// The value references of the continuous variables (which a step must leave finite).
     const CONTINUOUS: &'static [usize];
+    /// The continuous variables but the states and their derivatives: what a step still
+    /// checks after the solver accepted its end point, where the solver has checked those.
+    const CONTINUOUS_UNCHECKED: &'static [usize];
     /// The value references of the inputs, in declaration order ([`Layout::inputs`]).
     const INPUTS: &'static [usize];
 
@@ -318,6 +321,10 @@ macro_rules! mechanism {
                 $crate::model::count_selected(VARIABLES, $crate::model::Selection::Continuous);
             const N_INPUTS: usize =
                 $crate::model::count_selected(VARIABLES, $crate::model::Selection::Inputs);
+            const N_CONTINUOUS_UNCHECKED: usize = $crate::model::count_selected(
+                VARIABLES,
+                $crate::model::Selection::ContinuousUnchecked,
+            );
 
             impl $crate::model::Declaration for $name {
                 const NAME: &'static str = stringify!($name);
@@ -339,6 +346,11 @@ macro_rules! mechanism {
                     VARIABLES,
                     $crate::model::Selection::Continuous,
                 );
+                const CONTINUOUS_UNCHECKED: &'static [usize] =
+                    &$crate::model::selected_references::<N_CONTINUOUS_UNCHECKED>(
+                        VARIABLES,
+                        $crate::model::Selection::ContinuousUnchecked,
+                    );
                 const INPUTS: &'static [usize] = &$crate::model::selected_references::<N_INPUTS>(
                     VARIABLES,
                     $crate::model::Selection::Inputs,
@@ -404,6 +416,8 @@ mod tests {
         assert_eq!(Probe::DERIVATIVES_AMONG_STATES, [None]);
         // The parameter `a` is fixed; the state and the output are continuous.
         assert_eq!(Probe::CONTINUOUS, [1, 2]);
+        // Both are the solver's: the state and its derivative.
+        assert_eq!(Probe::CONTINUOUS_UNCHECKED, [] as [usize; 0]);
         assert_eq!(Probe::INPUTS, [] as [usize; 0]);
     }
 

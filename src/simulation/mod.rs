@@ -38,14 +38,6 @@ pub enum StepFailure {
     Stopped { time: f64, message: String },
 }
 
-/// What a completed step has to report besides success.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct StepReport {
-    pub stats: StepStats,
-    /// Warnings raised by the mechanism's monitor (each once per episode).
-    pub warnings: Vec<String>,
-}
-
 /// Work done by a simulation since it was created: cumulative, never reset, not part of
 /// the saved state. For benchmarks and statistics (`mechfmu_counters`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -74,6 +66,9 @@ pub struct Simulation<M: Mechanism> {
     tolerance: Tolerance,
     /// Whether the monitor's warning condition holds (so it is logged once per episode).
     warning_active: bool,
+    /// The monitor's warnings raised by the last step. Kept here rather than returned, so
+    /// that a step without any (nearly all) moves no list around.
+    warnings: Vec<String>,
     /// Values were set since calculated parameters and outputs were last computed.
     dirty: bool,
     /// Only inputs changed since the outputs were last computed: the parameters are as
@@ -95,6 +90,7 @@ impl<M: Mechanism> Clone for Simulation<M> {
             solver: self.solver.clone(),
             tolerance: self.tolerance,
             warning_active: self.warning_active,
+            warnings: self.warnings.clone(),
             dirty: self.dirty,
             stale: self.stale,
             held: self.held,
@@ -124,6 +120,7 @@ impl<M: Mechanism> Simulation<M> {
             solver: Solver::new(),
             tolerance: default_tolerance::<M>(),
             warning_active: false,
+            warnings: Vec::new(),
             dirty: true,
             stale: false,
             held: None,
@@ -156,6 +153,11 @@ impl<M: Mechanism> Simulation<M> {
 
     pub fn time(&self) -> f64 {
         self.values.time()
+    }
+
+    /// The monitor's warnings raised by the last step (each once per episode).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     pub fn values(&self) -> &M::Values<f64> {
@@ -470,7 +472,7 @@ impl<M: Mechanism> Simulation<M> {
     #[inline(never)]
     // A negated comparison is how one comparison rejects NaN too (see the checks).
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
-    pub fn step(&mut self, t: f64, h: f64) -> Result<StepReport, StepFailure> {
+    pub fn step(&mut self, t: f64, h: f64) -> Result<StepStats, StepFailure> {
         let now = self.time();
         // Each check is one comparison that NaN fails (as it fails every comparison): 30
         // instructions fewer per step than `is_finite` and NaN-aware `max` (valgrind).
@@ -497,7 +499,7 @@ impl<M: Mechanism> Simulation<M> {
         // What to go back to if the step ends on values that are not numbers: the states
         // at t are enough, the rest of the values at t is their evaluation (see `undo`).
         let (start, memory, warning_active) = (y, self.solver.memory(), self.warning_active);
-        let mut report = StepReport::default();
+        self.warnings.clear();
         let mut time = t;
         let inputs_fixed = self.inputs_held();
         let mut system = System::<M>::new(
@@ -506,7 +508,7 @@ impl<M: Mechanism> Simulation<M> {
             &self.input_derivatives,
             t,
             &mut self.warning_active,
-            &mut report.warnings,
+            &mut self.warnings,
             inputs_fixed,
         );
         let result = self
@@ -528,7 +530,15 @@ impl<M: Mechanism> Simulation<M> {
         );
         self.counters.evaluations += system.evaluations;
         complete_point::<M>(system.values);
-        if let Some(name) = self.first_non_finite() {
+        // The solver accepts only a finite end point with finite derivatives there (a
+        // non-finite one rejects the step): after a successful step, the states and their
+        // derivatives need no second look unless a projection has moved them.
+        let non_finite = if result.is_ok() && !M::PROJECTED {
+            self.first_non_finite(M::CONTINUOUS_UNCHECKED)
+        } else {
+            self.first_non_finite(M::CONTINUOUS)
+        };
+        if let Some(name) = non_finite {
             self.undo(t, &start);
             self.solver.restore(memory);
             self.warning_active = warning_active;
@@ -557,11 +567,10 @@ impl<M: Mechanism> Simulation<M> {
             .set_time(if result.is_ok() { t_end } else { time });
         match result {
             Ok(stats) => {
-                report.stats = stats;
                 self.counters.steps += 1;
                 self.counters.accepted += stats.accepted;
                 self.counters.rejected += stats.rejected;
-                Ok(report)
+                Ok(stats)
             }
             Err(e) => Err(StepFailure::Stopped {
                 time,
@@ -611,21 +620,23 @@ impl<M: Mechanism> Simulation<M> {
         y
     }
 
-    /// The first continuous variable that is not finite. `M::CONTINUOUS` is a constant, so
-    /// the common case, all finite, unrolls into straight-line vector code, no branch.
-    fn first_non_finite(&self) -> Option<&'static str> {
+    /// The first of the variables `checked` that is not finite. `checked` is one of the
+    /// mechanism's constants, so the common case, all finite, unrolls into straight-line
+    /// vector code, no branch.
+    #[inline(always)]
+    fn first_non_finite(&self, checked: &'static [usize]) -> Option<&'static str> {
         let finite = |vr: usize| self.values.get(vr).is_some_and(f64::is_finite);
         // `x - x` is +0.0 (all bits clear) for a finite `x` and NaN (some bits set) for the
         // others, and OR is associative, so the compiler pairs the variables into vector
         // instructions: 8-45 fewer instructions per step than `is_finite` on each (valgrind).
         #[allow(clippy::eq_op)]
-        let nonfinite_bits = (M::CONTINUOUS.iter())
+        let nonfinite_bits = (checked.iter())
             .map(|&vr| self.values.get(vr).map_or(u64::MAX, |x| (x - x).to_bits()))
             .fold(0, |any, bits| any | bits);
         if nonfinite_bits == 0 {
             return None;
         }
-        (M::CONTINUOUS.iter())
+        (checked.iter())
             .find(|&&vr| !finite(vr))
             .map(|&vr| M::VARIABLES[vr].name)
     }

@@ -277,8 +277,8 @@ fn the_remembered_answer_to_whether_inputs_are_held_is_always_the_fresh_one() {
 fn counted_step(sim: &mut Simulation<Split>, h: f64) -> (u64, u64) {
     let per_attempt = if sim.solver.high_order(h) { 12 } else { 6 };
     let (evaluations, _) = calls();
-    let report = sim.step(sim.time(), h).unwrap();
-    let stages = per_attempt * (report.stats.accepted + report.stats.rejected);
+    let stats = sim.step(sim.time(), h).unwrap();
+    let stages = per_attempt * (stats.accepted + stats.rejected);
     (calls().0 - evaluations, stages)
 }
 
@@ -371,13 +371,17 @@ fn a_step_refuses_arguments_it_cannot_do_and_changes_nothing() {
 fn every_non_finite_continuous_variable_is_found_and_no_finite_one() {
     let mut sim = started(&[]);
     sim.step(0.0, 0.01).unwrap();
-    assert_eq!(sim.first_non_finite(), None);
+    assert_eq!(sim.first_non_finite(Split::CONTINUOUS), None);
     let good = sim.values;
     for extreme in [f64::MAX, -f64::MAX, f64::MIN_POSITIVE, 5e-324, -0.0] {
         for &vr in Split::CONTINUOUS {
             sim.values = good;
             sim.values.set(vr, extreme);
-            assert_eq!(sim.first_non_finite(), None, "vr {vr} = {extreme:e}");
+            assert_eq!(
+                sim.first_non_finite(Split::CONTINUOUS),
+                None,
+                "vr {vr} = {extreme:e}"
+            );
         }
     }
     for bad in [f64::NAN, -f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
@@ -385,13 +389,110 @@ fn every_non_finite_continuous_variable_is_found_and_no_finite_one() {
             sim.values = good;
             sim.values.set(vr, bad);
             let name = Split::VARIABLES[vr].name;
-            assert_eq!(sim.first_non_finite(), Some(name), "{name} = {bad}");
+            assert_eq!(
+                sim.first_non_finite(Split::CONTINUOUS),
+                Some(name),
+                "{name} = {bad}"
+            );
         }
     }
     // A fixed parameter is not checked after a step (it cannot change during one).
     sim.values = good;
     sim.values.set(0, f64::NAN);
-    assert_eq!(sim.first_non_finite(), None);
+    assert_eq!(sim.first_non_finite(Split::CONTINUOUS), None);
+}
+
+#[test]
+fn after_a_step_the_solver_leaves_only_the_other_continuous_variables_to_check() {
+    // x, v are states, a is v's derivative (x's is v): the input F and the outputs E, P
+    // are what the solver does not check.
+    let names = |vrs: &[usize]| {
+        vrs.iter()
+            .map(|&vr| Split::VARIABLES[vr].name)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(names(Split::CONTINUOUS), ["F", "x", "v", "a", "E", "P"]);
+    assert_eq!(names(Split::CONTINUOUS_UNCHECKED), ["F", "E", "P"]);
+}
+
+crate::mechanism! {
+    /// x decreasing linearly to 0 at t_end, with an output that has a pole at t_pole.
+    pub struct Cliff / CliffValues {
+        /// When x reaches 0 (where its derivative, as computed, is 0/0)
+        t_end: Variable::parameter("s", 1e9),
+        /// Where the output has its pole
+        t_pole: Variable::parameter("s", 1e9),
+        /// Position
+        x: Variable::state("m", 1.0, "v"),
+        /// Velocity
+        v: Variable::output("m/s"),
+        /// Infinite at t_pole
+        y: Variable::output("1/s"),
+    }
+}
+
+impl Mechanism for Cliff {
+    const EXPERIMENT: Experiment = Experiment {
+        start: 0.0,
+        stop: 1.0,
+        step: 0.1,
+        tolerance: 1e-6,
+    };
+
+    fn evaluate<S: Scalar>(v: &mut CliffValues<S>) {
+        // x(t) = (t_end - t) / t_end, from x(0) = 1, written so that it fails at t_end.
+        v.v = -v.x / (v.t_end - v.time);
+    }
+
+    fn outputs<S: Scalar>(v: &mut CliffValues<S>) {
+        v.y = v.x / (v.t_pole - v.time);
+    }
+}
+
+fn cliff(t_end: f64, t_pole: f64) -> Simulation<Cliff> {
+    let mut sim = Simulation::<Cliff>::new(Layout::new(Cliff::VARIABLES).unwrap());
+    sim.setup(None, 0.0).unwrap();
+    sim.set_real(&[0, 1], &[t_end, t_pole], SetPhase::Initialization)
+        .unwrap();
+    sim.update().unwrap();
+    sim
+}
+
+/// The step checks only what the solver does not (`Declaration::CONTINUOUS_UNCHECKED`):
+/// a state's derivative that is not a number at the step's end point must fail the step
+/// in the solver, and an output that is not one must fail it in the step.
+#[test]
+fn a_step_never_ends_on_a_derivative_or_an_output_that_is_not_a_number() {
+    for (t_end, t_pole, stopped_in_solver) in [(0.5, 1e9, true), (1e9, 0.5, false)] {
+        let mut sim = cliff(t_end, t_pole);
+        let h = 0.1;
+        for i in 0..4 {
+            sim.step(i as f64 * h, h).unwrap();
+        }
+        let at = sim.time();
+        let before = *sim.values();
+        let failure = sim.step(at, h).unwrap_err();
+        let StepFailure::Stopped { time, message } = failure else {
+            panic!("{failure:?}")
+        };
+        let values = *sim.values();
+        let all = (0..Cliff::VARIABLES.len()).map(|vr| values.get(vr).unwrap());
+        assert!(all.clone().all(f64::is_finite), "{message}: {values:?}");
+        if stopped_in_solver {
+            // Stopped just short of t_end, on the straight line x = (t_end - t) / t_end.
+            assert!(time > at && time < t_end, "{time}: {message}");
+            assert!(
+                (values.x - (t_end - time) / t_end).abs() < 1e-9,
+                "{values:?}"
+            );
+            assert_eq!(values.v.to_bits(), (-values.x / (t_end - time)).to_bits());
+        } else {
+            // The solver reached t = 0.5; the output's pole there undid the step.
+            assert!(message.contains("`y` became non-finite"), "{message}");
+            assert_eq!((time, sim.time()), (at, at));
+            assert_eq!(format!("{values:?}"), format!("{before:?}"));
+        }
+    }
 }
 
 /// `mechfmu bench` times the solver's calls isolated from each other to tell the
