@@ -4,10 +4,10 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use mechfmu::fmi2::api;
+use mechfmu::fmi2::functions;
 use mechfmu::fmi2::ffi::*;
 use mechfmu::fmi2::logger::CATEGORIES;
-use mechfmu::harness::Harness;
+use mechfmu_testkit::harness::Harness;
 use oscillator::Oscillator;
 use std::ffi::CString;
 
@@ -36,7 +36,7 @@ fuzz_target!(|data: &[u8]| {
     let before = fmu.messages().len();
     // SAFETY: `pointers.len()` C strings (or NULL entries) at `pointers`.
     let status = unsafe {
-        api::set_debug_logging::<Oscillator>(
+        functions::fmi2SetDebugLogging::<Oscillator>(
             fmu.component(),
             (flags & 1) as fmi2Boolean,
             pointers.len(),

@@ -9,7 +9,7 @@
 use libfuzzer_sys::fuzz_target;
 use mechfmu::fmi2::ffi::*;
 use mechfmu::fmi2::fmu_state::{reseal, FmuState};
-use mechfmu::harness::Harness;
+use mechfmu_testkit::harness::Harness;
 use mechfmu::model::Declaration;
 use oscillator::Oscillator;
 use std::sync::OnceLock;

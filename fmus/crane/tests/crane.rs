@@ -5,7 +5,7 @@
 
 use crane::Crane;
 use mechfmu::fmi2::ffi::*;
-use mechfmu::harness::Harness;
+use mechfmu_testkit::harness::Harness;
 
 type Fmu = Harness<Crane>;
 
@@ -67,7 +67,7 @@ fn downward_zero_crossings(fmu: &mut Fmu, t_end: f64, h: f64) -> Vec<f64> {
 
 #[test]
 fn model_description_is_current() {
-    mechfmu::harness::check_model_description::<Crane>(concat!(
+    mechfmu_testkit::harness::check_model_description::<Crane>(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../modelDescription/Crane.xml"
     ));
@@ -334,7 +334,7 @@ fn invalid_parameters_and_start_values_are_rejected_at_initialization() {
         ("x", -2.0),
         ("g", -9.81),
     ] {
-        mechfmu::harness::assert_rejected_at_initialization::<crane::Crane>(name, value);
+        mechfmu_testkit::harness::assert_rejected_at_initialization::<crane::Crane>(name, value);
     }
 }
 
@@ -396,5 +396,5 @@ fn directional_derivatives_match_finite_differences() {
 /// Reset, FMU state, serialization, derivatives and threads: the checks every FMU passes.
 #[test]
 fn conforms() {
-    mechfmu::conformance::check::<crane::Crane>();
+    mechfmu_testkit::conformance::check::<crane::Crane>();
 }

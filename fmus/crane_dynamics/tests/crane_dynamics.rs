@@ -5,7 +5,7 @@
 
 use crane_dynamics::CraneDynamics;
 use mechfmu::fmi2::ffi::*;
-use mechfmu::harness::Harness;
+use mechfmu_testkit::harness::Harness;
 
 type Fmu = Harness<CraneDynamics>;
 
@@ -20,7 +20,7 @@ fn static_loads(x: f64, theta: f64) -> (f64, f64) {
 
 #[test]
 fn model_description_is_current() {
-    mechfmu::harness::check_model_description::<CraneDynamics>(concat!(
+    mechfmu_testkit::harness::check_model_description::<CraneDynamics>(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../modelDescription/CraneDynamics.xml"
     ));
@@ -268,7 +268,7 @@ fn invalid_parameters_and_start_values_are_rejected_at_initialization() {
         ("x", 0.0),
         ("x", -3.0),
     ] {
-        mechfmu::harness::assert_rejected_at_initialization::<crane_dynamics::CraneDynamics>(
+        mechfmu_testkit::harness::assert_rejected_at_initialization::<crane_dynamics::CraneDynamics>(
             name, value,
         );
     }
@@ -339,5 +339,5 @@ fn directional_derivatives_match_finite_differences() {
 /// Reset, FMU state, serialization, derivatives and threads: the checks every FMU passes.
 #[test]
 fn conforms() {
-    mechfmu::conformance::check::<crane_dynamics::CraneDynamics>();
+    mechfmu_testkit::conformance::check::<crane_dynamics::CraneDynamics>();
 }

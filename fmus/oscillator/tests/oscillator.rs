@@ -1,7 +1,7 @@
 //! The Oscillator through its FMI functions, against the closed-form solutions.
 
 use mechfmu::fmi2::ffi::*;
-use mechfmu::harness::Harness;
+use mechfmu_testkit::harness::Harness;
 use oscillator::Oscillator;
 
 type Fmu = Harness<Oscillator>;
@@ -145,7 +145,7 @@ fn bad_arguments_are_errors_with_messages() {
     let me = Harness::<Oscillator>::instantiate(
         "o",
         fmi2ModelExchange,
-        &mechfmu::guid::guid::<Oscillator>(),
+        &mechfmu::contract::guid::<Oscillator>(),
     );
     assert!(me.is_err());
 }
@@ -167,7 +167,7 @@ fn tunable_damping_takes_effect_at_the_next_step() {
 
 #[test]
 fn model_description_is_current() {
-    mechfmu::harness::check_model_description::<Oscillator>(concat!(
+    mechfmu_testkit::harness::check_model_description::<Oscillator>(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../modelDescription/Oscillator.xml"
     ));
@@ -175,5 +175,5 @@ fn model_description_is_current() {
 
 #[test]
 fn conforms() {
-    mechfmu::conformance::check::<Oscillator>();
+    mechfmu_testkit::conformance::check::<Oscillator>();
 }

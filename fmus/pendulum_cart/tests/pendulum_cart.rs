@@ -2,14 +2,14 @@
 //! written here body by body, energy, normal force and linearized frequencies.
 
 use mechfmu::fmi2::ffi::*;
-use mechfmu::harness::Harness;
+use mechfmu_testkit::harness::Harness;
 use pendulum_cart::PendulumCart;
 
 type Fmu = Harness<PendulumCart>;
 
 #[test]
 fn model_description_is_current() {
-    mechfmu::harness::check_model_description::<PendulumCart>(concat!(
+    mechfmu_testkit::harness::check_model_description::<PendulumCart>(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../modelDescription/PendulumCart.xml"
     ));
@@ -224,12 +224,12 @@ fn invalid_parameters_are_rejected_at_initialization() {
         ("c2", -0.1),
         ("g", -9.81),
     ] {
-        mechfmu::harness::assert_rejected_at_initialization::<PendulumCart>(name, value);
+        mechfmu_testkit::harness::assert_rejected_at_initialization::<PendulumCart>(name, value);
     }
 }
 
 /// Reset, FMU state, serialization, derivatives and threads: the checks every FMU passes.
 #[test]
 fn conforms() {
-    mechfmu::conformance::check::<PendulumCart>();
+    mechfmu_testkit::conformance::check::<PendulumCart>();
 }

@@ -4,14 +4,14 @@
 //! equation in Euler angles, not from the Newton–Euler equations the FMU integrates).
 
 use mechfmu::fmi2::ffi::*;
-use mechfmu::harness::Harness;
+use mechfmu_testkit::harness::Harness;
 use rigid_body::RigidBody;
 
 type Fmu = Harness<RigidBody>;
 
 #[test]
 fn model_description_is_current() {
-    mechfmu::harness::check_model_description::<RigidBody>(concat!(
+    mechfmu_testkit::harness::check_model_description::<RigidBody>(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../modelDescription/RigidBody.xml"
     ));
@@ -675,5 +675,5 @@ fn quaternion_stabilization_changes_only_its_length() {
 /// Reset, FMU state, serialization, derivatives and threads: the checks every FMU passes.
 #[test]
 fn conforms() {
-    mechfmu::conformance::check::<rigid_body::RigidBody>();
+    mechfmu_testkit::conformance::check::<rigid_body::RigidBody>();
 }

@@ -1,14 +1,14 @@
 //! The TwoMassOscillator through its FMI functions, against the notes' closed forms.
 
 use mechfmu::fmi2::ffi::*;
-use mechfmu::harness::Harness;
+use mechfmu_testkit::harness::Harness;
 use two_mass_oscillator::TwoMassOscillator;
 
 type Fmu = Harness<TwoMassOscillator>;
 
 #[test]
 fn model_description_is_current() {
-    mechfmu::harness::check_model_description::<TwoMassOscillator>(concat!(
+    mechfmu_testkit::harness::check_model_description::<TwoMassOscillator>(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../modelDescription/TwoMassOscillator.xml"
     ));
@@ -226,12 +226,14 @@ fn invalid_parameters_are_rejected_at_initialization() {
         ("k3", -1.0),
         ("c3", -0.1),
     ] {
-        mechfmu::harness::assert_rejected_at_initialization::<TwoMassOscillator>(name, value);
+        mechfmu_testkit::harness::assert_rejected_at_initialization::<TwoMassOscillator>(
+            name, value,
+        );
     }
 }
 
 /// Reset, FMU state, serialization, derivatives and threads: the checks every FMU passes.
 #[test]
 fn conforms() {
-    mechfmu::conformance::check::<TwoMassOscillator>();
+    mechfmu_testkit::conformance::check::<TwoMassOscillator>();
 }

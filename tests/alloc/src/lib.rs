@@ -6,10 +6,10 @@
 //! The counts are per thread, so tests running in parallel do not see each other's
 //! allocations. Every test binary linking this crate uses the counting allocator.
 
-use mechfmu::fmi2::api;
 use mechfmu::fmi2::ffi::*;
-use mechfmu::harness::Harness;
+use mechfmu::fmi2::functions;
 use mechfmu::model::{Causality, Mechanism, Variability};
+use mechfmu_testkit::harness::Harness;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
@@ -108,13 +108,22 @@ fn run<M: Mechanism>(n: u64, tunables: bool) -> Work {
         // SAFETY: a live instance; every array has the length passed with it.
         unsafe {
             if !inputs.is_empty() {
-                let s = api::set_real::<M>(c, inputs.as_ptr(), inputs.len(), input_values.as_ptr());
+                let s = functions::fmi2SetReal::<M>(
+                    c,
+                    inputs.as_ptr(),
+                    inputs.len(),
+                    input_values.as_ptr(),
+                );
                 assert_eq!(s, fmi2OK, "{}: fmi2SetReal of the inputs", M::NAME);
                 work.sets += 1;
             }
             if i.is_multiple_of(10) && !tunable.is_empty() {
-                let s =
-                    api::set_real::<M>(c, tunable.as_ptr(), tunable.len(), tunable_values.as_ptr());
+                let s = functions::fmi2SetReal::<M>(
+                    c,
+                    tunable.as_ptr(),
+                    tunable.len(),
+                    tunable_values.as_ptr(),
+                );
                 assert_eq!(
                     s,
                     fmi2OK,
@@ -123,16 +132,16 @@ fn run<M: Mechanism>(n: u64, tunables: bool) -> Work {
                 );
                 work.sets += 1;
             }
-            let s = api::do_step::<M>(c, t, h, fmi2True);
+            let s = functions::fmi2DoStep::<M>(c, t, h, fmi2True);
             assert_eq!(s, fmi2OK, "{}: fmi2DoStep({t}, {h})", M::NAME);
             work.steps += 1;
             t += h;
             assert_eq!(
-                api::get_real::<M>(c, all.as_ptr(), all.len(), values.as_mut_ptr()),
+                functions::fmi2GetReal::<M>(c, all.as_ptr(), all.len(), values.as_mut_ptr()),
                 fmi2OK
             );
             assert_eq!(
-                api::get_real::<M>(c, outputs.as_ptr(), outputs.len(), out.as_mut_ptr()),
+                functions::fmi2GetReal::<M>(c, outputs.as_ptr(), outputs.len(), out.as_mut_ptr()),
                 fmi2OK
             );
             work.gets += 2;

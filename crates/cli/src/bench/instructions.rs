@@ -1,0 +1,219 @@
+//! Repeatable figures: instructions executed, counted by valgrind (`cachegrind
+//! --cache-sim=no`), which no neighbour on the machine can disturb.
+//!
+//! The benchmark runs itself under valgrind in a probe mode (`mechfmu bench --probe ...`)
+//! that loads the FMU and repeats one kind of work `k` times; the difference between
+//! `k = 3` and `k = 1` divided by the work done removes start-up and loading.
+
+use super::fmu::{Binary, Instance, Part};
+use super::native::{self, Effort};
+use std::path::Path;
+use std::process::Command;
+
+/// What a probe repeats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Probe {
+    /// A run of `fmi2DoStep` over the default experiment.
+    Step,
+    /// As many model evaluations alone as a run of steps does.
+    Eval,
+    /// As many right-hand-side callbacks (load, evaluate, read derivatives).
+    Rhs,
+    /// The solver alone over the same steps.
+    Integrate,
+    /// `Simulation::step` over the same steps (no FMI layer).
+    SimStep,
+    /// 10 000 `fmi2GetReal` of all outputs.
+    Get,
+}
+
+/// Calls of `fmi2GetReal` per `Get` repetition.
+pub const GET_CALLS: usize = 10_000;
+
+/// Instruction counts per unit of work at one communication step and tolerance.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Counts {
+    pub h: f64,
+    pub tol: f64,
+    /// Per `fmi2DoStep`, everything.
+    pub per_step: f64,
+    /// Per `fmi2DoStep`, the parts alone (as in [`super::native::StepFigures`]).
+    pub rhs_per_step: f64,
+    pub callback_per_step: f64,
+    pub integrate_per_step: f64,
+    pub sim_step_per_step: f64,
+    /// Per `fmi2GetReal` of all outputs.
+    pub per_get_real: f64,
+}
+
+impl Counts {
+    /// The same split as [`super::native::Split`], in instructions.
+    pub fn split(&self) -> super::native::Split {
+        super::native::Split {
+            rhs: self.rhs_per_step,
+            copying: self.callback_per_step - self.rhs_per_step,
+            solver: self.integrate_per_step - self.callback_per_step,
+            step: self.sim_step_per_step - self.integrate_per_step,
+            fmi: self.per_step - self.sim_step_per_step,
+        }
+    }
+
+    pub fn to_json(self) -> serde_json::Value {
+        serde_json::json!({
+            "h": self.h, "tol": self.tol,
+            "instructions_per_step": self.per_step,
+            "split_per_step": {
+                "rhs": self.split().rhs, "copying": self.split().copying,
+                "solver": self.split().solver, "step": self.split().step, "fmi": self.split().fmi,
+            },
+            "beyond_rhs_per_step": self.split().beyond_rhs(),
+            "runtime_plumbing_per_step": self.split().runtime(),
+            "instructions_per_get_real_outputs": self.per_get_real,
+        })
+    }
+}
+
+/// Whether valgrind can be run.
+pub fn available() -> bool {
+    Command::new("valgrind")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+/// Instructions of `exe args` under cachegrind.
+fn instructions(exe: &Path, args: &[String]) -> Result<u64, String> {
+    let output = Command::new("valgrind")
+        .args([
+            "--tool=cachegrind",
+            "--cache-sim=no",
+            "--cachegrind-out-file=/dev/null",
+        ])
+        .arg(exe)
+        .args(args)
+        .output()
+        .map_err(|e| format!("cannot run valgrind: {e}"))?;
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    if !output.status.success() {
+        return Err(format!(
+            "the probe failed under valgrind ({}): {stderr}",
+            output.status
+        ));
+    }
+    stderr
+        .lines()
+        .find_map(|l| {
+            let (_, rest) = l
+                .split_once("I   refs:")
+                .or_else(|| l.split_once("I refs:"))?;
+            rest.trim().replace(',', "").parse::<u64>().ok()
+        })
+        .ok_or_else(|| format!("no instruction count in valgrind's output: {stderr}"))
+}
+
+/// Counts for one FMU binary at `(h, tol)` by running `exe bench --probe ...` under
+/// valgrind; `work` is (steps per run, evaluations per run) from an ordinary run.
+pub fn count(
+    exe: &Path,
+    so: &Path,
+    xml: &Path,
+    h: f64,
+    tol: f64,
+    effort: Effort,
+    work: (usize, u64),
+) -> Result<Counts, String> {
+    let per = |probe: &str, repeat: usize| -> Result<u64, String> {
+        let args: Vec<String> = [
+            "bench",
+            "--probe",
+            probe,
+            "--probe-so",
+            &so.display().to_string(),
+            "--probe-xml",
+            &xml.display().to_string(),
+            "--probe-h",
+            &h.to_string(),
+            "--probe-tol",
+            &tol.to_string(),
+            "--probe-repeat",
+            &repeat.to_string(),
+            "--probe-max-steps",
+            &effort.max_steps.to_string(),
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        instructions(exe, &args)
+    };
+    let diff = |probe: &str| -> Result<f64, String> {
+        let one = per(probe, 1)?;
+        let three = per(probe, 3)?;
+        Ok(three.saturating_sub(one) as f64 / 2.0)
+    };
+    let (steps, _) = work;
+    Ok(Counts {
+        h,
+        tol,
+        per_step: diff("step")? / steps as f64,
+        rhs_per_step: diff("eval")? / steps as f64,
+        callback_per_step: diff("rhs")? / steps as f64,
+        integrate_per_step: diff("integrate")? / steps as f64,
+        sim_step_per_step: diff("sim-step")? / steps as f64,
+        per_get_real: diff("get")? / GET_CALLS as f64,
+    })
+}
+
+/// The probe itself (run under valgrind): `repeat` repetitions of `probe`.
+pub fn probe(
+    so: &Path,
+    xml: &Path,
+    probe: Probe,
+    h: f64,
+    tol: f64,
+    repeat: usize,
+    max_steps: usize,
+) -> Result<(), String> {
+    let binary = Binary::load(so, xml)?;
+    let effort = Effort {
+        runs: 1,
+        max_steps,
+        calls: GET_CALLS,
+    };
+    let n = native::steps_per_run(&binary, h, effort);
+    let mut inst = Instance::new(&binary)?;
+    // The same warm-up in every probe, so it cancels in the difference.
+    let (_, work) = native::step_run(&mut inst, tol, h, n, true)?;
+    match probe {
+        Probe::Step => {
+            for _ in 0..repeat {
+                native::step_run(&mut inst, tol, h, n, false)?;
+            }
+        }
+        Probe::Eval | Probe::Rhs | Probe::Integrate | Probe::SimStep => {
+            let span = n as f64 * h;
+            let (part, count, h) = match probe {
+                Probe::Eval => (Part::Evaluate, work[3], span),
+                Probe::Rhs => (Part::Rhs, work[3], span),
+                Probe::Integrate => (Part::Integrate, n as u64, h),
+                _ => (Part::Step, n as u64, h),
+            };
+            inst.start(tol, binary.description.start, &[], true)?;
+            for _ in 0..repeat {
+                inst.bench(part, count, h)?;
+            }
+        }
+        Probe::Get => {
+            let outputs: Vec<u32> = binary
+                .description
+                .with_causality("output")
+                .iter()
+                .map(|v| v.vr)
+                .collect();
+            let mut out = vec![0.0; outputs.len()];
+            for _ in 0..repeat * GET_CALLS {
+                inst.get_real(&outputs, &mut out);
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,170 @@
+//! `mechfmu bench`: where the time of an FMU goes.
+//!
+//! Every figure comes from the built FMU binary (the `.so` inside `fmus/<Name>.fmu`),
+//! loaded with `libloading` and called through its C symbols exactly as an importer calls
+//! it; nothing of the mechanism's Rust crate is linked into the benchmark.
+//!
+//! - [`native`]: ns per `fmi2DoStep` at communication steps 1e-3 and 1e-2 and tolerances
+//!   1e-6 and 1e-10, with the work behind a step (model evaluations, solver steps) from the
+//!   FMU's own counters (`mechfmu_counters`, not an FMI function), and the same number of
+//!   model evaluations timed alone (`mechfmu_evaluate`: the mechanism's `evaluate` in the
+//!   FMU's own compiled code). The difference is the plumbing: FMI checks, value copying,
+//!   the solver's arithmetic and error control, unwinding guards. Also ns per
+//!   `fmi2GetReal`/`fmi2SetReal` and per co-simulation cycle.
+//! - [`instructions`]: the same split in instructions counted by valgrind, repeatable on a
+//!   busy machine.
+//! - [`python`] (`scripts/bench_fmpy.py`): µs per step under FMPy's low-level loop, and
+//!   scipy `solve_ivp` on the Oscillator for the [`precision`] diagram.
+//!
+//! Times are thread CPU time ([`clock`]), medians of repeated runs; [`report`] prints the
+//! table and writes the JSON that runs are compared with.
+
+pub mod clock;
+pub mod command;
+pub mod fmu;
+pub mod instructions;
+pub mod native;
+pub mod precision;
+pub mod python;
+pub mod report;
+
+use clock::Stat;
+use native::{Effort, StepFigures};
+use std::path::PathBuf;
+
+/// Communication steps of the `fmi2DoStep` figures.
+pub const STEPS: [f64; 2] = [1e-3, 1e-2];
+/// Tolerances of the `fmi2DoStep` figures.
+pub const TOLERANCES: [f64; 2] = [1e-6, 1e-10];
+/// `fmi2GetReal` of this many variables has a target of its own.
+pub const GET_MANY: usize = 10;
+
+/// `n` value references and the ns per call of one array call with them.
+#[derive(Clone, Debug)]
+pub struct CallFigures {
+    pub n: usize,
+    pub ns: Stat,
+}
+
+/// Everything measured for one mechanism.
+#[derive(Clone, Debug)]
+pub struct Figures {
+    pub name: String,
+    pub fmu: PathBuf,
+    pub fmu_bytes: u64,
+    pub steps: Vec<StepFigures>,
+    /// `fmi2GetReal` of all outputs.
+    pub get_outputs: CallFigures,
+    /// `fmi2GetReal` of the first [`GET_MANY`] value references (all, if fewer).
+    pub get_many: CallFigures,
+    /// `fmi2SetReal` of all inputs (None without inputs).
+    pub set_inputs: Option<CallFigures>,
+    /// The DefaultExperiment's step and tolerance.
+    pub default_h: f64,
+    pub default_tol: f64,
+    /// ns per cycle set inputs + `fmi2DoStep` + get outputs at the default step/tolerance.
+    pub cycle: Stat,
+    pub instructions: Option<instructions::Counts>,
+    /// µs per step of FMPy's low-level loop (same cycle), and of `simulate_fmu`.
+    pub fmpy: Option<Stat>,
+    pub simulate_fmu: Option<Stat>,
+}
+
+impl Figures {
+    /// The native cost of the FMPy cycle as a fraction of FMPy's µs per step.
+    pub fn fmu_share(&self) -> Option<f64> {
+        self.fmpy.map(|f| self.cycle.median * 1e-3 / f.median)
+    }
+
+    pub fn step(&self, h: f64, tol: f64) -> Option<&StepFigures> {
+        self.steps.iter().find(|s| s.h == h && s.tol == tol)
+    }
+}
+
+/// Runs the native measurements of one loaded FMU.
+pub fn measure(
+    name: &str,
+    fmu: PathBuf,
+    binary: &fmu::Binary,
+    effort: Effort,
+    progress: &dyn Fn(&str),
+) -> Result<Figures, String> {
+    let d = &binary.description;
+    let configurations: Vec<(f64, f64)> = STEPS
+        .iter()
+        .flat_map(|&h| TOLERANCES.iter().map(move |&tol| (h, tol)))
+        .collect();
+    let steps = native::step_figures(binary, &configurations, effort, &|what| {
+        progress(&format!("{name}: {what}"))
+    })?;
+    progress(&format!(
+        "{name}: fmi2GetReal, fmi2SetReal, co-simulation cycle"
+    ));
+    let outputs: Vec<u32> = d.with_causality("output").iter().map(|v| v.vr).collect();
+    let many: Vec<u32> = d.variables.iter().take(GET_MANY).map(|v| v.vr).collect();
+    let inputs = d.with_causality("input");
+    let set_inputs = if inputs.is_empty() {
+        None
+    } else {
+        let vrs: Vec<u32> = inputs.iter().map(|v| v.vr).collect();
+        let values: Vec<f64> = inputs.iter().map(|v| v.start.unwrap_or(0.0)).collect();
+        Some(CallFigures {
+            n: vrs.len(),
+            ns: native::set_real(binary, &vrs, &values, effort)?,
+        })
+    };
+    Ok(Figures {
+        name: name.to_string(),
+        fmu_bytes: std::fs::metadata(&fmu).map(|m| m.len()).unwrap_or(0),
+        fmu,
+        steps,
+        get_outputs: CallFigures {
+            n: outputs.len(),
+            ns: native::get_real(binary, &outputs, effort)?,
+        },
+        get_many: CallFigures {
+            n: many.len(),
+            ns: native::get_real(binary, &many, effort)?,
+        },
+        set_inputs,
+        default_h: d.step,
+        default_tol: d.tolerance,
+        cycle: native::cycle(binary, d.step, d.tolerance, effort)?,
+        instructions: None,
+        fmpy: None,
+        simulate_fmu: None,
+    })
+}
+
+/// ns that `catch_unwind` adds around a call that does not panic (the guard every FMI
+/// function runs under), measured here in the benchmark's own binary, built with the same
+/// profile as the FMUs: (direct, guarded) ns per call, medians of `runs`.
+pub fn catch_unwind_cost(runs: usize) -> (Stat, Stat) {
+    #[inline(never)]
+    fn work(x: u64) -> u64 {
+        x.wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407)
+    }
+    const N: u64 = 1_000_000;
+    let mut direct = Vec::new();
+    let mut guarded = Vec::new();
+    for _ in 0..runs {
+        let (ns, _) = clock::time(|| {
+            let mut x = 1u64;
+            for _ in 0..N {
+                x = std::hint::black_box(work)(x);
+            }
+            x
+        });
+        direct.push(ns / N as f64);
+        let (ns, _) = clock::time(|| {
+            let mut x = 1u64;
+            for _ in 0..N {
+                x = std::panic::catch_unwind(|| std::hint::black_box(work)(x)).unwrap_or(0);
+            }
+            x
+        });
+        guarded.push(ns / N as f64);
+    }
+    (Stat::of(&direct), Stat::of(&guarded))
+}

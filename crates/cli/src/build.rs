@@ -1,0 +1,235 @@
+//! `mechfmu build` and `mechfmu list`: compile mechanism crates and package their FMUs.
+
+use super::workspace::{cargo, mechanism_crates, MechanismCrate};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::{BufRead, BufReader, IsTerminal};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+pub(crate) fn list(manifest_path: Option<&Path>) -> Result<(), String> {
+    for c in mechanism_crates(manifest_path)? {
+        println!("{:<20} {:<24} {}", c.model, c.package, c.manifest.display());
+    }
+    Ok(())
+}
+
+fn select(all: Vec<MechanismCrate>, names: &[String]) -> Result<Vec<MechanismCrate>, String> {
+    if all.is_empty() {
+        return Err("no mechanism crates found (a crate declares one with `[package.metadata.mechfmu] model = \"Name\"`)".into());
+    }
+    if names.is_empty() {
+        return Ok(all);
+    }
+    let known: Vec<&str> = all.iter().map(|c| c.model.as_str()).collect();
+    names
+        .iter()
+        .map(|n| {
+            all.iter()
+                .find(|c| &c.model == n)
+                .cloned()
+                .ok_or_else(|| format!("unknown mechanism `{n}` (known: {})", known.join(", ")))
+        })
+        .collect()
+}
+
+/// Which binaries to build.
+pub(crate) enum Flavor<'a> {
+    /// What an FMU ships: the FMI functions and the documented extras.
+    Shipped,
+    /// With the runtime's `bench` feature (the entry points `mechfmu bench` times the parts
+    /// of a step with), in a target directory of its own so the shipped build is untouched.
+    Bench { target_dir: &'a Path },
+}
+
+pub(crate) fn build(
+    names: &[String],
+    out: &Path,
+    manifest_path: Option<&Path>,
+    flavor: Flavor,
+) -> Result<(), String> {
+    let started = Instant::now();
+    let selected = select(mechanism_crates(manifest_path)?, names)?;
+    let libraries = cargo_build(&selected, manifest_path, &flavor)?;
+    std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
+    for c in &selected {
+        let library = libraries
+            .iter()
+            .find(|(package, _)| package == &c.package)
+            .map(|(_, path)| path)
+            .ok_or_else(|| format!("cargo built no shared library for `{}`", c.package))?;
+        let path = package_fmu(&c.model, library, out, c.manifest.parent())?;
+        let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
+        println!(
+            "{:<20} {} ({} KiB)",
+            c.model,
+            path.display(),
+            size.div_ceil(1024)
+        );
+    }
+    println!(
+        "built {} FMU{} in {:.1} s",
+        selected.len(),
+        if selected.len() == 1 { "" } else { "s" },
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+/// Builds the crates' cdylibs in release mode; returns (package name, path of the .so).
+fn cargo_build(
+    crates: &[MechanismCrate],
+    manifest_path: Option<&Path>,
+    flavor: &Flavor,
+) -> Result<Vec<(String, PathBuf)>, String> {
+    let mut cmd = Command::new(cargo());
+    cmd.args([
+        "build",
+        "--release",
+        "--lib",
+        "--message-format=json-render-diagnostics",
+    ]);
+    if let Flavor::Bench { target_dir } = flavor {
+        cmd.args(["--features", "mechfmu/bench", "--target-dir"])
+            .arg(target_dir);
+    }
+    if let Some(path) = manifest_path {
+        cmd.arg("--manifest-path").arg(path);
+    }
+    for c in crates {
+        cmd.args(["-p", &c.package]);
+    }
+    let progress = spinner(&format!(
+        "building {} crate(s) with cargo (release)",
+        crates.len()
+    ));
+    let mut child = cmd
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| format!("cannot run cargo build: {e}"))?;
+    let stderr = child.stderr.take().expect("piped");
+    let stderr_thread = std::thread::spawn(move || {
+        let mut lines = Vec::new();
+        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+            lines.push(line);
+        }
+        lines
+    });
+    let mut libraries = Vec::new();
+    for line in BufReader::new(child.stdout.take().expect("piped"))
+        .lines()
+        .map_while(Result::ok)
+    {
+        let Ok(msg) = serde_json::from_str::<serde_json::Value>(&line) else {
+            continue;
+        };
+        if msg["reason"] == "compiler-artifact" {
+            let name = msg["target"]["name"].as_str().unwrap_or("");
+            if let Some(p) = &progress {
+                p.set_message(format!("compiled {name}"));
+            }
+            let package = package_name(msg["package_id"].as_str().unwrap_or(""), crates);
+            if let Some(package) = package {
+                for f in msg["filenames"].as_array().into_iter().flatten() {
+                    if let Some(f) = f.as_str().filter(|f| f.ends_with(".so")) {
+                        libraries.push((package.clone(), PathBuf::from(f)));
+                    }
+                }
+            }
+        }
+    }
+    let status = child
+        .wait()
+        .map_err(|e| format!("cargo build did not finish: {e}"))?;
+    let stderr = stderr_thread.join().unwrap_or_default();
+    if let Some(p) = progress {
+        p.finish_and_clear();
+    }
+    if !status.success() {
+        return Err(format!("cargo build failed:\n{}", stderr.join("\n")));
+    }
+    Ok(libraries)
+}
+
+/// Which of our crates a cargo package id belongs to (ids look like
+/// `path+file:///…/fmus/oscillator#oscillator-fmu@0.1.0`).
+fn package_name(package_id: &str, crates: &[MechanismCrate]) -> Option<String> {
+    crates
+        .iter()
+        .find(|c| {
+            let dir = c
+                .manifest
+                .parent()
+                .map(|d| d.display().to_string())
+                .unwrap_or_default();
+            package_id.contains(&format!("#{}@", c.package))
+                || (package_id.contains(&format!("{dir}#")) && !dir.is_empty())
+                || package_id.starts_with(&format!("{} ", c.package))
+        })
+        .map(|c| c.package.clone())
+}
+
+fn spinner(message: &str) -> Option<ProgressBar> {
+    if !std::io::stderr().is_terminal() {
+        eprintln!("{message} ...");
+        return None;
+    }
+    let p = ProgressBar::new_spinner();
+    p.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{elapsed}]").expect("valid template"),
+    );
+    p.set_message(message.to_string());
+    p.enable_steady_tick(Duration::from_millis(120));
+    Some(p)
+}
+
+/// Packages one built library: asks the binary for its own modelDescription, so the XML
+/// and the binary can never disagree, and for its documentation; adds the reference
+/// results of the default experiment found in `<crate_dir>/reference/` (see [`crate::extras`]).
+pub fn package_fmu(
+    model: &str,
+    library: &Path,
+    out: &Path,
+    crate_dir: Option<&Path>,
+) -> Result<PathBuf, String> {
+    let xml = model_description_of(library)?;
+    let binary =
+        std::fs::read(library).map_err(|e| format!("cannot read {}: {e}", library.display()))?;
+    let path = out.join(format!("{model}.fmu"));
+    let contents = crate::package::Contents {
+        model_identifier: model,
+        model_description: &xml,
+        binary: &binary,
+        extra: crate::extras::extra_files(model, library, crate_dir)?,
+    };
+    crate::package::write_fmu(&path, &contents)
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    Ok(path)
+}
+
+/// The modelDescription.xml a built FMU binary carries.
+pub fn model_description_of(library: &Path) -> Result<String, String> {
+    type Describe = unsafe extern "C" fn(*mut u8, usize) -> usize;
+    // SAFETY: loading our own freshly built FMU binary; its initializers are Rust's.
+    let lib = unsafe { libloading::Library::new(library) }
+        .map_err(|e| format!("cannot load {}: {e}", library.display()))?;
+    // SAFETY: the symbol is exported by `export_fmu!` with this signature.
+    let describe: libloading::Symbol<Describe> = unsafe { lib.get(b"mechfmu_model_description\0") }
+        .map_err(|e| format!("{} is not a mechfmu FMU binary: {e}", library.display()))?;
+    let len = unsafe { describe(std::ptr::null_mut(), 0) };
+    let mut buf = vec![0u8; len + 1];
+    let written = unsafe { describe(buf.as_mut_ptr(), buf.len()) };
+    if written != len || len == 0 {
+        return Err(format!("{} gave no modelDescription", library.display()));
+    }
+    buf.truncate(len);
+    let xml = String::from_utf8(buf).map_err(|e| format!("modelDescription is not UTF-8: {e}"))?;
+    match xml.strip_prefix("error: ") {
+        Some(message) => Err(format!(
+            "{}: cannot generate its modelDescription: {message}",
+            library.display()
+        )),
+        None => Ok(xml),
+    }
+}

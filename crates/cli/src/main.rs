@@ -1,0 +1,85 @@
+//! The `mechfmu` command. One module per subcommand (`build` with `list`, `new`,
+//! `validate`, `sweep`, `bench`); `workspace` finds mechanism crates, `package` writes the
+//! `.fmu` archive, `python` provisions the Python environment the validation and sweeps run
+//! in.
+
+mod bench;
+mod build;
+mod extras;
+mod new;
+mod package;
+mod python;
+mod sweep;
+mod validate;
+mod workspace;
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "mechfmu",
+    version,
+    about = "Turns mechanical models into FMI 2.0 Co-Simulation FMUs"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Build (release) and package FMUs: the named mechanisms, or all of them.
+    Build {
+        /// Model identifiers, e.g. Oscillator Crane (default: every mechanism).
+        names: Vec<String>,
+        /// Where to write the .fmu files.
+        #[arg(long, default_value = "fmus")]
+        out: PathBuf,
+        /// The Cargo.toml of the workspace or crate holding the mechanisms.
+        #[arg(long)]
+        manifest_path: Option<PathBuf>,
+    },
+    /// List the mechanisms of the workspace.
+    List {
+        #[arg(long)]
+        manifest_path: Option<PathBuf>,
+    },
+    /// Benchmark FMUs: cost per step, plumbing vs physics, work–precision.
+    Bench(bench::command::Args),
+    /// Scaffold a mechanism crate of your own (a working pendulum to edit).
+    New(new::Args),
+    /// Run a parameter sweep of an FMU on Dask.
+    Sweep(sweep::Args),
+    /// Validate FMUs: FMPy's and mechfmu's checks, the reference cases under FMPy and libcosim.
+    Validate(validate::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Cmd::Build {
+            names,
+            out,
+            manifest_path,
+        } => build::build(
+            &names,
+            &out,
+            manifest_path.as_deref(),
+            build::Flavor::Shipped,
+        ),
+        Cmd::List { manifest_path } => build::list(manifest_path.as_deref()),
+        Cmd::Bench(args) => bench::command::run(args),
+        Cmd::New(args) => new::run(args),
+        Cmd::Sweep(args) => sweep::run(args),
+        Cmd::Validate(args) => validate::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}

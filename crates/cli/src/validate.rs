@@ -1,0 +1,338 @@
+//! `mechfmu validate`: FMPy's validation and mechfmu's stricter checks of each FMU, its
+//! reference cases (`<crate>/validation/cases.py`) under FMPy, and the same cases under two
+//! more importers, libcosim and the Rust `fmi` crate (rust-fmi), each of which must agree with
+//! FMPy; with a table, an exit status, and optionally a report.
+//!
+//! The work is done by the Python package `mechfmu_validate` (in `python/` of mechfmu's
+//! source tree), run in the venv that [`ensure_venv`](super::ensure_venv) provisions. The
+//! fmi-crate importer is a separate executable, `mechfmu-fmi-run` (`tools/fmi-run`), which
+//! this command builds first (`cargo build --release -p mechfmu-fmi-run` in mechfmu's source
+//! tree; it needs libclang) and names to the Python side in `MECHFMU_FMI_RUN`. If it cannot
+//! be built, the command says why and goes on: the fmi-crate rows then fail.
+
+use super::workspace::{mechanism_crates, MechanismCrate};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// FMU files, or model identifiers (found in --fmu-dir); default: every mechanism of the
+    /// workspace.
+    targets: Vec<String>,
+    /// The Cargo.toml of the workspace or crate whose mechanisms (and their
+    /// `validation/cases.py`) to use.
+    #[arg(long)]
+    manifest_path: Option<PathBuf>,
+    /// Where FMUs named by model identifier are (as written by `mechfmu build --out`).
+    #[arg(long, default_value = "fmus")]
+    fmu_dir: PathBuf,
+    /// Write DIR/index.md and DIR/index.html with one PNG plot per case.
+    #[arg(long, value_name = "DIR")]
+    report: Option<PathBuf>,
+    /// Write the results as JSON.
+    #[arg(long, value_name = "FILE")]
+    json: Option<PathBuf>,
+    /// Only the cases whose name contains this text (repeatable).
+    #[arg(long = "case", value_name = "TEXT")]
+    cases: Vec<String>,
+    /// Write the README material: DIR/validation.md (the table) and the PNGs of the cases
+    /// marked as highlights.
+    #[arg(long, value_name = "DIR")]
+    readme: Option<PathBuf>,
+    /// Instead of validating: (re)compute the reference results of each mechanism's default
+    /// experiment with the independent reference and write them to `<crate>/reference/`.
+    #[arg(long)]
+    write_references: bool,
+    /// Do not run the cases under the Rust `fmi` crate (and do not build `mechfmu-fmi-run`).
+    #[arg(long)]
+    no_fmi_crate: bool,
+}
+
+/// mechfmu's own source tree: where `python/mechfmu_validate` and the pinned requirements are.
+fn home() -> PathBuf {
+    crate::workspace::source_tree()
+}
+
+pub fn run(args: Args) -> Result<(), String> {
+    let home = home();
+    if !home.join("python/mechfmu_validate/__init__.py").is_file() {
+        return Err(format!(
+            "mechfmu's Python package is not at {}/python/mechfmu_validate (run a mechfmu built from its source tree)",
+            home.display()
+        ));
+    }
+    let crates = match mechanism_crates(args.manifest_path.as_deref()) {
+        Ok(c) => c,
+        Err(e)
+            if args.manifest_path.is_none()
+                && args.targets.iter().all(|t| is_fmu_file(t))
+                && !args.targets.is_empty() =>
+        {
+            eprintln!(
+                "note: no Cargo workspace here ({}); validating without reference cases",
+                first_line(&e)
+            );
+            Vec::new()
+        }
+        Err(e) => return Err(e),
+    };
+    let mut py: Vec<String> = Vec::new();
+    if args.write_references {
+        // the FMU gives the DefaultExperiment and the inputs; the values come from the cases
+        py.push("references".into());
+        let selected = select(&crates, &args.targets)?;
+        let mut cases = Vec::new();
+        for c in &selected {
+            let file = cases_file(c).ok_or_else(|| {
+                format!(
+                    "{} has no validation/cases.py: nothing to compute references from",
+                    c.model
+                )
+            })?;
+            let fmu = args.fmu_dir.join(format!("{}.fmu", c.model));
+            if !fmu.is_file() {
+                return Err(format!(
+                    "{} does not exist: build it first (`mechfmu build {}`)",
+                    fmu.display(),
+                    c.model
+                ));
+            }
+            py.push(fmu.display().to_string());
+            cases.extend([
+                "--cases".to_string(),
+                format!("{}={}", c.model, file.display()),
+            ]);
+        }
+        py.extend(cases);
+    } else {
+        let fmus = fmu_paths(&crates, &args)?;
+        py.extend(fmus.iter().map(|p| p.display().to_string()));
+        for c in &crates {
+            if let Some(cases) = cases_file(c) {
+                py.push("--cases".into());
+                py.push(format!("{}={}", c.model, cases.display()));
+            }
+        }
+        for (flag, value) in [
+            ("--report", &args.report),
+            ("--json", &args.json),
+            ("--readme", &args.readme),
+        ] {
+            if let Some(v) = value {
+                py.push(flag.into());
+                py.push(v.display().to_string());
+            }
+        }
+        for c in &args.cases {
+            py.push("--case".into());
+            py.push(c.clone());
+        }
+        if args.no_fmi_crate {
+            py.push("--no-fmi-crate".into());
+        }
+    }
+    let python = crate::python::ensure_venv(&home)?;
+    // without a path, the Python side fails the fmi-crate rows, saying why
+    let fmi_run = if args.write_references || args.no_fmi_crate {
+        None
+    } else {
+        match build_fmi_run(&home) {
+            Ok(path) => Some(path),
+            Err(e) => {
+                eprintln!(
+                    "mechfmu validate: {e}\n  => the fmi-crate rows will fail (--no-fmi-crate leaves them out)"
+                );
+                None
+            }
+        }
+    };
+    let mut pythonpath = std::ffi::OsString::from(home.join("python"));
+    if let Some(existing) = std::env::var_os("PYTHONPATH").filter(|p| !p.is_empty()) {
+        pythonpath.push(":");
+        pythonpath.push(existing);
+    }
+    let mut command = Command::new(&python);
+    command
+        .args(["-m", "mechfmu_validate"])
+        .args(&py)
+        .env("PYTHONPATH", pythonpath)
+        .env_remove(FMI_RUN_ENV);
+    if let Some(path) = &fmi_run {
+        command.env(FMI_RUN_ENV, path);
+    }
+    let status = command
+        .status()
+        .map_err(|e| format!("cannot run {}: {e}", python.display()))?;
+    match status.code() {
+        Some(0) => Ok(()),
+        Some(1) if !args.write_references => {
+            Err("validation failed (see FAIL in the table above)".into())
+        }
+        _ => Err(format!("python -m mechfmu_validate ended with {status}")),
+    }
+}
+
+/// The environment variable that names `mechfmu-fmi-run` to the Python side.
+const FMI_RUN_ENV: &str = "MECHFMU_FMI_RUN";
+
+/// Builds `mechfmu-fmi-run` (the fmi-crate importer, `tools/fmi-run`) in mechfmu's source
+/// tree, in release mode; returns the executable's path. A no-op when it is up to date.
+fn build_fmi_run(home: &Path) -> Result<PathBuf, String> {
+    let manifest = home.join("Cargo.toml");
+    let exe = target_dir(home)?
+        .join("release")
+        .join(format!("mechfmu-fmi-run{}", std::env::consts::EXE_SUFFIX));
+    if !exe.is_file() {
+        eprintln!(
+            "building the fmi-crate importer (tools/fmi-run, first use; takes a minute or two) ..."
+        );
+    }
+    let out = Command::new(super::workspace::cargo())
+        .args([
+            "build",
+            "--release",
+            "--quiet",
+            "-p",
+            "mechfmu-fmi-run",
+            "--manifest-path",
+        ])
+        .arg(&manifest)
+        .current_dir(home)
+        .output()
+        .map_err(|e| format!("cannot run cargo to build the fmi-crate importer: {e}"))?;
+    if !out.status.success() {
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        let tail: Vec<&str> = stderr.lines().rev().take(12).collect();
+        let tail: Vec<&str> = tail.into_iter().rev().collect();
+        let cause = if stderr.contains("libclang") || stderr.contains("clang-sys") {
+            "libclang is missing (the fmi crate's bindings are generated by bindgen, which needs it): \
+             install it with `apt-get install libclang-dev` (or set LIBCLANG_PATH)"
+                .to_string()
+        } else {
+            format!("cargo build failed ({})", out.status)
+        };
+        return Err(format!(
+            "cannot build the fmi-crate importer (`cargo build --release -p mechfmu-fmi-run` in {}): \
+             {cause}\n  cargo said:\n    {}",
+            home.display(),
+            tail.join("\n    ")
+        ));
+    }
+    if !exe.is_file() {
+        return Err(format!(
+            "cargo built mechfmu-fmi-run but {} does not exist",
+            exe.display()
+        ));
+    }
+    Ok(exe)
+}
+
+/// The target directory of mechfmu's workspace: `$CARGO_TARGET_DIR` (relative to `home`
+/// when relative), else what `cargo metadata` says (which honours `build.target-dir`).
+fn target_dir(home: &Path) -> Result<PathBuf, String> {
+    if let Some(dir) = std::env::var_os("CARGO_TARGET_DIR").filter(|d| !d.is_empty()) {
+        return Ok(home.join(dir));
+    }
+    let out = Command::new(super::workspace::cargo())
+        .args([
+            "metadata",
+            "--format-version",
+            "1",
+            "--no-deps",
+            "--manifest-path",
+        ])
+        .arg(home.join("Cargo.toml"))
+        .current_dir(home)
+        .output()
+        .map_err(|e| format!("cannot run cargo metadata: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "cargo metadata failed in {}: {}",
+            home.display(),
+            first_line(&String::from_utf8_lossy(&out.stderr))
+        ));
+    }
+    let meta: serde_json::Value = serde_json::from_slice(&out.stdout)
+        .map_err(|e| format!("cannot read cargo metadata's output: {e}"))?;
+    meta["target_directory"]
+        .as_str()
+        .map(PathBuf::from)
+        .ok_or_else(|| "cargo metadata gave no target_directory".into())
+}
+
+fn is_fmu_file(target: &str) -> bool {
+    target.ends_with(".fmu") || Path::new(target).is_file()
+}
+
+fn first_line(s: &str) -> &str {
+    s.lines().find(|l| !l.trim().is_empty()).unwrap_or(s).trim()
+}
+
+/// `<crate dir>/validation/cases.py`, if the crate has one.
+fn cases_file(c: &MechanismCrate) -> Option<PathBuf> {
+    let path = c.manifest.parent()?.join("validation/cases.py");
+    path.is_file().then_some(path)
+}
+
+/// The crates named by `names` (all of them when empty).
+fn select(crates: &[MechanismCrate], names: &[String]) -> Result<Vec<MechanismCrate>, String> {
+    if names.is_empty() {
+        return Ok(crates.to_vec());
+    }
+    names
+        .iter()
+        .map(|n| {
+            crates
+                .iter()
+                .find(|c| &c.model == n)
+                .cloned()
+                .ok_or_else(|| {
+                    let known: Vec<&str> = crates.iter().map(|c| c.model.as_str()).collect();
+                    format!("unknown mechanism `{n}` (known: {})", known.join(", "))
+                })
+        })
+        .collect()
+}
+
+/// The FMU files to validate: the targets that are files, `<fmu dir>/<NAME>.fmu` for the
+/// others, or every mechanism's when there are no targets.
+fn fmu_paths(crates: &[MechanismCrate], args: &Args) -> Result<Vec<PathBuf>, String> {
+    let hint = "build it with `mechfmu build` (or pass --fmu-dir)";
+    let named = |model: &str| -> Result<PathBuf, String> {
+        let path = args.fmu_dir.join(format!("{model}.fmu"));
+        if path.is_file() {
+            Ok(path)
+        } else {
+            Err(format!("{} does not exist: {hint}", path.display()))
+        }
+    };
+    if args.targets.is_empty() {
+        if crates.is_empty() {
+            return Err("no mechanism crates found and no FMU given".into());
+        }
+        return crates.iter().map(|c| named(&c.model)).collect();
+    }
+    args.targets
+        .iter()
+        .map(|t| {
+            if is_fmu_file(t) {
+                let p = PathBuf::from(t);
+                if p.is_file() {
+                    Ok(p)
+                } else {
+                    Err(format!("{t} does not exist"))
+                }
+            } else if crates.iter().any(|c| &c.model == t)
+                || args.fmu_dir.join(format!("{t}.fmu")).is_file()
+            {
+                named(t)
+            } else {
+                let known: Vec<&str> = crates.iter().map(|c| c.model.as_str()).collect();
+                Err(format!(
+                    "`{t}` is neither an FMU file nor a mechanism (known: {})",
+                    known.join(", ")
+                ))
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,155 @@
+//! What a mechanism crate's binary exports: [`export_fmu!`](crate::export_fmu) puts the
+//! FMI 2.0 functions (the rows of [`fmi2_functions!`](crate::fmi2_functions)) into the
+//! crate under their C names, beside two documented extras that `mechfmu build` reads from
+//! the binary it packages:
+//!
+//! - `mechfmu_model_description`: the binary's own `modelDescription.xml`;
+//! - `mechfmu_documentation`: its `documentation/index.html`.
+//!
+//! With the runtime's `bench` feature (`mechfmu bench` turns it on), also
+//! `mechfmu_counters` and `mechfmu_bench` ([`bench`]), which shipped FMUs do not have.
+
+use std::panic::catch_unwind;
+
+/// Exports a mechanism as an FMU: the 34 FMI 2.0 Co-Simulation functions under their C
+/// names, plus the extras of [`export`](crate::export).
+///
+/// ```ignore
+/// mechfmu::export_fmu!(Oscillator);
+/// ```
+#[macro_export]
+macro_rules! export_fmu {
+    ($mechanism:ty) => {
+        /// The C functions of this FMU.
+        #[allow(non_snake_case, clippy::missing_safety_doc)]
+        pub mod fmi2_exports {
+            use super::*;
+            use $crate::fmi2::ffi::*;
+
+            $crate::fmi2_functions!(fmi2_exported_functions!($mechanism));
+
+            /// Not FMI: the modelDescription.xml of this binary, through a buffer (see
+            /// [`write_text`]($crate::export::write_text)). Used by `mechfmu build`.
+            #[no_mangle]
+            pub unsafe extern "C" fn mechfmu_model_description(
+                buffer: *mut u8,
+                capacity: usize,
+            ) -> usize {
+                // SAFETY: the caller's buffer, as `write_text` asks.
+                unsafe {
+                    $crate::export::write_text(
+                        $crate::xml::model_description::<$mechanism>,
+                        buffer,
+                        capacity,
+                    )
+                }
+            }
+
+            /// Not FMI: this FMU's documentation/index.html, through a buffer (see
+            /// [`write_text`]($crate::export::write_text)). Used by `mechfmu build`.
+            #[no_mangle]
+            pub unsafe extern "C" fn mechfmu_documentation(
+                buffer: *mut u8,
+                capacity: usize,
+            ) -> usize {
+                // SAFETY: the caller's buffer, as `write_text` asks.
+                unsafe {
+                    $crate::export::write_text(
+                        $crate::docs::documentation::<$mechanism>,
+                        buffer,
+                        capacity,
+                    )
+                }
+            }
+
+            $crate::bench_exports!($mechanism);
+        }
+    };
+}
+
+/// Expands the table of FMI 2.0 functions into unmangled symbols, each forwarding to its
+/// generic function in [`fmi2::functions`](crate::fmi2::functions).
+#[doc(hidden)]
+#[macro_export]
+macro_rules! fmi2_exported_functions {
+    (($mechanism:ty) $(
+        $([before_export: $($before:ident)::+])?
+        $name:ident($($param:ident: $type:ty),* $(,)?) -> $ret:ty = $body:expr;
+    )*) => {
+        $(
+            #[no_mangle]
+            pub unsafe extern "C" fn $name($($param: $type),*) -> $ret {
+                $( $crate::fmi2::$($before)::+(); )?
+                // SAFETY: the importer's arguments, forwarded as received.
+                unsafe { $crate::fmi2::functions::$name::<$mechanism>($($param),*) }
+            }
+        )*
+    };
+}
+
+/// Copies the text `make` gives (or `"error: <message>"`) into `buffer`, NUL-terminated,
+/// when it fits; returns its length in bytes (without the NUL). A NULL buffer asks for the
+/// length only. Never panics (a panic gives 0).
+///
+/// # Safety
+/// `buffer` is NULL or points to `capacity` writable bytes.
+pub unsafe fn write_text(
+    make: impl FnOnce() -> Result<String, String> + std::panic::UnwindSafe,
+    buffer: *mut u8,
+    capacity: usize,
+) -> usize {
+    catch_unwind(|| {
+        let text = make().unwrap_or_else(|e| format!("error: {e}"));
+        let bytes = text.as_bytes();
+        if !buffer.is_null() && capacity > bytes.len() {
+            // SAFETY: the caller gives `capacity` writable bytes at `buffer`.
+            unsafe {
+                std::ptr::copy_nonoverlapping(bytes.as_ptr(), buffer, bytes.len());
+                *buffer.add(bytes.len()) = 0;
+            }
+        }
+        bytes.len()
+    })
+    .unwrap_or(0)
+}
+
+#[cfg(feature = "bench")]
+pub mod bench;
+
+/// The benchmark entry points of [`bench`], with the `bench` feature.
+#[cfg(feature = "bench")]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! bench_exports {
+    ($mechanism:ty) => {
+        /// Not FMI, `bench` feature only: see [`counters`]($crate::export::bench::counters).
+        #[no_mangle]
+        pub unsafe extern "C" fn mechfmu_counters(
+            c: fmi2Component,
+            out: *mut u64,
+            n: usize,
+        ) -> usize {
+            // SAFETY: the caller's arguments, forwarded.
+            unsafe { $crate::export::bench::counters::<$mechanism>(c, out, n) }
+        }
+        /// Not FMI, `bench` feature only: see [`bench`]($crate::export::bench::bench).
+        #[no_mangle]
+        pub unsafe extern "C" fn mechfmu_bench(
+            c: fmi2Component,
+            part: u32,
+            n: u64,
+            h: fmi2Real,
+        ) -> fmi2Status {
+            // SAFETY: the caller's arguments, forwarded.
+            unsafe { $crate::export::bench::bench::<$mechanism>(c, part, n, h) }
+        }
+    };
+}
+
+/// Without the `bench` feature: no benchmark entry points.
+#[cfg(not(feature = "bench"))]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! bench_exports {
+    ($mechanism:ty) => {};
+}

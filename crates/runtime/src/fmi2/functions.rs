@@ -1,0 +1,113 @@
+//! The FMI 2.0 Co-Simulation functions, each written once: its C signature (as in
+//! `fmi2FunctionTypes.h`) and its guarded call, one row of [`fmi2_functions!`].
+//!
+//! The table is expanded twice. Here, into generic `extern "C"` functions (`fmi2DoStep::<M>`,
+//! ...): the harness and the tests call these. In a mechanism crate, by
+//! [`export_fmu!`](crate::export_fmu), into the unmangled symbols an importer loads, each
+//! forwarding to its generic function. A row's body converts every pointer argument with
+//! one checked conversion of [`wall`](super::wall) and hands the result to the safe body in
+//! [`api`](super::api); [`guarded`](super::wall::guarded) puts it behind the wall.
+
+#![allow(non_snake_case, clippy::missing_safety_doc)]
+
+use super::api;
+use super::ffi::*;
+use super::state::*;
+use super::wall::{self, fmu_state, guarded, out, slice, slice_mut, strings, StateSlot};
+use crate::model::Mechanism;
+
+/// The table of FMI 2.0 functions. `$emit` receives every row as
+/// `[before export: path]? name(parameters) -> return = body;`, where the body may use `M`
+/// (the mechanism), and the arguments in `($($context)*)`.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! fmi2_functions {
+    ($emit:ident!($($context:tt)*)) => { $crate::$emit! { ($($context)*)
+        fmi2GetTypesPlatform() -> fmi2String = api::get_types_platform();
+        fmi2GetVersion() -> fmi2String = api::get_version();
+        fmi2SetDebugLogging(c: fmi2Component, loggingOn: fmi2Boolean, nCategories: usize, categories: *const fmi2String) -> fmi2Status
+            = guarded::<M>(c, &SET_DEBUG_LOGGING, |inst| api::set_debug_logging(inst, loggingOn, &strings(categories, nCategories, "categories[]")?));
+        [before_export: api::silence_panic_messages]
+        fmi2Instantiate(instanceName: fmi2String, fmuType: fmi2Type, fmuGUID: fmi2String, fmuResourceLocation: fmi2String, functions: *const fmi2CallbackFunctions, visible: fmi2Boolean, loggingOn: fmi2Boolean) -> fmi2Component
+            = wall::instantiate::<M>(instanceName, fmuType, fmuGUID, functions, loggingOn);
+        fmi2FreeInstance(c: fmi2Component) -> ()
+            = wall::free_component::<M>(c, &FREE_INSTANCE);
+        fmi2SetupExperiment(c: fmi2Component, toleranceDefined: fmi2Boolean, tolerance: fmi2Real, startTime: fmi2Real, stopTimeDefined: fmi2Boolean, stopTime: fmi2Real) -> fmi2Status
+            = guarded::<M>(c, &SETUP_EXPERIMENT, |inst| api::setup_experiment(inst, toleranceDefined, tolerance, startTime, stopTimeDefined, stopTime));
+        fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status
+            = guarded::<M>(c, &ENTER_INITIALIZATION_MODE, api::enter_initialization_mode);
+        fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status
+            = guarded::<M>(c, &EXIT_INITIALIZATION_MODE, api::exit_initialization_mode);
+        fmi2Terminate(c: fmi2Component) -> fmi2Status = guarded::<M>(c, &TERMINATE, api::terminate);
+        fmi2Reset(c: fmi2Component) -> fmi2Status = guarded::<M>(c, &RESET, api::reset);
+        fmi2GetReal(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *mut fmi2Real) -> fmi2Status
+            = guarded::<M>(c, &GET_REAL, |inst| api::get_real(inst, slice(vr, nvr, "vr[]")?, slice_mut(value, nvr, "value[]")?));
+        fmi2GetInteger(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *mut fmi2Integer) -> fmi2Status
+            = guarded::<M>(c, &GET_INTEGER, |_| { let vr = slice(vr, nvr, "vr[]")?; slice_mut(value, nvr, "value[]")?; api::no_variables(GET_INTEGER.name, vr, "Integer") });
+        fmi2GetBoolean(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *mut fmi2Boolean) -> fmi2Status
+            = guarded::<M>(c, &GET_BOOLEAN, |_| { let vr = slice(vr, nvr, "vr[]")?; slice_mut(value, nvr, "value[]")?; api::no_variables(GET_BOOLEAN.name, vr, "Boolean") });
+        fmi2GetString(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *mut fmi2String) -> fmi2Status
+            = guarded::<M>(c, &GET_STRING, |_| { let vr = slice(vr, nvr, "vr[]")?; slice_mut(value, nvr, "value[]")?; api::no_variables(GET_STRING.name, vr, "String") });
+        fmi2SetReal(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *const fmi2Real) -> fmi2Status
+            = guarded::<M>(c, &SET_REAL, |inst| api::set_real(inst, slice(vr, nvr, "vr[]")?, slice(value, nvr, "value[]")?));
+        fmi2SetInteger(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *const fmi2Integer) -> fmi2Status
+            = guarded::<M>(c, &SET_INTEGER, |_| { let vr = slice(vr, nvr, "vr[]")?; slice(value, nvr, "value[]")?; api::no_variables(SET_INTEGER.name, vr, "Integer") });
+        fmi2SetBoolean(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *const fmi2Boolean) -> fmi2Status
+            = guarded::<M>(c, &SET_BOOLEAN, |_| { let vr = slice(vr, nvr, "vr[]")?; slice(value, nvr, "value[]")?; api::no_variables(SET_BOOLEAN.name, vr, "Boolean") });
+        fmi2SetString(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *const fmi2String) -> fmi2Status
+            = guarded::<M>(c, &SET_STRING, |_| { let vr = slice(vr, nvr, "vr[]")?; slice(value, nvr, "value[]")?; api::no_variables(SET_STRING.name, vr, "String") });
+        fmi2GetFMUstate(c: fmi2Component, FMUstate: *mut fmi2FMUstate) -> fmi2Status
+            = guarded::<M>(c, &GET_FMU_STATE, |inst| api::get_fmu_state(inst, StateSlot::new(FMUstate)?));
+        fmi2SetFMUstate(c: fmi2Component, FMUstate: fmi2FMUstate) -> fmi2Status
+            = guarded::<M>(c, &SET_FMU_STATE, |inst| api::set_fmu_state(inst, fmu_state(FMUstate)?));
+        fmi2FreeFMUstate(c: fmi2Component, FMUstate: *mut fmi2FMUstate) -> fmi2Status
+            = guarded::<M>(c, &FREE_FMU_STATE, |_| StateSlot::new(FMUstate)?.free());
+        fmi2SerializedFMUstateSize(c: fmi2Component, FMUstate: fmi2FMUstate, size: *mut usize) -> fmi2Status
+            = guarded::<M>(c, &SERIALIZED_FMU_STATE_SIZE, |_| api::serialized_fmu_state_size::<M>(fmu_state(FMUstate)?, out(size, "size")?));
+        fmi2SerializeFMUstate(c: fmi2Component, FMUstate: fmi2FMUstate, serializedState: *mut fmi2Byte, size: usize) -> fmi2Status
+            = guarded::<M>(c, &SERIALIZE_FMU_STATE, |_| api::serialize_fmu_state::<M>(fmu_state(FMUstate)?, slice_mut(serializedState as *mut u8, size, "serializedState[]")?));
+        fmi2DeSerializeFMUstate(c: fmi2Component, serializedState: *const fmi2Byte, size: usize, FMUstate: *mut fmi2FMUstate) -> fmi2Status
+            = guarded::<M>(c, &DESERIALIZE_FMU_STATE, |_| api::deserialize_fmu_state::<M>(slice(serializedState as *const u8, size, "serializedState[]")?, StateSlot::new(FMUstate)?));
+        fmi2GetDirectionalDerivative(c: fmi2Component, vUnknown_ref: *const fmi2ValueReference, nUnknown: usize, vKnown_ref: *const fmi2ValueReference, nKnown: usize, dvKnown: *const fmi2Real, dvUnknown: *mut fmi2Real) -> fmi2Status
+            = guarded::<M>(c, &GET_DIRECTIONAL_DERIVATIVE, |inst| api::get_directional_derivative(inst, slice(vUnknown_ref, nUnknown, "vUnknown_ref[]")?, slice(vKnown_ref, nKnown, "vKnown_ref[]")?, slice(dvKnown, nKnown, "dvKnown[]")?, slice_mut(dvUnknown, nUnknown, "dvUnknown[]")?));
+        fmi2SetRealInputDerivatives(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, order: *const fmi2Integer, value: *const fmi2Real) -> fmi2Status
+            = guarded::<M>(c, &SET_REAL_INPUT_DERIVATIVES, |inst| api::set_real_input_derivatives(inst, slice(vr, nvr, "vr[]")?, slice(order, nvr, "order[]")?, slice(value, nvr, "value[]")?));
+        fmi2GetRealOutputDerivatives(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, order: *const fmi2Integer, value: *mut fmi2Real) -> fmi2Status
+            = guarded::<M>(c, &GET_REAL_OUTPUT_DERIVATIVES, |inst| api::get_real_output_derivatives(inst, slice(vr, nvr, "vr[]")?, slice(order, nvr, "order[]")?, slice_mut(value, nvr, "value[]")?));
+        fmi2DoStep(c: fmi2Component, currentCommunicationPoint: fmi2Real, communicationStepSize: fmi2Real, noSetFMUStatePriorToCurrentPoint: fmi2Boolean) -> fmi2Status
+            = guarded::<M>(c, &DO_STEP, |inst| api::do_step(inst, currentCommunicationPoint, communicationStepSize));
+        fmi2CancelStep(c: fmi2Component) -> fmi2Status = guarded::<M>(c, &CANCEL_STEP, api::cancel_step);
+        fmi2GetStatus(c: fmi2Component, s: fmi2StatusKind, value: *mut fmi2Status) -> fmi2Status
+            = guarded::<M>(c, &GET_STATUS, |inst| api::get_status(inst, s, out(value, "value")?));
+        fmi2GetRealStatus(c: fmi2Component, s: fmi2StatusKind, value: *mut fmi2Real) -> fmi2Status
+            = guarded::<M>(c, &GET_REAL_STATUS, |inst| api::get_real_status(inst, s, out(value, "value")?));
+        fmi2GetIntegerStatus(c: fmi2Component, s: fmi2StatusKind, value: *mut fmi2Integer) -> fmi2Status
+            = guarded::<M>(c, &GET_INTEGER_STATUS, |inst| api::get_integer_status(inst, s));
+        fmi2GetBooleanStatus(c: fmi2Component, s: fmi2StatusKind, value: *mut fmi2Boolean) -> fmi2Status
+            = guarded::<M>(c, &GET_BOOLEAN_STATUS, |inst| api::get_boolean_status(inst, s, out(value, "value")?));
+        fmi2GetStringStatus(c: fmi2Component, s: fmi2StatusKind, value: *mut fmi2String) -> fmi2Status
+            = guarded::<M>(c, &GET_STRING_STATUS, |inst| api::get_string_status(inst, s, out(value, "value")?));
+    }};
+}
+
+/// Expands the table into generic `extern "C"` functions, one per row.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! fmi2_generic_functions {
+    (() $(
+        $([before_export: $before:path])?
+        $name:ident($($param:ident: $type:ty),* $(,)?) -> $ret:ty = $body:expr;
+    )*) => {
+        $(
+            #[allow(unused_variables, unused_unsafe)]
+            pub unsafe extern "C" fn $name<M: Mechanism>($($param: $type),*) -> $ret {
+                // SAFETY: the arguments are the importer's, valid as the standard promises
+                // them; each conversion of `wall` checks what can be checked and states the
+                // rest as its safety contract.
+                unsafe { $body }
+            }
+        )*
+    };
+}
+
+fmi2_functions!(fmi2_generic_functions!());

@@ -1,0 +1,34 @@
+//! # mechfmu
+//!
+//! The runtime of a mechfmu FMU: what a mechanism crate depends on.
+//!
+//! A mechanism is declared once, in Rust, with [`mechanism!`] (its variables) and
+//! [`model::Mechanism`] (its equations); [`export_fmu!`] turns it into the C functions of
+//! an FMU. The layers, from the physics outwards (each uses only those above it):
+//!
+//! - [`solver`]: the embedded Runge–Kutta solver with error control;
+//! - [`model`]: the declaration API (variables, units, equations generic over the scalar);
+//!   [`modal`]: undamped modes, for mechanisms' calculated parameters;
+//! - [`simulation`]: a mechanism under the solver: values, set/get rules, communication steps;
+//! - [`contract`]: what the model description and the binary agree on (capabilities, log
+//!   categories, GUID);
+//! - [`xml`]: the generated modelDescription.xml;
+//! - [`fmi2`]: the FMI 2.0 Co-Simulation layer (C types, state machine, the wall, the calls);
+//! - [`docs`]: the documentation page every FMU carries;
+//! - [`export`]: what a mechanism crate's binary exports ([`export_fmu!`]).
+//!
+//! The `mechfmu` command (crate `mechfmu-cli`) builds, packages and validates; the tests
+//! of a mechanism crate use `mechfmu-testkit`. See `docs/architecture.md`.
+
+pub mod contract;
+pub mod docs;
+pub mod export;
+pub mod fmi2;
+pub mod modal;
+pub mod model;
+pub mod simulation;
+pub mod solver;
+pub mod xml;
+
+/// nalgebra, re-exported so mechanism crates use the same version as the runtime.
+pub use nalgebra;
