@@ -6,7 +6,7 @@
 use libfuzzer_sys::fuzz_target;
 use mechfmu::fmi2::functions;
 use mechfmu::fmi2::ffi::*;
-use mechfmu::fmi2::logger::CATEGORIES;
+use mechfmu::contract::LOG_CATEGORIES as CATEGORIES;
 use mechfmu_testkit::harness::Harness;
 use oscillator::Oscillator;
 use std::ffi::CString;

@@ -38,7 +38,7 @@ def double_pendulum(tmp_path_factory):
     shutil.copy(DOUBLE_PENDULUM_CASES, crate / "validation" / "cases.py")
     # The scaffold's own tests are about the example pendulum; the user replaces them.
     for test in (crate / "tests").glob("*.rs"):
-        test.write_text("#[test]\nfn conforms() {\n    mechfmu::conformance::check::<double_pendulum::DoublePendulum>();\n}\n")
+        test.write_text("#[test]\nfn conforms() {\n    mechfmu_testkit::conformance::check::<double_pendulum::DoublePendulum>();\n}\n")
     # Share compiled dependencies with the repository's build: same compiler, same flags.
     env = dict(os.environ, CARGO_TARGET_DIR=str(REPO_ROOT / "target" / "user-crates"))
     run([MECHFMU, "build", "--manifest-path", crate / "Cargo.toml", "--out", crate / "fmu"], cwd=home, env=env)

@@ -3,6 +3,8 @@
 //!
 //! `m ẍ + c ẋ + k x = F + F0 sin(ω t)`
 
+#![forbid(unsafe_code)]
+
 use mechfmu::model::{sin, Experiment, Mechanism, Scalar, Variable};
 
 mechfmu::mechanism! {

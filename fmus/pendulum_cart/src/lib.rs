@@ -35,6 +35,8 @@
 //! `F_N + F2 - M g = 0`, so `F_N = (M+m) g + m l (θ̈ sin θ + θ̇² cos θ)`: at the bottom of a
 //! swing the rod's centripetal acceleration points up and the cart is pressed down harder.
 
+#![forbid(unsafe_code)]
+
 use mechfmu::model::{lit, sin_cos, Experiment, Mechanism, Scalar, Variable};
 use mechfmu::nalgebra::Matrix2;
 

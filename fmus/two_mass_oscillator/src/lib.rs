@@ -20,6 +20,8 @@
 //! `K = [[k1+k3, -k3], [-k3, k2+k3]]`; the notes' closed form for `ω²` (the roots of
 //! `det(K - ω² M) = 0`) is the independent check in the tests.
 
+#![forbid(unsafe_code)]
+
 use mechfmu::model::{Experiment, Mechanism, Scalar, Variable};
 use mechfmu::nalgebra::Matrix2;
 

@@ -5,6 +5,8 @@
 //! T = ½(m1+m2) l1² θ̇1² + ½ m2 l2² θ̇2² + m2 l1 l2 θ̇1 θ̇2 cos Δ,
 //! V = −(m1+m2) g l1 cos θ1 − m2 g l2 cos θ2.
 
+#![forbid(unsafe_code)]
+
 use mechfmu::nalgebra::{Matrix2, Vector2};
 use mechfmu::model::{lit, Experiment, Mechanism, Scalar, Variable};
 

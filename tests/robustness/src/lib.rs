@@ -1,4 +1,4 @@
-//! Hostile-importer tests of mechfmu's built FMUs (issue 7).
+//! Hostile-importer tests of mechfmu's built FMUs.
 //!
 //! This crate is an FMI 2.0 importer of its own: it unpacks `fmus/<Name>.fmu`, dlopens the
 //! binary, resolves all 34 functions, and learns the model only from its

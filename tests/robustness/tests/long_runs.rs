@@ -1,8 +1,7 @@
-//! Issue 7, item 6: long runs without drift in time and without growing memory. Each FMU
-//! runs in a child process (its own RSS): n communication steps of h = 1e-3 with the
-//! importer's time t0 + k·h; at the end fmi2LastSuccessfulTime must be t0 + n·h exactly and
-//! the resident set must not have grown (sampled from /proc/self/statm after a warm-up and
-//! at the end).
+//! Long runs without drift in time and without growing memory. Each FMU runs in a child
+//! process (its own RSS): n communication steps of h = 1e-3 with the importer's time
+//! t0 + k·h; at the end fmi2LastSuccessfulTime must be t0 + n·h exactly and the resident set
+//! must not have grown (sampled from /proc/self/statm after a warm-up and at the end).
 //!
 //! CI runs 10^5 steps; the 10^6-step run is ignored by default:
 //!

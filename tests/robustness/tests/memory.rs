@@ -1,6 +1,6 @@
-//! Issue 7, item 3 (the part that runs without valgrind; `scripts/valgrind` runs the same
-//! cycles under valgrind): instantiate/initialize/step/free cycles of every FMU, with
-//! importer callbacks for allocateMemory/freeMemory that abort the process if called.
+//! Memory use without valgrind (`scripts/valgrind` runs the same cycles under valgrind):
+//! instantiate/initialize/step/free cycles of every FMU, with importer callbacks for
+//! allocateMemory/freeMemory that abort the process if called.
 
 mod common;
 use common::*;

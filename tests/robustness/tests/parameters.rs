@@ -1,11 +1,10 @@
-//! Issue 7, item 5: bad parameters and inputs, on every built FMU, derived from its
-//! modelDescription: non-physical parameters (a mass, length or inertia ≤ 0, anything
-//! outside its min/max, a non-positive-definite inertia tensor) are refused at
-//! initialization with fmi2Error naming the variable and the value; non-finite inputs are
-//! refused by fmi2SetReal with a message naming the input and never reach a step, and a
-//! finite input that makes the model's values overflow makes the next fmi2DoStep return
-//! fmi2Error or fmi2Discard with a message; tunable parameters changed between steps take
-//! effect at the next step.
+//! Bad parameters and inputs, on every built FMU, derived from its modelDescription:
+//! non-physical parameters (a mass, length or inertia ≤ 0, anything outside its min/max, a
+//! non-positive-definite inertia tensor) are refused at initialization with fmi2Error naming
+//! the variable and the value; non-finite inputs are refused by fmi2SetReal with a message
+//! naming the input and never reach a step, and a finite input that makes the model's values
+//! overflow makes the next fmi2DoStep return fmi2Error or fmi2Discard with a message;
+//! tunable parameters changed between steps take effect at the next step.
 
 use mechfmu_robustness::ffi::*;
 use mechfmu_robustness::fmu::{required_fmu_paths, Fmu, Var};

@@ -1,5 +1,5 @@
-//! Issue 7, item 1: random FMI call sequences with hostile arguments, on every built FMU,
-//! each FMU in a child process (a crash fails this test with its seed).
+//! Random FMI call sequences with hostile arguments, on every built FMU, each FMU in a child
+//! process (a crash fails this test with its seed).
 //!
 //! CI runs 20,000 sequences in all (split over the FMUs). A longer run:
 //!

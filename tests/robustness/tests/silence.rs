@@ -1,6 +1,6 @@
-//! Issue 7, item 7: an FMU writes nothing to stdout or stderr, whatever happens; everything
-//! goes through the importer's logger (or nowhere, when it gave none). A child process
-//! drives each FMU through every function, right and wrong, with and without a logger.
+//! An FMU writes nothing to stdout or stderr, whatever happens; everything goes through the
+//! importer's logger (or nowhere, when it gave none). A child process drives each FMU
+//! through every function, right and wrong, with and without a logger.
 
 mod common;
 use common::*;

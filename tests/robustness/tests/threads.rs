@@ -1,5 +1,5 @@
-//! Issue 7, item 4, through the loaded binaries (conformance checks the same in-process
-//! through `Harness`): two FMU binaries loaded in one process, eight instances stepped in
+//! Instances in threads, through the loaded binaries (conformance checks the same
+//! in-process through `Harness`): two FMU binaries loaded in one process, eight instances stepped in
 //! eight threads at once give results bit-identical to sequential runs.
 
 use mechfmu_robustness::fmu::{required_fmu_paths, Fmu};

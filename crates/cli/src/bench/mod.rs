@@ -1,15 +1,16 @@
 //! `mechfmu bench`: where the time of an FMU goes.
 //!
-//! Every figure comes from the built FMU binary (the `.so` inside `fmus/<Name>.fmu`),
-//! loaded with `libloading` and called through its C symbols exactly as an importer calls
-//! it; nothing of the mechanism's Rust crate is linked into the benchmark.
+//! Every figure comes from a built FMU binary (by default the `.so` inside
+//! `target/bench/fmus/<Name>.fmu`, which the command builds with the runtime's `bench`
+//! feature), loaded with `libloading` and called through its C symbols exactly as an
+//! importer calls it; nothing of the mechanism's Rust crate is linked into the benchmark.
 //!
 //! - [`native`]: ns per `fmi2DoStep` at communication steps 1e-3 and 1e-2 and tolerances
 //!   1e-6 and 1e-10, with the work behind a step (model evaluations, solver steps) from the
-//!   FMU's own counters (`mechfmu_counters`, not an FMI function), and the same number of
-//!   model evaluations timed alone (`mechfmu_evaluate`: the mechanism's `evaluate` in the
-//!   FMU's own compiled code). The difference is the plumbing: FMI checks, value copying,
-//!   the solver's arithmetic and error control, unwinding guards. Also ns per
+//!   FMU's own counters (`mechfmu_counters`, not an FMI function), and the parts of a step
+//!   each timed alone in the FMU's own compiled code (`mechfmu_bench`): the split into the
+//!   model's equations, copying, the solver's arithmetic, the step's checks and the FMI
+//!   layer; the plumbing is copying, checks and the FMI layer. Also ns per
 //!   `fmi2GetReal`/`fmi2SetReal` and per co-simulation cycle.
 //! - [`instructions`]: the same split in instructions counted by valgrind, repeatable on a
 //!   busy machine.

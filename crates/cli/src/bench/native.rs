@@ -90,7 +90,8 @@ pub struct Isolated {
 }
 
 impl Split {
-    /// Everything but the model's equations (the "plumbing").
+    /// Everything but the model's equations, the solver's arithmetic included (reported
+    /// beside the plumbing proper, [`Split::runtime`]).
     pub fn beyond_rhs(&self) -> f64 {
         self.copying + self.solver + self.step + self.fmi
     }
@@ -284,8 +285,8 @@ struct StepBench<'a> {
     work: [u64; 4],
     /// Whether the binary has the parts (`mechfmu_bench`).
     parts: bool,
-    /// Isolated calls where the processor has the barrier and the binary the part (one
-    /// built before it answers fmi2Error to part 5).
+    /// Isolated calls where the processor has the barrier and the binary the part (a binary
+    /// without part 5 answers fmi2Error to it).
     isolating: bool,
     samples: [Vec<f64>; 8],
 }

@@ -1,4 +1,5 @@
-//! The benchmark's table, its verdict on the targets of issue 9, and its JSON.
+//! The benchmark's table, its verdict on the performance targets (docs/performance.md), and
+//! its JSON.
 
 use super::clock::{num, Stat};
 use super::precision::{self, Point};
@@ -34,7 +35,7 @@ pub struct Report {
     pub notes: Vec<String>,
 }
 
-/// One target of issue 9 and whether it is met.
+/// One performance target and whether it is met.
 #[derive(Clone, Debug)]
 pub struct Target {
     pub what: String,
@@ -86,7 +87,7 @@ impl Report {
             .collect()
     }
 
-    /// The targets of issue 9, judged on this run's figures.
+    /// The performance targets, judged on this run's figures.
     ///
     /// The plumbing is not judged where the parts it is made of do not add up
     /// ([`Split::adds_up`](super::native::Split::adds_up)).
@@ -409,7 +410,7 @@ impl Report {
             let _ = writeln!(o);
         }
 
-        let _ = writeln!(o, "Targets (issue 9)");
+        let _ = writeln!(o, "Targets");
         for t in self.targets() {
             let mark = match t.met {
                 Some(true) => "met    ",

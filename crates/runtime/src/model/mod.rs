@@ -6,6 +6,7 @@
 
 mod layout;
 mod scalar;
+mod values;
 mod variable;
 
 pub use layout::{check_declaration, Layout};
@@ -14,6 +15,8 @@ pub use layout::{
     count_selected, derivative_references, derivatives_among_states, selected_references, Selection,
 };
 pub use scalar::{cos, lit, sin, sin_cos, Scalar};
+#[doc(hidden)]
+pub use values::Fields;
 pub use variable::{Causality, Initial, SetPhase, Variability, Variable};
 
 /// The FMU's `DefaultExperiment`, and the tolerance used when the importer gives none.
@@ -80,11 +83,17 @@ pub trait Declaration: Send + Sync + 'static {
 }
 
 /// Access to a mechanism's values by value reference.
-pub trait ValueSet<S>: Clone + Send + 'static {
-    /// Value reference `vr`'s value, or `None` when `vr` is not a variable.
-    fn get(&self, vr: usize) -> Option<S>;
+pub trait ValueSet<S: Scalar>: Fields<S> + Clone + Send + 'static {
+    /// Value reference `vr`'s value, or `None` when `vr` is not a variable. O(1).
+    #[inline(always)]
+    fn get(&self, vr: usize) -> Option<S> {
+        values::get(self, vr)
+    }
     /// Sets value reference `vr`; false when `vr` is not a variable.
-    fn set(&mut self, vr: usize, value: S) -> bool;
+    #[inline(always)]
+    fn set(&mut self, vr: usize, value: S) -> bool {
+        values::set(self, vr, value)
+    }
     fn time(&self) -> S;
     fn set_time(&mut self, t: S);
 }
@@ -259,7 +268,8 @@ macro_rules! mechanism {
         #[derive(Clone, Copy, Debug, Default, PartialEq)]
         #[allow(non_snake_case)]
         // repr(C): the time, then the variables in value-reference order, without padding
-        // (all fields have the same type), so value reference `vr` is element `vr + 1`.
+        // (all fields have the same type), so value reference `vr` is element `vr + 1`
+        // (`model::Fields`).
         #[repr(C)]
         $vis struct $values<S> {
             /// Simulation time (s).
@@ -270,41 +280,12 @@ macro_rules! mechanism {
         const _: () = {
             /// The time plus one value per variable.
             const LEN: usize = 1 + <[&str]>::len(&[$(stringify!($var)),*]);
-            const _: () = assert!(::std::mem::size_of::<$values<f64>>() == LEN * 8);
 
-            impl<S: $crate::model::Scalar> $values<S> {
-                #[inline(always)]
-                fn as_array(&self) -> &[S; LEN] {
-                    // SAFETY: a repr(C) struct of LEN fields of type S has the layout of
-                    // [S; LEN] (same size, alignment and field offsets i·size_of::<S>()).
-                    unsafe { &*(self as *const Self as *const [S; LEN]) }
-                }
-                #[inline(always)]
-                fn as_array_mut(&mut self) -> &mut [S; LEN] {
-                    // SAFETY: as in `as_array`; the borrow is exclusive.
-                    unsafe { &mut *(self as *mut Self as *mut [S; LEN]) }
-                }
+            impl<S: $crate::model::Scalar> $crate::model::Fields<S> for $values<S> {
+                const LEN: usize = LEN;
             }
 
             impl<S: $crate::model::Scalar> $crate::model::ValueSet<S> for $values<S> {
-                /// O(1): an index into the values, not a search.
-                #[inline]
-                fn get(&self, vr: usize) -> Option<S> {
-                    if vr < LEN - 1 {
-                        Some(self.as_array()[vr + 1])
-                    } else {
-                        None
-                    }
-                }
-                #[inline]
-                fn set(&mut self, vr: usize, value: S) -> bool {
-                    if vr < LEN - 1 {
-                        self.as_array_mut()[vr + 1] = value;
-                        true
-                    } else {
-                        false
-                    }
-                }
                 #[inline]
                 fn time(&self) -> S { self.time }
                 #[inline]

@@ -17,9 +17,9 @@ pub enum Part {
     /// The walk is [`Part::Rhs`]'s with the callback's interface taken out: the states
     /// into the named values, `evaluate`, the derivatives out of them, by the callback's own
     /// code (`System::derivatives_at`), so the two differ by what the callback adds: the
-    /// solver's slices in and out and its count. (Earlier walks with code of their own paid
-    /// store-forwarding stalls the callback does not, and came out slower than the callback
-    /// they were subtracted from.)
+    /// solver's slices in and out and its count. (A walk with code of its own can pay
+    /// store-forwarding stalls the callback does not, and come out slower than the callback
+    /// it is subtracted from.)
     Evaluate = 0,
     /// The solver's callback: load the state into the values, evaluate, read the
     /// derivatives (the evaluation plus the copying around it), chained the same way.
@@ -116,21 +116,20 @@ impl<M: Mechanism> Simulation<M> {
                 // `Part::Rhs`'s walk without the callback's interface: the same state
                 // vector through `black_box`, the same `System` code from the states to
                 // the derivatives (`System::derivatives_at`), the same Euler update, but
-                // no slices in and out and no count. Written out here instead (the states
-                // stored and the derivatives read by a loop of this walk's own), RigidBody's
-                // copy of the equations loaded the states across the stores that had
-                // written them, which the processor cannot forward (three stalls per
-                // evaluation that the callback's code does not have), and the callback came
-                // out 4 ns per evaluation faster than the evaluations it calls.
+                // no slices in and out and no count. With the states stored and the
+                // derivatives read by a loop of this walk's own, RigidBody's copy of the
+                // equations loads the states across the stores that wrote them, which the
+                // processor cannot forward (three stalls per evaluation that the callback's
+                // code does not have), and the callback comes out 4 ns per evaluation
+                // faster than the evaluations it calls.
                 //
-                // The two walks stay written out, each in its own arm. One shared walk
-                // taking the derivatives as a closure (cf73754) compiled PendulumCart's
-                // callback walk to load the states at an offset of 8 bytes across the two
-                // 16-byte stores of the Euler update (a failed store forward per
-                // evaluation): its copy read +23 to +29 ns per step in every process,
-                // with fmi2DoStep unchanged. Which loop the compiler gives such a load is
-                // its choice; these two loops are the ones measured to have none (copy
-                // -4 to +5 ns, all six mechanisms, session 11).
+                // The two walks are written out, each in its own arm. One shared walk
+                // taking the derivatives as a closure compiles PendulumCart's callback walk
+                // to load the states at an offset of 8 bytes across the two 16-byte stores
+                // of the Euler update (a failed store forward per evaluation): its copy
+                // reads +23 to +29 ns per step, with fmi2DoStep unchanged. Which loop the
+                // compiler gives such a load is its choice; these two loops are measured to
+                // have none (copy -4 to +5 ns, all six mechanisms; docs/performance.md).
                 let mut y = sim.state_vector();
                 let (mut warnings, mut warning_active) = (Vec::new(), false);
                 let mut system = sim.system(t0, &mut warning_active, &mut warnings);

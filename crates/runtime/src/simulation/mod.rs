@@ -468,7 +468,7 @@ impl<M: Mechanism> Simulation<M> {
     ///
     /// Never inlined: `fmi2DoStep` and the benchmark's `Part::Step` then run the same
     /// machine code, so the difference of their times is the FMI layer alone (inlined into
-    /// each, two copies compiled apart differed by up to 50 ns per step).
+    /// each, the two copies are compiled apart and can differ by up to 50 ns per step).
     #[inline(never)]
     // A negated comparison is how one comparison rejects NaN too (see the checks).
     #[allow(clippy::neg_cmp_op_on_partial_ord)]

@@ -54,7 +54,7 @@ pub(crate) fn combine<V: StateVector, const K: usize>(
 }
 
 /// `k = f(t, arg)`, counted. A function rather than a closure in each method's stages so
-/// that it is always inlined (the closure was left as a call per stage).
+/// that it is always inlined (a closure can be left as a call per stage).
 ///
 /// `k` is not checked here: every derivative but the one at the new point enters a later
 /// stage argument with a nonzero weight, and a non-finite entry times a nonzero weight is

@@ -3,7 +3,7 @@
 //!
 //! - [`model_description`]: the XML of a mechanism, with the [`CAPABILITIES`] the runtime
 //!   implements;
-//! - [`model_description_for`]: the same with other capability flags (tests, later issues);
+//! - [`model_description_for`]: the same with other capability flags (tests of the flags' effect);
 //! - [`model_description_with`]: the writer itself, from a plain [`FmuInfo`].
 //!
 //! Units come from [`units`] (base-unit exponents, `deg` display units, quantities), the

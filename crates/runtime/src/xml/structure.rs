@@ -355,7 +355,7 @@ mod tests {
             vec![unknown(3, &[3]), unknown(5, &[2, 3]), unknown(6, &[])]
         );
         assert_eq!(s.derivatives, Some(vec![unknown(4, &[2, 3])]));
-        // x_dot (local, calculated) is now an initial unknown too.
+        // x_dot (local, calculated) is an initial unknown here too.
         assert_eq!(
             s.initial_unknowns,
             vec![

@@ -1,0 +1,65 @@
+//! The values of a mechanism by value reference: the one place that reads the named fields
+//! `mechanism!` declares as the array they are laid out as.
+
+use super::Scalar;
+use std::mem::{align_of, size_of};
+
+/// A `#[repr(C)]` struct of `LEN` fields, all of type `S`: the values struct `mechanism!`
+/// declares (the time, then one field per variable in value-reference order). The macro
+/// implements it; it is not meant to be implemented by hand.
+#[doc(hidden)]
+pub trait Fields<S: Scalar>: Sized {
+    /// The number of fields: the variables plus the time.
+    const LEN: usize;
+}
+
+/// The fields of `values` as a slice, field `i` at index `i`.
+#[inline(always)]
+fn fields<S: Scalar, V: Fields<S>>(values: &V) -> &[S] {
+    const {
+        assert!(
+            size_of::<V>() == V::LEN * size_of::<S>() && align_of::<V>() == align_of::<S>(),
+            "a values struct must be LEN fields of its scalar type, nothing else"
+        )
+    };
+    // SAFETY: `V` is a repr(C) struct of `LEN` fields of type `S` (the contract of
+    // `Fields`), and has exactly the size and alignment of `[S; LEN]` (checked above, at
+    // compile time, for every scalar type it is used with): no padding, field `i` at offset
+    // `i * size_of::<S>()`, as in the array. The borrow of the slice is the borrow of `values`.
+    unsafe { std::slice::from_raw_parts(values as *const V as *const S, V::LEN) }
+}
+
+/// As [`fields`], mutably.
+#[inline(always)]
+fn fields_mut<S: Scalar, V: Fields<S>>(values: &mut V) -> &mut [S] {
+    const {
+        assert!(
+            size_of::<V>() == V::LEN * size_of::<S>() && align_of::<V>() == align_of::<S>(),
+            "a values struct must be LEN fields of its scalar type, nothing else"
+        )
+    };
+    // SAFETY: as in `fields`; the borrow is exclusive.
+    unsafe { std::slice::from_raw_parts_mut(values as *mut V as *mut S, V::LEN) }
+}
+
+/// Value reference `vr`'s value (the field after the time), or `None` when `vr` is not a
+/// variable. O(1): an index, not a search.
+#[inline(always)]
+pub fn get<S: Scalar, V: Fields<S>>(values: &V, vr: usize) -> Option<S> {
+    if vr < V::LEN - 1 {
+        Some(fields(values)[vr + 1])
+    } else {
+        None
+    }
+}
+
+/// Sets value reference `vr`; false when `vr` is not a variable.
+#[inline(always)]
+pub fn set<S: Scalar, V: Fields<S>>(values: &mut V, vr: usize, value: S) -> bool {
+    if vr < V::LEN - 1 {
+        fields_mut(values)[vr + 1] = value;
+        true
+    } else {
+        false
+    }
+}
