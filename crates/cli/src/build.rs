@@ -49,15 +49,9 @@ pub(crate) fn build(
     flavor: Flavor,
 ) -> Result<(), String> {
     let started = Instant::now();
-    let selected = select(mechanism_crates(manifest_path)?, names)?;
-    let libraries = cargo_build(&selected, manifest_path, &flavor)?;
+    let built = built_libraries(names, manifest_path, &flavor)?;
     std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
-    for c in &selected {
-        let library = libraries
-            .iter()
-            .find(|(package, _)| package == &c.package)
-            .map(|(_, path)| path)
-            .ok_or_else(|| format!("cargo built no shared library for `{}`", c.package))?;
+    for (c, library) in &built {
         let path = package_fmu(&c.model, library, out, c.manifest.parent())?;
         let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
         println!(
@@ -69,11 +63,33 @@ pub(crate) fn build(
     }
     println!(
         "built {} FMU{} in {:.1} s",
-        selected.len(),
-        if selected.len() == 1 { "" } else { "s" },
+        built.len(),
+        if built.len() == 1 { "" } else { "s" },
         started.elapsed().as_secs_f64()
     );
     Ok(())
+}
+
+/// The mechanism crates named (every one when `names` is empty), built in release mode,
+/// each with the path of its shared library.
+pub(crate) fn built_libraries(
+    names: &[String],
+    manifest_path: Option<&Path>,
+    flavor: &Flavor,
+) -> Result<Vec<(MechanismCrate, PathBuf)>, String> {
+    let selected = select(mechanism_crates(manifest_path)?, names)?;
+    let libraries = cargo_build(&selected, manifest_path, flavor)?;
+    selected
+        .into_iter()
+        .map(|c| {
+            let library = libraries
+                .iter()
+                .find(|(package, _)| package == &c.package)
+                .map(|(_, path)| path.clone())
+                .ok_or_else(|| format!("cargo built no shared library for `{}`", c.package))?;
+            Ok((c, library))
+        })
+        .collect()
 }
 
 /// Builds the crates' cdylibs in release mode; returns (package name, path of the .so).
@@ -210,26 +226,41 @@ pub fn package_fmu(
 
 /// The modelDescription.xml a built FMU binary carries.
 pub fn model_description_of(library: &Path) -> Result<String, String> {
-    type Describe = unsafe extern "C" fn(*mut u8, usize) -> usize;
+    exported_text(library, "mechfmu_model_description", "modelDescription")
+}
+
+/// The text a built FMU binary renders of itself through one of the documented extras of
+/// `export_fmu!` (`symbol`: `mechfmu_model_description`, `mechfmu_documentation`,
+/// `mechfmu_interface`; `what` names the text in messages), with the buffer protocol of
+/// `mechfmu::export::write_text`.
+pub(crate) fn exported_text(library: &Path, symbol: &str, what: &str) -> Result<String, String> {
+    type Render = unsafe extern "C" fn(*mut u8, usize) -> usize;
     // SAFETY: loading our own freshly built FMU binary; its initializers are Rust's.
     let lib = unsafe { libloading::Library::new(library) }
         .map_err(|e| format!("cannot load {}: {e}", library.display()))?;
-    // SAFETY: the symbol is exported by `export_fmu!` with this signature.
-    let describe: libloading::Symbol<Describe> = unsafe { lib.get(b"mechfmu_model_description\0") }
-        .map_err(|e| format!("{} is not a mechfmu FMU binary: {e}", library.display()))?;
-    let len = unsafe { describe(std::ptr::null_mut(), 0) };
+    // SAFETY: the extras are exported by `export_fmu!` with this signature.
+    let render: libloading::Symbol<Render> =
+        unsafe { lib.get(symbol.as_bytes()) }.map_err(|e| {
+            format!(
+                "{} does not export {symbol} (not a mechfmu FMU binary, or built by an older \
+                 mechfmu?): {e}",
+                library.display()
+            )
+        })?;
+    // SAFETY: a NULL buffer asks for the length; then a buffer of that length plus the NUL.
+    let len = unsafe { render(std::ptr::null_mut(), 0) };
     let mut buf = vec![0u8; len + 1];
-    let written = unsafe { describe(buf.as_mut_ptr(), buf.len()) };
+    let written = unsafe { render(buf.as_mut_ptr(), buf.len()) };
     if written != len || len == 0 {
-        return Err(format!("{} gave no modelDescription", library.display()));
+        return Err(format!("{} rendered no {what}", library.display()));
     }
     buf.truncate(len);
-    let xml = String::from_utf8(buf).map_err(|e| format!("modelDescription is not UTF-8: {e}"))?;
-    match xml.strip_prefix("error: ") {
+    let text = String::from_utf8(buf).map_err(|e| format!("{what} is not UTF-8: {e}"))?;
+    match text.strip_prefix("error: ") {
         Some(message) => Err(format!(
-            "{}: cannot generate its modelDescription: {message}",
+            "{}: cannot render its {what}: {message}",
             library.display()
         )),
-        None => Ok(xml),
+        None => Ok(text),
     }
 }

@@ -53,34 +53,7 @@ pub fn reference_files(model: &str, dir: &Path) -> Result<Vec<(String, Vec<u8>)>
 /// The `documentation/index.html` a built FMU binary renders of itself
 /// (`mechfmu_documentation`, exported by `export_fmu!`).
 pub fn documentation_of(library: &Path) -> Result<String, String> {
-    type Render = unsafe extern "C" fn(*mut u8, usize) -> usize;
-    // SAFETY: loading our own freshly built FMU binary; its initializers are Rust's.
-    let lib = unsafe { libloading::Library::new(library) }
-        .map_err(|e| format!("cannot load {}: {e}", library.display()))?;
-    // SAFETY: the symbol is exported by `export_fmu!` with this signature.
-    let render: libloading::Symbol<Render> = unsafe { lib.get(b"mechfmu_documentation\0") }
-        .map_err(|e| {
-            format!(
-                "{} does not export mechfmu_documentation (built by an older mechfmu?): {e}",
-                library.display()
-            )
-        })?;
-    // SAFETY: a NULL buffer asks for the length; then a buffer of that length plus the NUL.
-    let len = unsafe { render(std::ptr::null_mut(), 0) };
-    let mut buf = vec![0u8; len + 1];
-    let written = unsafe { render(buf.as_mut_ptr(), buf.len()) };
-    if written != len || len == 0 {
-        return Err(format!("{} rendered no documentation", library.display()));
-    }
-    buf.truncate(len);
-    let html = String::from_utf8(buf).map_err(|e| format!("documentation is not UTF-8: {e}"))?;
-    match html.strip_prefix("error: ") {
-        Some(message) => Err(format!(
-            "{}: cannot render its documentation: {message}",
-            library.display()
-        )),
-        None => Ok(html),
-    }
+    crate::build::exported_text(library, "mechfmu_documentation", "documentation")
 }
 
 #[cfg(test)]

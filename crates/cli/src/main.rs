@@ -1,11 +1,12 @@
 //! The `mechfmu` command. One module per subcommand (`build` with `list`, `new`,
-//! `validate`, `sweep`, `bench`); `workspace` finds mechanism crates, `package` writes the
-//! `.fmu` archive, `python` provisions the Python environment the validation and sweeps run
-//! in.
+//! `validate`, `sweep`, `bench`, `interface` for `docs`); `workspace` finds mechanism crates,
+//! `package` writes the `.fmu` archive, `python` provisions the Python environment the
+//! validation and sweeps run in.
 
 mod bench;
 mod build;
 mod extras;
+mod interface;
 mod new;
 mod package;
 mod python;
@@ -41,6 +42,9 @@ enum Cmd {
         #[arg(long)]
         manifest_path: Option<PathBuf>,
     },
+    /// Write the interface page of each mechanism (variables, units, defaults, equations),
+    /// rendered by its built binary: docs/mechanisms/<Name>.md.
+    Docs(interface::Args),
     /// List the mechanisms of the workspace.
     List {
         #[arg(long)]
@@ -69,6 +73,7 @@ fn main() -> ExitCode {
             manifest_path.as_deref(),
             build::Flavor::Shipped,
         ),
+        Cmd::Docs(args) => interface::run(args),
         Cmd::List { manifest_path } => build::list(manifest_path.as_deref()),
         Cmd::Bench(args) => bench::command::run(args),
         Cmd::New(args) => new::run(args),

@@ -1,10 +1,12 @@
 //! What a mechanism crate's binary exports: [`export_fmu!`](crate::export_fmu) puts the
 //! FMI 2.0 functions (the rows of [`fmi2_functions!`](crate::fmi2_functions)) into the
-//! crate under their C names, beside two documented extras that `mechfmu build` reads from
-//! the binary it packages:
+//! crate under their C names, beside three documented extras that the `mechfmu` command
+//! reads from the binaries it builds:
 //!
-//! - `mechfmu_model_description`: the binary's own `modelDescription.xml`;
-//! - `mechfmu_documentation`: its `documentation/index.html`.
+//! - `mechfmu_model_description`: the binary's own `modelDescription.xml` (`mechfmu build`);
+//! - `mechfmu_documentation`: its `documentation/index.html` (`mechfmu build`);
+//! - `mechfmu_interface`: its interface page in Markdown
+//!   ([`docs::interface`](crate::docs::interface()), `mechfmu docs`).
 //!
 //! With the runtime's `bench` feature (`mechfmu bench` turns it on), also
 //! `mechfmu_counters` and `mechfmu_bench` ([`bench`]), which shipped FMUs do not have.
@@ -56,6 +58,20 @@ macro_rules! export_fmu {
                 unsafe {
                     $crate::export::write_text(
                         $crate::docs::documentation::<$mechanism>,
+                        buffer,
+                        capacity,
+                    )
+                }
+            }
+
+            /// Not FMI: this mechanism's interface page (Markdown), through a buffer (see
+            /// [`write_text`]($crate::export::write_text)). Used by `mechfmu docs`.
+            #[no_mangle]
+            pub unsafe extern "C" fn mechfmu_interface(buffer: *mut u8, capacity: usize) -> usize {
+                // SAFETY: the caller's buffer, as `write_text` asks.
+                unsafe {
+                    $crate::export::write_text(
+                        $crate::docs::interface::<$mechanism>,
                         buffer,
                         capacity,
                     )

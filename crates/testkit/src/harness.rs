@@ -494,29 +494,10 @@ pub fn assert_rejected_at_initialization<M: Mechanism>(name: &str, value: f64) {
 /// Asserts the committed modelDescription at `path` is what the declaration generates now;
 /// with `MECHFMU_BLESS=1` in the environment, (re)writes it instead.
 pub fn check_model_description<M: Mechanism>(path: impl AsRef<std::path::Path>) {
-    let path = path.as_ref();
     let xml = mechfmu::xml::model_description::<M>().unwrap_or_else(|e| panic!("{e}"));
-    if std::env::var_os("MECHFMU_BLESS").is_some_and(|v| v == "1") {
-        if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir).expect("create the modelDescription folder");
-        }
-        std::fs::write(path, &xml).expect("write the modelDescription");
-        return;
-    }
-    let committed = std::fs::read_to_string(path).unwrap_or_default();
-    if committed != xml {
-        let line = committed
-            .lines()
-            .zip(xml.lines())
-            .position(|(a, b)| a != b)
-            .map_or(
-                committed.lines().count().min(xml.lines().count()) + 1,
-                |i| i + 1,
-            );
-        panic!(
-            "{} is stale (first difference at line {line}): regenerate it with \
-             `MECHFMU_BLESS=1 cargo test -p <crate> model_description` and commit it",
-            path.display()
-        );
-    }
+    crate::golden::assert_current(
+        path.as_ref(),
+        &xml,
+        "MECHFMU_BLESS=1 cargo test -p <crate> model_description",
+    );
 }

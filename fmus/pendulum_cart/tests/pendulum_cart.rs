@@ -9,10 +9,34 @@ type Fmu = Harness<PendulumCart>;
 
 #[test]
 fn model_description_is_current() {
-    mechfmu_testkit::harness::check_model_description::<PendulumCart>(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../modelDescription/PendulumCart.xml"
-    ));
+    mechfmu_testkit::golden::assert_current(
+        std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../modelDescription/PendulumCart.xml"
+        )),
+        &mechfmu::xml::model_description::<PendulumCart>().unwrap_or_else(|e| panic!("{e}")),
+        concat!(
+            "MECHFMU_BLESS=1 cargo test -p ",
+            env!("CARGO_PKG_NAME"),
+            " model_description"
+        ),
+    );
+}
+
+#[test]
+fn interface_is_current() {
+    mechfmu_testkit::golden::assert_current(
+        std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../docs/mechanisms/PendulumCart.md"
+        )),
+        &mechfmu::docs::interface::<PendulumCart>().unwrap_or_else(|e| panic!("{e}")),
+        concat!(
+            "MECHFMU_BLESS=1 cargo test -p ",
+            env!("CARGO_PKG_NAME"),
+            " interface"
+        ),
+    );
 }
 
 /// A small deterministic generator (xorshift64*), uniform in [lo, hi).

@@ -11,10 +11,34 @@ type Fmu = Harness<RigidBody>;
 
 #[test]
 fn model_description_is_current() {
-    mechfmu_testkit::harness::check_model_description::<RigidBody>(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../modelDescription/RigidBody.xml"
-    ));
+    mechfmu_testkit::golden::assert_current(
+        std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../modelDescription/RigidBody.xml"
+        )),
+        &mechfmu::xml::model_description::<RigidBody>().unwrap_or_else(|e| panic!("{e}")),
+        concat!(
+            "MECHFMU_BLESS=1 cargo test -p ",
+            env!("CARGO_PKG_NAME"),
+            " model_description"
+        ),
+    );
+}
+
+#[test]
+fn interface_is_current() {
+    mechfmu_testkit::golden::assert_current(
+        std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../docs/mechanisms/RigidBody.md"
+        )),
+        &mechfmu::docs::interface::<RigidBody>().unwrap_or_else(|e| panic!("{e}")),
+        concat!(
+            "MECHFMU_BLESS=1 cargo test -p ",
+            env!("CARGO_PKG_NAME"),
+            " interface"
+        ),
+    );
 }
 
 fn close(a: f64, b: f64, tol: f64) -> bool {

@@ -8,10 +8,34 @@ type Fmu = Harness<TwoMassOscillator>;
 
 #[test]
 fn model_description_is_current() {
-    mechfmu_testkit::harness::check_model_description::<TwoMassOscillator>(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../modelDescription/TwoMassOscillator.xml"
-    ));
+    mechfmu_testkit::golden::assert_current(
+        std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../modelDescription/TwoMassOscillator.xml"
+        )),
+        &mechfmu::xml::model_description::<TwoMassOscillator>().unwrap_or_else(|e| panic!("{e}")),
+        concat!(
+            "MECHFMU_BLESS=1 cargo test -p ",
+            env!("CARGO_PKG_NAME"),
+            " model_description"
+        ),
+    );
+}
+
+#[test]
+fn interface_is_current() {
+    mechfmu_testkit::golden::assert_current(
+        std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../docs/mechanisms/TwoMassOscillator.md"
+        )),
+        &mechfmu::docs::interface::<TwoMassOscillator>().unwrap_or_else(|e| panic!("{e}")),
+        concat!(
+            "MECHFMU_BLESS=1 cargo test -p ",
+            env!("CARGO_PKG_NAME"),
+            " interface"
+        ),
+    );
 }
 
 /// The notes' closed form: the roots of det(K - ω² M) = 0,

@@ -8,9 +8,16 @@
 //! drawn as inline SVG. Everything is deterministic: the same source gives the same bytes.
 //! The binary hands the page out through the `mechfmu_documentation` symbol
 //! ([`export`](crate::export)).
+//!
+//! [`interface()`] renders the mechanism's interface (variables, default experiment, equations)
+//! as a Markdown page instead, the one `mechfmu docs` writes to `docs/mechanisms/<Name>.md`
+//! (symbol `mechfmu_interface`).
 
+mod interface;
 mod notes;
 mod svg;
+
+pub use interface::interface;
 
 use crate::contract::{Capabilities, CAPABILITIES};
 use crate::model::{Causality, Layout, Mechanism, Variable};
@@ -179,10 +186,7 @@ fn variable_table(variables: &[Variable]) -> String {
     );
     for (vr, v) in variables.iter().enumerate() {
         let opt = |x: Option<f64>| x.map(num).unwrap_or_default();
-        let min = match (v.min, v.positive) {
-            (Some(m), true) => format!("&gt; {}", num(m)),
-            (m, _) => opt(m),
-        };
+        let min = shown_min(v, "&gt;");
         let mut description = escape(v.description);
         if let Some(d) = v.derivative {
             let _ = write!(
@@ -198,10 +202,7 @@ fn variable_table(variables: &[Variable]) -> String {
             escape(v.name),
             v.causality.as_str(),
             v.variability.as_str(),
-            v.effective_initial()
-                .filter(|_| v.causality != Causality::Input)
-                .map(|i| i.as_str())
-                .unwrap_or(""),
+            shown_initial(v),
             escape(v.unit),
             opt(v.start),
             opt(v.max),
@@ -209,6 +210,23 @@ fn variable_table(variables: &[Variable]) -> String {
     }
     h.push_str("</table>\n");
     h
+}
+
+/// The `initial` the variable tables show: the one an importer sees, none for an input.
+fn shown_initial(v: &Variable) -> &'static str {
+    v.effective_initial()
+        .filter(|_| v.causality != Causality::Input)
+        .map(|i| i.as_str())
+        .unwrap_or("")
+}
+
+/// The lower bound the variable tables show: `min`, or `{gt} min` when the value must be
+/// greater than it; `gt` is how the page writes `>`.
+fn shown_min(v: &Variable, gt: &str) -> String {
+    match (v.min, v.positive) {
+        (Some(m), true) => format!("{gt} {}", num(m)),
+        (m, _) => m.map(num).unwrap_or_default(),
+    }
 }
 
 fn capability_table(c: &Capabilities) -> String {

@@ -102,7 +102,7 @@ pub fn render(text: &str) -> String {
 
 /// Removes the indentation common to all non-blank lines (notes written inside an indented
 /// Rust string literal).
-fn dedent(text: &str) -> String {
+pub(super) fn dedent(text: &str) -> String {
     let indent = text
         .lines()
         .filter(|l| !l.trim().is_empty())

@@ -1,0 +1,107 @@
+//! Committed files generated from a mechanism's declaration (its `modelDescription.xml`, its
+//! interface page), checked by a test to be current.
+
+use std::path::Path;
+
+/// Asserts the file committed at `path` is `generated`; with `MECHFMU_BLESS=1` in the
+/// environment, (re)writes it instead (creating its folder). A missing or stale file panics
+/// with its path, the first line that differs and `regenerate_hint`, the command that
+/// regenerates it.
+///
+/// ```no_run
+/// # let xml = String::new();
+/// mechfmu_testkit::golden::assert_current(
+///     std::path::Path::new("../../modelDescription/Oscillator.xml"),
+///     &xml,
+///     "MECHFMU_BLESS=1 cargo test -p oscillator-fmu model_description",
+/// );
+/// ```
+pub fn assert_current(path: &Path, generated: &str, regenerate_hint: &str) {
+    let bless = std::env::var_os("MECHFMU_BLESS").is_some_and(|v| v == "1");
+    check_or_write(path, generated, regenerate_hint, bless);
+}
+
+/// [`assert_current`], told whether to bless.
+fn check_or_write(path: &Path, generated: &str, regenerate_hint: &str, bless: bool) {
+    if bless {
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir)
+                .unwrap_or_else(|e| panic!("cannot create {}: {e}", dir.display()));
+        }
+        std::fs::write(path, generated)
+            .unwrap_or_else(|e| panic!("cannot write {}: {e}", path.display()));
+        return;
+    }
+    let committed = match std::fs::read_to_string(path) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => panic!(
+            "{} is missing: generate it with `{regenerate_hint}` and commit it",
+            path.display()
+        ),
+        Err(e) => panic!("cannot read {}: {e}", path.display()),
+    };
+    if let Some(line) = first_difference(&committed, generated) {
+        panic!(
+            "{} is stale (first difference at line {line}): regenerate it with \
+             `{regenerate_hint}` and commit it",
+            path.display()
+        );
+    }
+}
+
+/// The first line (from 1) where `a` and `b` differ, `None` when they are equal.
+fn first_difference(a: &str, b: &str) -> Option<usize> {
+    if a == b {
+        return None;
+    }
+    Some(
+        a.lines()
+            .zip(b.lines())
+            .position(|(x, y)| x != y)
+            .map_or(a.lines().count().min(b.lines().count()) + 1, |i| i + 1),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_first_differing_line_is_named() {
+        assert_eq!(first_difference("a\nb\n", "a\nb\n"), None);
+        assert_eq!(first_difference("a\nb\n", "a\nc\n"), Some(2));
+        assert_eq!(first_difference("a\n", "a\nb\n"), Some(2));
+        assert_eq!(first_difference("a\nb", "a\nb\n"), Some(3));
+        assert_eq!(first_difference("", "a\n"), Some(1));
+    }
+
+    #[test]
+    fn a_current_file_passes_and_a_stale_one_names_itself_and_the_fix() {
+        let dir = std::env::temp_dir().join(format!("mechfmu-golden-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("Spring.md");
+        std::fs::write(&path, "# Spring\nold\n").unwrap();
+        check_or_write(&path, "# Spring\nold\n", "regen", false);
+        let stale =
+            std::panic::catch_unwind(|| check_or_write(&path, "# Spring\nnew\n", "regen", false))
+                .unwrap_err();
+        let message = stale.downcast_ref::<String>().unwrap();
+        assert!(message.contains("Spring.md is stale (first difference at line 2)"));
+        assert!(message.contains("`regen`"), "{message}");
+        let missing = std::panic::catch_unwind(|| {
+            check_or_write(&dir.join("Other.md"), "x", "regen other", false)
+        })
+        .unwrap_err();
+        let message = missing.downcast_ref::<String>().unwrap();
+        assert!(message.contains("Other.md is missing"), "{message}");
+        assert!(message.contains("`regen other`"), "{message}");
+        // blessing writes the file, its folder too
+        let blessed = dir.join("new").join("Spring.md");
+        check_or_write(&blessed, "# Spring\nnew\n", "regen", true);
+        assert_eq!(
+            std::fs::read_to_string(&blessed).unwrap(),
+            "# Spring\nnew\n"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
