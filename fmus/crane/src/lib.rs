@@ -6,9 +6,17 @@
 //! in [`Mechanism::NOTES`] below (shipped in the FMU's documentation). In short, Newton's law
 //! on the payload, `m a = -T i_B - m g J`, is projected on `j_B` (the swing) and `i_B` (the
 //! tension) with `i_A·i_B = -sin s`, `j_A·i_B = -cos s`, `i_A·j_B = cos s`,
-//! `j_A·j_B = -sin s` and `J = sin φ j_B - cos φ i_B`.
+//! `j_A·j_B = -sin s` and `J = sin φ j_B - cos φ i_B`. The kinematics it shares with
+//! `CraneDynamics` (the trolley's acceleration, the tension, the payload's motion, the
+//! limits) are written once in the `crane_kinematics` crate.
 
-use mechfmu::model::{lit, sin_cos, Experiment, Mechanism, Monitor, Scalar, Variable};
+#![forbid(unsafe_code)]
+
+use crane_kinematics::{
+    cable_tension, check_trolley_start, normal_acceleration, payload_kinetic_energy,
+    payload_position, payload_velocity, radial_acceleration,
+};
+use mechfmu::model::{sin_cos, Experiment, Mechanism, Monitor, Scalar, Variable};
 
 mechfmu::mechanism! {
     /// A luffing crane: a boom pivoting at O at angle theta above the horizontal, a trolley
@@ -112,29 +120,22 @@ impl Mechanism for Crane {
     fn calculate(v: &mut CraneValues<f64>) -> Result<(), String> {
         // The trolley rides the boom on the payload's side of the pivot; at x ≤ 0 the boom
         // torque tau = x T cos s and the geometry no longer describe a crane.
-        if v.x <= 0.0 {
-            return Err(format!(
-                "x = {} is not allowed: the trolley must start at x > 0 (beyond the pivot O)",
-                v.x
-            ));
-        }
-        Ok(())
+        check_trolley_start(v.x)
     }
 
     fn evaluate<S: Scalar>(v: &mut CraneValues<S>) {
-        let two = lit::<S>(2.0);
         let s = v.theta - v.phi;
         let (sin_s, cos_s) = sin_cos(s);
         let (sin_phi, cos_phi) = sin_cos(v.phi);
         // The trolley's acceleration in the boom frame: along i_A (radial) and j_A
         // (Coriolis + Euler).
-        let a_radial = v.x_ddot - v.theta_dot * v.theta_dot * v.x;
-        let a_normal = two * v.theta_dot * v.x_dot + v.theta_ddot * v.x;
+        let a_radial = radial_acceleration(v.x, v.theta_dot, v.x_ddot);
+        let a_normal = normal_acceleration(v.x, v.x_dot, v.theta_dot, v.theta_ddot);
         // Payload along j_B (tangential): the corrected sign of the notes' last line.
         v.phi_ddot = (-v.g * sin_phi - a_radial * cos_s + a_normal * sin_s) / v.l;
         // Payload along i_B (along the cable): the notes' formula (a).
-        v.T = v.m
-            * (a_radial * sin_s + a_normal * cos_s + v.l * v.phi_dot * v.phi_dot + v.g * cos_phi);
+        let a_trolley = (a_radial, a_normal);
+        v.T = cable_tension(v.m, v.l, v.g, a_trolley, (sin_s, cos_s), v.phi_dot, cos_phi);
         // Massless trolley and boom: the drives carry the cable's pull.
         v.F = v.T * sin_s;
         v.tau = v.x * v.T * cos_s;
@@ -147,33 +148,19 @@ impl Mechanism for Crane {
     /// The payload's position and energy: no derivative needs them (`T`, which the monitor
     /// reads, and `P_drives`, the rate of `W_drives`, stay in `evaluate`).
     fn outputs<S: Scalar>(v: &mut CraneValues<S>) {
-        let half = lit::<S>(0.5);
-        let (sin_phi, cos_phi) = sin_cos(v.phi);
-        let (sin_th, cos_th) = sin_cos(v.theta);
-        v.payload_x = v.x * cos_th + v.l * sin_phi;
-        v.payload_y = v.x * sin_th - v.l * cos_phi;
-        let vel_x = v.x_dot * cos_th - v.x * v.theta_dot * sin_th + v.l * v.phi_dot * cos_phi;
-        let vel_y = v.x_dot * sin_th + v.x * v.theta_dot * cos_th + v.l * v.phi_dot * sin_phi;
-        v.E_payload = half * v.m * (vel_x * vel_x + vel_y * vel_y) + v.m * v.g * v.payload_y;
+        // The cable's and the boom's directions: (sin φ, cos φ) and (sin θ, cos θ).
+        let cable = sin_cos(v.phi);
+        let boom = sin_cos(v.theta);
+        (v.payload_x, v.payload_y) = payload_position(v.x, v.l, boom, cable);
+        let vel = payload_velocity(v.x, v.x_dot, v.theta_dot, v.l, v.phi_dot, boom, cable);
+        v.E_payload = payload_kinetic_energy(v.m, vel) + v.m * v.g * v.payload_y;
     }
 
     const MONITORED: bool = true;
 
+    /// The trolley at the pivot (`x ≤ 0`) ends the step; a slack cable (`T < 0`) is a warning.
     fn monitor(v: &CraneValues<f64>) -> Monitor {
-        if v.x <= 0.0 {
-            Monitor::Invalid(format!(
-                "the trolley reached the pivot O (x = {:e} m): the crane model no longer holds",
-                v.x
-            ))
-        } else if v.T < 0.0 {
-            Monitor::Warning(format!(
-                "the cable is slack (T = {:.6e} N < 0): a cable cannot push, the results no \
-                 longer describe a real crane until T is positive again",
-                v.T
-            ))
-        } else {
-            Monitor::Valid
-        }
+        crane_kinematics::monitor(v.x, v.T)
     }
 }
 

@@ -67,10 +67,34 @@ fn downward_zero_crossings(fmu: &mut Fmu, t_end: f64, h: f64) -> Vec<f64> {
 
 #[test]
 fn model_description_is_current() {
-    mechfmu_testkit::harness::check_model_description::<Crane>(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../modelDescription/Crane.xml"
-    ));
+    mechfmu_testkit::golden::assert_current(
+        std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../modelDescription/Crane.xml"
+        )),
+        &mechfmu::xml::model_description::<Crane>().unwrap_or_else(|e| panic!("{e}")),
+        concat!(
+            "MECHFMU_BLESS=1 cargo test -p ",
+            env!("CARGO_PKG_NAME"),
+            " model_description"
+        ),
+    );
+}
+
+#[test]
+fn interface_is_current() {
+    mechfmu_testkit::golden::assert_current(
+        std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../docs/mechanisms/Crane.md"
+        )),
+        &mechfmu::docs::interface::<Crane>().unwrap_or_else(|e| panic!("{e}")),
+        concat!(
+            "MECHFMU_BLESS=1 cargo test -p ",
+            env!("CARGO_PKG_NAME"),
+            " interface"
+        ),
+    );
 }
 
 #[test]
@@ -340,7 +364,10 @@ fn invalid_parameters_and_start_values_are_rejected_at_initialization() {
 
 #[test]
 fn directional_derivatives_match_finite_differences() {
-    let base = [
+    // The default experiment is a crane at rest, where most terms of the equations vanish:
+    // the conformance check again at a moving operating point, with every state and input
+    // as known.
+    let moving = [
         ("x", 8.0),
         ("x_dot", 0.7),
         ("theta", 0.6),
@@ -350,47 +377,9 @@ fn directional_derivatives_match_finite_differences() {
         ("x_ddot", 0.5),
         ("theta_ddot", -0.05),
     ];
-    let unknowns = [
-        "phi_ddot",
-        "T",
-        "F",
-        "tau",
-        "E_payload",
-        "P_drives",
-        "payload_y",
-    ];
-    let outputs = |values: &[(&str, f64)]| -> Vec<f64> {
-        let mut fmu = Fmu::new();
-        fmu.initialize(None, 0.0, values).unwrap();
-        unknowns.iter().map(|u| fmu.get(u)).collect()
-    };
-    let mut fmu = Fmu::new();
-    fmu.initialize(None, 0.0, &base).unwrap();
-    let unknown_vrs: Vec<_> = unknowns.iter().map(|u| Fmu::vr(u)).collect();
-    let reference = outputs(&base);
-    for (k, &(name, value)) in base.iter().enumerate() {
-        let mut exact = vec![0.0; unknowns.len()];
-        assert_eq!(
-            fmu.directional_derivative(&unknown_vrs, &[Fmu::vr(name)], &[1.0], &mut exact),
-            fmi2OK
-        );
-        let h = 1e-5 * value.abs().max(1.0);
-        let (mut plus, mut minus) = (base, base);
-        plus[k].1 += h;
-        minus[k].1 -= h;
-        let (p, m) = (outputs(&plus), outputs(&minus));
-        for j in 0..unknowns.len() {
-            let fd = (p[j] - m[j]) / (2.0 * h);
-            let scale = reference[j].abs().max(1.0) / value.abs().max(1.0);
-            let err = (exact[j] - fd).abs() / scale.max(fd.abs());
-            assert!(
-                err < 1e-6,
-                "d{}/d{name}: exact {} vs {fd}",
-                unknowns[j],
-                exact[j]
-            );
-        }
-    }
+    mechfmu_testkit::conformance::directional_derivatives_match_finite_differences_at::<Crane>(
+        &moving,
+    );
 }
 
 /// Reset, FMU state, serialization, derivatives and threads: the checks every FMU passes.

@@ -18,8 +18,16 @@
 //! `τ K` turns the boom. `M` is the kinetic energy's matrix: leading minors `μ`,
 //! `μ (J_boom + μ x²)` and `det M = m l² [J_boom (m_trolley + m sin² s) + μ m_trolley x²]`,
 //! all > 0 when `J_boom, m_trolley > 0` (with either one zero, `det M` vanishes at some
-//! state: the singularity of the notes' massless version).
+//! state: the singularity of the notes' massless version). The kinematics it shares with
+//! `Crane` (the trolley's acceleration, the tension, the payload's motion, the limits) are
+//! written once in the `crane_kinematics` crate.
 
+#![forbid(unsafe_code)]
+
+use crane_kinematics::{
+    cable_tension, check_trolley_start, normal_acceleration, payload_kinetic_energy,
+    payload_position, payload_velocity, radial_acceleration,
+};
 use mechfmu::model::{lit, sin_cos, Experiment, Mechanism, Monitor, Scalar, Variable};
 
 mechfmu::mechanism! {
@@ -143,13 +151,7 @@ impl Mechanism for CraneDynamics {
 
     fn calculate(v: &mut CraneDynamicsValues<f64>) -> Result<(), String> {
         // The trolley rides the boom on the payload's side of the pivot.
-        if v.x <= 0.0 {
-            return Err(format!(
-                "x = {} is not allowed: the trolley must start at x > 0 (beyond the pivot O)",
-                v.x
-            ));
-        }
-        Ok(())
+        check_trolley_start(v.x)
     }
 
     // Inlined into the solver's stages, the states and derivatives pass in registers, not
@@ -196,9 +198,9 @@ impl Mechanism for CraneDynamics {
         (v.x_ddot, v.theta_ddot, v.phi_ddot) = (x_ddot, theta_ddot, phi_ddot);
 
         // The notes' formula (a): Newton's law on the payload along the cable.
-        let a_radial = x_ddot - thd * thd * x;
-        let a_normal = two * thd * xd + theta_ddot * x;
-        v.T = m * (a_radial * sin_s + a_normal * cos_s + l * phd * phd + g * cos_phi);
+        let a_radial = radial_acceleration(x, thd, x_ddot);
+        let a_normal = normal_acceleration(x, xd, thd, theta_ddot);
+        v.T = cable_tension(m, l, g, (a_radial, a_normal), (sin_s, cos_s), phd, cos_phi);
         // The drives' power: the rate of W_drives.
         v.P_drives = v.F * xd + v.tau * thd;
     }
@@ -207,7 +209,6 @@ impl Mechanism for CraneDynamics {
     /// position and the energy (`T`, which the monitor reads, stays in `evaluate`).
     fn outputs<S: Scalar>(v: &mut CraneDynamicsValues<S>) {
         let half = lit::<S>(0.5);
-        let two = lit::<S>(2.0);
         let (m, l, g, x) = (v.m, v.l, v.g, v.x);
         // As in `evaluate`: cos s by the angle-difference identity.
         let (sin_th, cos_th) = sin_cos(v.theta);
@@ -217,37 +218,24 @@ impl Mechanism for CraneDynamics {
 
         // The trolley along j_A: m_trolley (2 ẋ θ̇ + x θ̈) = N - T cos s - m_trolley g cos θ,
         // with θ̈ and T from `evaluate`.
-        let a_normal = two * thd * xd + v.theta_ddot * x;
+        let a_normal = normal_acceleration(x, xd, thd, v.theta_ddot);
         v.N = v.m_trolley * (a_normal + g * cos_th) + v.T * cos_s;
 
-        v.payload_x = x * cos_th + l * sin_phi;
-        v.payload_y = x * sin_th - l * cos_phi;
-        let vel_x = xd * cos_th - x * thd * sin_th + l * phd * cos_phi;
-        let vel_y = xd * sin_th + x * thd * cos_th + l * phd * sin_phi;
+        let (boom, cable) = ((sin_th, cos_th), (sin_phi, cos_phi));
+        (v.payload_x, v.payload_y) = payload_position(x, l, boom, cable);
+        let vel = payload_velocity(x, xd, thd, l, phd, boom, cable);
         let kinetic = half * v.J_boom * thd * thd
             + half * v.m_trolley * (xd * xd + x * x * thd * thd)
-            + half * m * (vel_x * vel_x + vel_y * vel_y);
+            + payload_kinetic_energy(m, vel);
         let potential = v.m_trolley * g * x * sin_th + m * g * v.payload_y;
         v.E = kinetic + potential;
     }
 
     const MONITORED: bool = true;
 
+    /// The trolley at the pivot (`x ≤ 0`) ends the step; a slack cable (`T < 0`) is a warning.
     fn monitor(v: &CraneDynamicsValues<f64>) -> Monitor {
-        if v.x <= 0.0 {
-            Monitor::Invalid(format!(
-                "the trolley reached the pivot O (x = {:e} m): the crane model no longer holds",
-                v.x
-            ))
-        } else if v.T < 0.0 {
-            Monitor::Warning(format!(
-                "the cable is slack (T = {:.6e} N < 0): a cable cannot push, the results no \
-                 longer describe a real crane until T is positive again",
-                v.T
-            ))
-        } else {
-            Monitor::Valid
-        }
+        crane_kinematics::monitor(v.x, v.T)
     }
 }
 

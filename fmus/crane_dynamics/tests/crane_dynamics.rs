@@ -20,10 +20,34 @@ fn static_loads(x: f64, theta: f64) -> (f64, f64) {
 
 #[test]
 fn model_description_is_current() {
-    mechfmu_testkit::harness::check_model_description::<CraneDynamics>(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../modelDescription/CraneDynamics.xml"
-    ));
+    mechfmu_testkit::golden::assert_current(
+        std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../modelDescription/CraneDynamics.xml"
+        )),
+        &mechfmu::xml::model_description::<CraneDynamics>().unwrap_or_else(|e| panic!("{e}")),
+        concat!(
+            "MECHFMU_BLESS=1 cargo test -p ",
+            env!("CARGO_PKG_NAME"),
+            " model_description"
+        ),
+    );
+}
+
+#[test]
+fn interface_is_current() {
+    mechfmu_testkit::golden::assert_current(
+        std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../docs/mechanisms/CraneDynamics.md"
+        )),
+        &mechfmu::docs::interface::<CraneDynamics>().unwrap_or_else(|e| panic!("{e}")),
+        concat!(
+            "MECHFMU_BLESS=1 cargo test -p ",
+            env!("CARGO_PKG_NAME"),
+            " interface"
+        ),
+    );
 }
 
 #[test]
@@ -278,8 +302,9 @@ fn invalid_parameters_and_start_values_are_rejected_at_initialization() {
 fn directional_derivatives_match_finite_differences() {
     // The equations run on dual numbers through the elimination: the exact derivatives
     // of the accelerations, T and N with respect to every state and input, against central
-    // differences of the outputs at initialization.
-    let base = [
+    // differences (the conformance check), at a moving operating point with loads off the
+    // static ones.
+    let moving = [
         ("x", 8.0),
         ("x_dot", 0.7),
         ("theta", 0.6),
@@ -289,50 +314,9 @@ fn directional_derivatives_match_finite_differences() {
         ("F", 7000.0),
         ("tau", 9.0e4),
     ];
-    let unknowns = [
-        "x_ddot",
-        "theta_ddot",
-        "phi_ddot",
-        "T",
-        "N",
-        "E",
-        "payload_x",
-    ];
-    let outputs = |values: &[(&str, f64)]| -> Vec<f64> {
-        let mut fmu = Fmu::new();
-        fmu.initialize(None, 0.0, values).unwrap();
-        unknowns.iter().map(|u| fmu.get(u)).collect()
-    };
-    let mut fmu = Fmu::new();
-    fmu.initialize(None, 0.0, &base).unwrap();
-    let unknown_vrs: Vec<_> = unknowns.iter().map(|u| Fmu::vr(u)).collect();
-    let reference = outputs(&base);
-    let mut worst = 0.0f64;
-    for (k, &(name, value)) in base.iter().enumerate() {
-        let mut exact = vec![0.0; unknowns.len()];
-        assert_eq!(
-            fmu.directional_derivative(&unknown_vrs, &[Fmu::vr(name)], &[1.0], &mut exact),
-            fmi2OK
-        );
-        let h = 1e-5 * value.abs().max(1.0);
-        let (mut plus, mut minus) = (base, base);
-        plus[k].1 += h;
-        minus[k].1 -= h;
-        let (p, m) = (outputs(&plus), outputs(&minus));
-        for j in 0..unknowns.len() {
-            let fd = (p[j] - m[j]) / (2.0 * h);
-            // relative to the output's own size per unit of this known's size
-            let scale = reference[j].abs().max(1.0) / value.abs().max(1.0);
-            let err = (exact[j] - fd).abs() / scale.max(fd.abs());
-            assert!(
-                err < 1e-6,
-                "d{}/d{name}: exact {} vs {fd}",
-                unknowns[j],
-                exact[j]
-            );
-            worst = worst.max(err);
-        }
-    }
+    let worst = mechfmu_testkit::conformance::directional_derivatives_match_finite_differences_at::<
+        CraneDynamics,
+    >(&moving);
     assert!(worst > 0.0);
 }
 
