@@ -1,5 +1,5 @@
 //! An in-process importer for tests: drives a mechanism through the very functions its FMU
-//! exports (`fmi2::api`), with a logger that records every message. Mechanism crates use
+//! exports (`fmi2::functions`), with a logger that records every message. Mechanism crates use
 //! it to test their physics through the FMI boundary without building a `.so`.
 //!
 //! ```

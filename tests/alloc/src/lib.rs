@@ -1,6 +1,6 @@
 //! A counting global allocator, and the check that the FMI functions an importer calls at
 //! every communication step (`fmi2SetReal`, `fmi2DoStep`, `fmi2GetReal`) never allocate
-//! once an instance is running. The functions are the real ones (`mechfmu::fmi2::api`,
+//! once an instance is running. The functions are the real ones (`mechfmu::fmi2::functions`,
 //! what `export_fmu!` exports), called in-process on the mechanism crates.
 //!
 //! The counts are per thread, so tests running in parallel do not see each other's
