@@ -1,6 +1,6 @@
 """Throughput of a sweep and the cost of Dask per case.
 
-    PYTHONPATH=python target/venv/bin/python -m mechfmu_sweep.bench fmus/Crane.fmu \\
+    target/venv/bin/python -m mechfmu_sweep.bench fmus/Crane.fmu \\
         [--cases 200] [--workers 1,2] [--param l=2:10:200] [--input-schedule ...] [--repeat 3]
 
 Runs the same cases (default: the FMU's DefaultExperiment with `l`, or else the first

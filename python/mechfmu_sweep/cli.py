@@ -3,6 +3,9 @@
 Exit status: 0 when the sweep ran (whatever became of individual cases: their status is in
 the results), 2 for a usage error (the message names it), 1 when the sweep machinery
 failed (the cluster, the FMU file, writing the results).
+
+``mechfmu sweep`` passes its arguments through unchecked: every value is checked here
+(``check_request`` for what needs no FMU, then ``Plan`` against the model description).
 """
 
 from __future__ import annotations
@@ -25,9 +28,8 @@ from .design import (
     Spec,
     SpecError,
     build_design,
+    parse_param,
     parse_schedule,
-    parse_spec,
-    split_assignment,
 )
 from .runner import CaseSetup, Summary, parse_summary
 
@@ -67,6 +69,58 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot-y", metavar="COLUMN", help="the summary on the y axis (default: the first --summary)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar or progress lines")
     return p
+
+
+# ---------------------------------------------------------------------------------------
+# Checking the request: the values on their own
+
+
+def check_out(path: Path) -> None:
+    if path.suffix.lower() not in (".parquet", ".csv"):
+        raise SpecError(f"--out {path}: the extension says the format, .parquet or .csv")
+
+
+def check_plot(path: Path) -> None:
+    if path.suffix.lower() != ".png":
+        raise SpecError(f"--plot {path}: the plot is a PNG, give a .png file")
+
+
+def check_scheduler(address: str) -> None:
+    """``[tcp://]HOST:PORT``, e.g. ``tcp://127.0.0.1:8786``."""
+    text = address.strip()
+    hostport = text.split("://", 1)[1] if "://" in text else text
+    host, sep, port = hostport.rpartition(":")
+    if not (sep and host and port.isascii() and port.isdigit() and int(port) <= 65535):
+        raise SpecError(f"--scheduler {address}: a scheduler address is [tcp://]HOST:PORT, e.g. tcp://127.0.0.1:8786")
+
+
+def check_request(args: argparse.Namespace) -> None:
+    """Every value of the request that can be checked without the FMU: the grammar of the
+    specs, schedules and summaries, the files' extensions, the numbers and the address.
+    Raises SpecError naming the first problem."""
+    for text in args.param:
+        parse_param(text)
+    for text in args.input_schedule:
+        parse_schedule(text)
+    for text in args.summary:
+        parse_summary(text)
+    if args.out is not None:
+        check_out(args.out)
+    if args.plot is not None:
+        check_plot(args.plot)
+    if args.scheduler is not None:
+        check_scheduler(args.scheduler)
+    for option, value in (("--start-time", args.start_time), ("--stop-time", args.stop_time)):
+        if value is not None and not math.isfinite(value):
+            raise SpecError(f"{option} {value}: not a number (a finite value is needed)")
+    for option, value in (("--output-interval", args.output_interval), ("--tolerance", args.tolerance)):
+        if value is not None and not (math.isfinite(value) and value > 0):
+            raise SpecError(f"{option} {value}: must be a finite number > 0")
+    for option, value in (("--cases", args.cases), ("--workers", args.workers), ("--chunk-size", args.chunk_size)):
+        if value is not None and value < 1:
+            raise SpecError(f"{option} must be >= 1")
+    if args.seed is not None and not 0 <= args.seed < 2**64:
+        raise SpecError(f"--seed {args.seed}: must be an integer from 0 to 2^64 - 1")
 
 
 # ---------------------------------------------------------------------------------------
@@ -113,6 +167,9 @@ class Plan:
     def __init__(self, args: argparse.Namespace):
         from fmpy import read_model_description
 
+        check_request(args)
+        if args.scheduler is not None:
+            args.scheduler = args.scheduler.strip()
         self.args = args
         fmu: Path = args.fmu
         if not fmu.is_file():
@@ -158,8 +215,8 @@ class Plan:
         base_scales: dict[str, str] = {}
         csv_inputs = set(base_input.dtype.names[1:]) if base_input is not None else set()
         for text in args.param:
-            name, spec_text = split_assignment(text, "--param")
-            spec = parse_spec(name, spec_text)
+            spec = parse_param(text)
+            name = spec.name
             specs.append(spec)
             v = variables.get(name)
             if v is not None:
@@ -241,16 +298,8 @@ class Plan:
             output_interval=interval,
             summaries=summaries,
         )
-        if args.out is not None and args.out.suffix.lower() not in (".parquet", ".csv"):
-            raise SpecError(f"--out {args.out}: the extension says the format, .parquet or .csv")
-        if args.plot is not None and args.plot.suffix.lower() != ".png":
-            raise SpecError(f"--plot {args.plot}: a .png file")
-        if args.workers is not None and args.workers < 1:
-            raise SpecError("--workers must be >= 1")
         if args.workers is not None and args.scheduler:
             raise SpecError("--workers sizes the local cluster; with --scheduler the cluster is given")
-        if args.chunk_size is not None and args.chunk_size < 1:
-            raise SpecError("--chunk-size must be >= 1")
         if args.plot_x is not None and args.plot_x not in self.design.columns:
             raise SpecError(f"--plot-x {args.plot_x}: not a design column ({', '.join(self.design.columns)})")
         if args.plot_y is not None and args.plot_y not in self.setup.result_columns:

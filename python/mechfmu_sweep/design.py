@@ -13,6 +13,9 @@ Grids, lists and constants are crossed in a full factorial (the first ``--param`
 slowest); random specs are drawn ``cases`` times at each grid point, from one
 ``numpy.random.default_rng(seed)`` in the order the random parameters are given.
 
+This module is the one implementation of this grammar: ``mechfmu sweep`` (Rust) passes its
+arguments through, and a ``SpecError`` raised here is the message the user sees.
+
 Input schedules (``--input-schedule NAME=SHAPE(args)``) give a per-case time signal to an
 input of the FMU as a piecewise-linear table (the form ``fmpy.simulate_fmu(input=...)``
 takes). Their arguments are design variables named ``NAME.arg`` that ``--param`` sweeps
@@ -52,7 +55,7 @@ def _number(text: str, what: str) -> float:
     except ValueError:
         raise SpecError(f"{what}: `{text}` is not a number") from None
     if not math.isfinite(value):
-        raise SpecError(f"{what}: `{text}` is not a finite number")
+        raise SpecError(f"{what}: `{text}` is not a number (a finite value is needed)")
     return value
 
 
@@ -101,9 +104,9 @@ def parse_spec(name: str, text: str) -> Spec:
         return Spec(name, text, random=(kind, a, b))
     m = _RE_GRID.match(text)
     if m:
-        a, b, n = float(m.group(1)), float(m.group(2)), int(m.group(3))
+        a, b, n = _number(m.group(1), what), _number(m.group(2), what), int(m.group(3))
         if n < 1:
-            raise SpecError(f"{what}: a grid a:b:n needs n >= 1 points")
+            raise SpecError(f"{what}: a grid is start:stop:count (a:b:n) and needs n >= 1 points, e.g. 2:10:17")
         if n == 1 and a != b:
             raise SpecError(f"{what}: a grid of 1 point needs a == b (or write the value alone)")
         return Spec(name, text, values=tuple(float(v) for v in np.linspace(a, b, n)))
@@ -113,12 +116,18 @@ def parse_spec(name: str, text: str) -> Spec:
     return Spec(name, text, values=values)
 
 
-def split_assignment(text: str, option: str) -> tuple[str, str]:
+def split_assignment(text: str, option: str, form: str = "NAME=SPEC") -> tuple[str, str]:
     """``'l=2:10:17'`` -> ``('l', '2:10:17')``."""
     name, sep, rest = text.partition("=")
     if not sep or not name.strip():
-        raise SpecError(f"{option} {text}: expected NAME=SPEC")
+        raise SpecError(f"{option} {text}: expected {form}")
     return name.strip(), rest.strip()
+
+
+def parse_param(text: str) -> Spec:
+    """``parse_param('l=2:10:17')``: one ``--param NAME=SPEC``; raises SpecError naming the problem."""
+    name, spec = split_assignment(text, "--param", "NAME=SPEC, e.g. l=2:10:17")
+    return parse_spec(name, spec)
 
 
 # ---------------------------------------------------------------------------------------
@@ -205,7 +214,7 @@ class Schedule:
 
 
 def parse_schedule(text: str) -> Schedule:
-    name, rest = split_assignment(text, "--input-schedule")
+    name, rest = split_assignment(text, "--input-schedule", "NAME=SHAPE(args), e.g. x_ddot=step(1,0.5)")
     what = f"--input-schedule {text}"
     m = _RE_CALL.match(rest)
     if not m:

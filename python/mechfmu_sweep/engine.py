@@ -134,11 +134,8 @@ def run_on_dask(
         client = Client(scheduler, timeout="30s")
     else:
         n = workers or default_workers()
-        # Spawned worker processes must find this package: put it on their PYTHONPATH.
-        parent = str(PACKAGE_DIR.parent)
-        paths = [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
-        if parent not in paths:
-            os.environ["PYTHONPATH"] = os.pathsep.join([parent, *paths])
+        # The worker processes run this interpreter, which has the package installed
+        # (python/pyproject.toml); multiprocessing's spawn also hands them this sys.path.
         # Queue every task on the workers at once: with the default (1.1 tasks per
         # thread) a worker idles for a round trip to the scheduler after each task, which
         # costs more than a case on a busy machine. Work stealing still balances the load.

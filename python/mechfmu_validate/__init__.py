@@ -6,7 +6,8 @@ mechanism's reference cases, declared once in ``<crate>/validation/cases.py`` wi
 (:mod:`.importers`); a table, an exit status, and optionally a report with one plot per case
 (:mod:`.report`). The same cases are what ``tests/python/test_cases.py`` runs.
 
-Command line (what ``mechfmu validate`` runs, with ``PYTHONPATH=<mechfmu>/python``)::
+Command line (what ``mechfmu validate`` runs, in the venv where ``python/pyproject.toml``
+installs this package)::
 
     python -m mechfmu_validate fmus/Oscillator.fmu --cases Oscillator=fmus/oscillator/validation/cases.py \\
         [--report DIR] [--json FILE] [--readme DIR] [--case TEXT]

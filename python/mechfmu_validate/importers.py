@@ -25,8 +25,6 @@ import os
 import shutil
 import subprocess
 import tempfile
-import threading
-from ctypes import byref
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -36,6 +34,7 @@ import numpy as np
 import fmpy
 from fmpy import read_model_description
 
+from . import fmulog
 from .case import Case, Result
 
 __all__ = ["Fmu", "run_fmpy", "run_libcosim", "libcosim_available", "run_fmi_crate", "fmi_crate_available",
@@ -86,50 +85,11 @@ class Fmu:
 # ---------------------------------------------------------------------------------------
 # FMU log messages
 
-_log_lock = threading.Lock()
-_log: list[str] = []
-_log_installed = False
-_keep_alive: list[Any] = []
-
 
 def capture_fmu_log() -> None:
-    """Routes the FMUs' log messages (under FMPy) into this module instead of stdout.
-
-    fmpy's native logger proxy keeps ONE process-wide Python callback; this installs ours
-    and keeps it alive for the life of the process. Only for the command line: the test
-    suite has its own capture (tests/python/fmutest.py) and must keep it.
-    """
-    global _log_installed
-    if _log_installed:
-        return
-    from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
-                           fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
-    from fmpy.logging import addLoggerProxy
-
-    def log(env, instance, status, category, message):
-        text = message.decode("utf-8", "replace") if message else ""
-        names = {0: "OK", 1: "Warning", 2: "Discard", 3: "Error", 4: "Fatal", 5: "Pending"}
-        with _log_lock:
-            _log.append(f"[{names.get(int(status), status)}] {text}")
-
-    callbacks = fmi2CallbackFunctions()
-    callbacks.logger = fmi2CallbackLoggerTYPE(log)
-    callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(fmpy.calloc)
-    callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(fmpy.free)
-    callbacks.componentEnvironment = None
-    addLoggerProxy(byref(callbacks))
-    _keep_alive.extend([callbacks, log])
-    _log_installed = True
-
-
-def log_mark() -> int:
-    with _log_lock:
-        return len(_log)
-
-
-def log_since(mark: int) -> list[str]:
-    with _log_lock:
-        return list(_log[mark:])
+    """Routes the FMUs' log messages (under FMPy) into :mod:`.fmulog` instead of stdout:
+    the one capture of mechfmu's Python side, which the test suite installs too."""
+    fmulog.install()
 
 
 # ---------------------------------------------------------------------------------------
@@ -139,7 +99,7 @@ def log_since(mark: int) -> list[str]:
 def run_fmpy(fmu: Fmu, case: Case, relative_tolerance: float | None | str = "case") -> Result:
     """``fmpy.simulate_fmu`` of the case; ``relative_tolerance="case"`` uses the case's."""
     rtol = case.relative_tolerance if relative_tolerance == "case" else relative_tolerance
-    mark = log_mark()
+    mark = fmulog.LogMark()
     table = fmpy.simulate_fmu(
         str(fmu.directory),
         start_time=0.0,
@@ -154,7 +114,7 @@ def run_fmpy(fmu: Fmu, case: Case, relative_tolerance: float | None | str = "cas
     n = case.steps() + 1
     if len(table) != n:
         raise RuntimeError(f"FMPy recorded {len(table)} rows, expected {n} (did the FMU stop early?)")
-    return Result(table, log_since(mark))
+    return Result(table, [r.brief() for r in mark.records])
 
 
 # ---------------------------------------------------------------------------------------

@@ -7,13 +7,12 @@
 * ``max_error(...)``, ``record_figures(...)``: compare against a reference and keep the
   achieved errors in ``target/test-figures/<name>.json`` for the lead to quote.
 
-About the logger: FMI 2.0 loggers are variadic, which ctypes cannot receive, so fmpy routes
-messages through a native proxy (``fmpy.logging.addLoggerProxy``) that formats them and
-calls ONE process-wide Python callback (a static pointer in the proxy library). This module
-installs its capturing callback there once, at import, and keeps it alive for the life of
-the process. Never pass ``logger=`` to ``fmpy.simulate_fmu`` in these tests: fmpy would
-repoint the proxy at a temporary callback that is freed after the call, and the next FMU
-message would jump to freed memory.
+About the logger: the FMUs' messages are captured by ``mechfmu_validate.fmulog``, the one
+log capture of mechfmu's Python side (``mechfmu validate`` uses it too; see its docstring).
+This module installs it at import: fmpy's process-wide logger proxy then calls its callback,
+and ``LogMark``, ``LogRecord`` and ``CALLBACKS`` here are its. Never pass ``logger=`` to
+``fmpy.simulate_fmu`` in these tests: fmpy would repoint the proxy at a temporary callback
+that is freed after the call, and the next FMU message would jump to freed memory.
 """
 
 from __future__ import annotations
@@ -21,11 +20,10 @@ from __future__ import annotations
 import json
 import math
 import os
-import re
 import shutil
 import tempfile
 import threading
-from ctypes import byref, c_double, c_uint
+from ctypes import c_double, c_uint
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterable, Sequence
@@ -36,19 +34,10 @@ import pytest
 import fmpy
 from fmpy import read_model_description
 from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import (
-    FMU2Slave,
-    fmi2CallbackAllocateMemoryTYPE,
-    fmi2CallbackFreeMemoryTYPE,
-    fmi2CallbackFunctions,
-    fmi2CallbackLoggerTYPE,
-    fmi2Discard,
-    fmi2Error,
-    fmi2Fatal,
-    fmi2OK,
-    fmi2Pending,
-    fmi2Warning,
-)
+from fmpy.fmi2 import FMU2Slave, fmi2OK, fmi2Warning
+
+from mechfmu_validate import fmulog
+from mechfmu_validate.fmulog import LogMark, LogRecord, status_name  # noqa: F401 (the suite's names)
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 # MECHFMU_FMU_DIR points the suite at FMUs built elsewhere (`mechfmu build --out DIR`).
@@ -56,20 +45,6 @@ FMU_DIR = Path(os.environ.get("MECHFMU_FMU_DIR") or REPO_ROOT / "fmus").resolve(
 FIGURES_DIR = REPO_ROOT / "target" / "test-figures"
 
 BUILD_HINT = "run `cargo run --release -- build` first"
-
-STATUS_NAMES = {
-    fmi2OK: "fmi2OK",
-    fmi2Warning: "fmi2Warning",
-    fmi2Discard: "fmi2Discard",
-    fmi2Error: "fmi2Error",
-    fmi2Fatal: "fmi2Fatal",
-    fmi2Pending: "fmi2Pending",
-}
-
-
-def status_name(status: int) -> str:
-    return STATUS_NAMES.get(status, f"status {status}")
-
 
 # ---------------------------------------------------------------------------------------
 # FMU files
@@ -106,80 +81,14 @@ def cleanup_extracted() -> None:
 
 
 # ---------------------------------------------------------------------------------------
-# Log capture
+# Log capture (mechfmu_validate.fmulog)
 
-
-@dataclass(frozen=True)
-class LogRecord:
-    instance: str
-    status: int
-    category: str
-    message: str
-
-    def __str__(self) -> str:
-        return f"[{status_name(self.status)}|{self.category}] {self.instance}: {self.message}"
-
-
-_records: list[LogRecord] = []
-_raw_records: list[LogRecord] = []
-
-
-def _decode(b: bytes | None) -> str:
-    return "" if b is None else b.decode("utf-8", errors="replace")
-
-
-def _capture(env, instance_name, status, category, message):  # called from C through fmpy's proxy
-    _records.append(LogRecord(_decode(instance_name), int(status), _decode(category), _decode(message)))
-
-
-def _capture_raw(env, instance_name, status, category, message):  # called from C, no proxy
-    _raw_records.append(LogRecord(_decode(instance_name), int(status), _decode(category), _decode(message)))
-
-
-# Kept alive for the life of the process (see the module docstring).
-_LOGGER = fmi2CallbackLoggerTYPE(_capture)
-_RAW_LOGGER = fmi2CallbackLoggerTYPE(_capture_raw)
-_ALLOCATE = fmi2CallbackAllocateMemoryTYPE(fmpy.calloc)
-_FREE = fmi2CallbackFreeMemoryTYPE(fmpy.free)
-
-CALLBACKS = fmi2CallbackFunctions()
-CALLBACKS.logger = _LOGGER
-CALLBACKS.allocateMemory = _ALLOCATE
-CALLBACKS.freeMemory = _FREE
-CALLBACKS.componentEnvironment = None
-
-from fmpy.logging import addLoggerProxy  # noqa: E402
-
-# Formats the variadic message and forwards it to _capture. Since the proxy's target is
-# process-wide, fmpy's default callbacks (used by a plain simulate_fmu) now land here too.
-addLoggerProxy(byref(CALLBACKS))
-
-# Callbacks without the proxy: the Python function sees the *format* argument, so a test
-# can check that messages are passed as ("%s", text), never as the format string itself.
-RAW_CALLBACKS = fmi2CallbackFunctions()
-RAW_CALLBACKS.logger = _RAW_LOGGER
-RAW_CALLBACKS.allocateMemory = _ALLOCATE
-RAW_CALLBACKS.freeMemory = _FREE
-RAW_CALLBACKS.componentEnvironment = None
-
-
-class LogMark:
-    """Collects the records logged after its creation."""
-
-    def __init__(self, raw: bool = False):
-        self._list = _raw_records if raw else _records
-        self._start = len(self._list)
-
-    @property
-    def records(self) -> list[LogRecord]:
-        return list(self._list[self._start :])
-
-    def text(self) -> str:
-        return "\n".join(str(r) for r in self.records) or "(nothing logged)"
-
-    def find(self, pattern: str, *, status: int | None = None, flags: int = re.IGNORECASE) -> list[LogRecord]:
-        rx = re.compile(pattern, flags)
-        return [r for r in self.records if rx.search(r.message) and (status is None or r.status == status)]
+# Through fmpy's proxy, which now calls fmulog's capture: fmpy's default callbacks (used by a
+# plain simulate_fmu) land there too.
+CALLBACKS = fmulog.install()
+# Without the proxy: the Python function sees the *format* argument, so a test can check
+# that messages are passed as ("%s", text), never as the format string itself.
+RAW_CALLBACKS = fmulog.raw_callbacks()
 
 
 # ---------------------------------------------------------------------------------------

@@ -1,4 +1,4 @@
-"""The optional FMI 2.0 co-simulation capabilities, through FMPy (issue 6): FMU state and
+"""The optional FMI 2.0 co-simulation capabilities, through FMPy: FMU state and
 its serialized form (across processes), reset, input interpolation, directional
 derivatives (linearization)."""
 

@@ -10,7 +10,6 @@ under fmus/<crate>/reference/ (packaged into each FMU) are current.
 
 from __future__ import annotations
 
-import sys
 import tomllib
 import zipfile
 from pathlib import Path
@@ -20,15 +19,14 @@ import pytest
 
 import fmutest
 
-REPO = fmutest.REPO_ROOT
-sys.path.insert(0, str(REPO / "python"))
+from mechfmu_validate.case import evaluate, signal_scale
+from mechfmu_validate.checks import REFERENCE_CSV_TOLERANCE, REFERENCE_DIR, read_csv, run_checks
+from mechfmu_validate.cli import LIBCOSIM_TOLERANCE
+from mechfmu_validate.importers import Fmu, agreement, libcosim_available, run_fmpy, run_libcosim
+from mechfmu_validate.loader import default_case, load_cases
+from mechfmu_validate.reference import reference_table
 
-from mechfmu_validate.case import evaluate, signal_scale  # noqa: E402
-from mechfmu_validate.checks import REFERENCE_CSV_TOLERANCE, REFERENCE_DIR, read_csv, run_checks  # noqa: E402
-from mechfmu_validate.cli import LIBCOSIM_TOLERANCE  # noqa: E402
-from mechfmu_validate.importers import Fmu, agreement, libcosim_available, run_fmpy, run_libcosim  # noqa: E402
-from mechfmu_validate.loader import default_case, load_cases  # noqa: E402
-from mechfmu_validate.reference import reference_table  # noqa: E402
+REPO = fmutest.REPO_ROOT
 
 
 def _crates() -> list[tuple[str, Path]]:

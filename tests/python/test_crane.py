@@ -30,7 +30,6 @@ from scipy.integrate import simpson
 from scipy.special import ellipk
 
 from fmpy.fmi2 import fmi2Discard, fmi2Error, fmi2OK, fmi2Warning
-from fmpy.validation import validate_fmu
 
 from fmutest import LogMark, max_error, record_figures, simulate, status_name
 from refs import crane as ref_crane
@@ -40,7 +39,7 @@ from refs._common import run as run_reference
 NAME = "Crane"
 FIG = "crane"
 REL_LIMIT = 1e-6  # max |FMU - reference| / range of the reference
-RTOL = 1e-8  # FMPy relative_tolerance used throughout (the issue's)
+RTOL = 1e-8  # FMPy relative_tolerance used throughout
 P = {"m": 1000.0, "l": 5.0, "g": 9.81}
 START = {"x": 10.0, "x_dot": 0.0, "theta": 0.5, "theta_dot": 0.0, "phi": 0.0, "phi_dot": 0.0}
 STATES = ("x", "x_dot", "theta", "theta_dot", "phi", "phi_dot")
@@ -191,55 +190,7 @@ def test_exact_pendulum_reference_is_the_elliptic_solution():
 
 
 # =======================================================================================
-# modelDescription
-
-
-def test_validate_fmu_reports_no_problems(fmu):
-    problems = validate_fmu(str(fmu(NAME)))
-    assert problems == [], "fmpy.validation.validate_fmu found problems:\n" + "\n".join(problems)
-
-
-CONTRACT = [  # name, causality, variability, unit, start
-    ("m", "parameter", "fixed", "kg", 1000.0),
-    ("l", "parameter", "fixed", "m", 5.0),
-    ("g", "parameter", "fixed", "m/s2", 9.81),
-    ("x_ddot", "input", "continuous", "m/s2", 0.0),
-    ("theta_ddot", "input", "continuous", "rad/s2", 0.0),
-    ("x", "output", "continuous", "m", 10.0),
-    ("x_dot", "output", "continuous", "m/s", 0.0),
-    ("theta", "output", "continuous", "rad", 0.5),
-    ("theta_dot", "output", "continuous", "rad/s", 0.0),
-    ("phi", "output", "continuous", "rad", 0.0),
-    ("phi_dot", "output", "continuous", "rad/s", 0.0),
-    ("T", "output", "continuous", "N", None),
-    ("F", "output", "continuous", "N", None),
-    ("tau", "output", "continuous", "N.m", None),
-    ("payload_x", "output", "continuous", "m", None),
-    ("payload_y", "output", "continuous", "m", None),
-]
-
-
-def test_variables_follow_the_contract(fmu):
-    import fmpy
-
-    md = fmpy.read_model_description(str(fmu(NAME)), validate=False)
-    v = {sv.name: sv for sv in md.modelVariables}
-    for name, causality, variability, unit, start in CONTRACT:
-        sv = v[name]
-        assert (sv.causality, sv.variability) == (causality, variability), name
-        assert (sv.unit or (sv.declaredType.unit if sv.declaredType else None)) == unit, name
-        if start is None:
-            assert sv.initial == "calculated" and sv.start is None, name
-        else:
-            assert float(sv.start) == start, name
-    for state in ("x", "x_dot", "theta", "theta_dot", "phi", "phi_dot"):
-        assert v[state].initial == "exact"
-    assert md.defaultExperiment.stopTime == "20" or float(md.defaultExperiment.stopTime) == 20.0
-    assert float(md.defaultExperiment.stepSize) == 0.01
-    # the inputs are the derivatives of x_dot and theta_dot
-    ders = {d.variable.derivative.name: d.variable.name for d in md.derivatives}
-    assert ders == {"x": "x_dot", "x_dot": "x_ddot", "theta": "theta_dot", "theta_dot": "theta_ddot",
-                    "phi": "phi_dot", "phi_dot": "phi_ddot", "W_drives": "P_drives"}, ders
+# modelDescription: checked against fmus/crane/validation/contract.py by test_contract.py
 
 
 # =======================================================================================

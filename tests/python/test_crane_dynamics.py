@@ -28,7 +28,6 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from fmpy.fmi2 import fmi2Discard, fmi2Error, fmi2OK, fmi2Warning
-from fmpy.validation import validate_fmu
 
 import fmutest
 from fmutest import LogMark, max_error, record_figures, simulate, status_name
@@ -292,54 +291,7 @@ def test_energy_and_formula_a_references_agree_with_derive():
 
 
 # =======================================================================================
-# modelDescription
-
-
-def test_validate_fmu_reports_no_problems(fmu):
-    problems = validate_fmu(str(fmu(NAME)))
-    assert problems == [], "fmpy.validation.validate_fmu found problems:\n" + "\n".join(problems)
-
-
-CONTRACT = [  # name, causality, variability, unit, start (None: calculated output)
-    ("m", "parameter", "fixed", "kg", 1000.0),
-    ("l", "parameter", "fixed", "m", 5.0),
-    ("g", "parameter", "fixed", "m/s2", 9.81),
-    ("J_boom", "parameter", "fixed", "kg.m2", 5000.0),
-    ("m_trolley", "parameter", "fixed", "kg", 200.0),
-    ("F", "input", "continuous", "N", F0),
-    ("tau", "input", "continuous", "N.m", TAU0),
-    ("x", "output", "continuous", "m", 10.0),
-    ("x_dot", "output", "continuous", "m/s", 0.0),
-    ("theta", "output", "continuous", "rad", 0.5),
-    ("theta_dot", "output", "continuous", "rad/s", 0.0),
-    ("phi", "output", "continuous", "rad", 0.0),
-    ("phi_dot", "output", "continuous", "rad/s", 0.0),
-    ("T", "output", "continuous", "N", None),
-    ("payload_x", "output", "continuous", "m", None),
-    ("payload_y", "output", "continuous", "m", None),
-    ("x_ddot", "output", "continuous", "m/s2", None),
-    ("theta_ddot", "output", "continuous", "rad/s2", None),
-]
-
-
-def test_variables_follow_the_contract(fmu):
-    import fmpy
-
-    md = fmpy.read_model_description(str(fmu(NAME)), validate=False)
-    v = {sv.name: sv for sv in md.modelVariables}
-    for name, causality, variability, unit, start in CONTRACT:
-        sv = v[name]
-        assert (sv.causality, sv.variability) == (causality, variability), name
-        assert (sv.unit or (sv.declaredType.unit if sv.declaredType else None)) == unit, name
-        if start is None:
-            assert sv.initial == "calculated" and sv.start is None, name
-        else:
-            assert float(sv.start) == start, name  # the inputs start at the static loads
-    for name in ("m", "l", "J_boom", "m_trolley"):
-        assert float(v[name].min) == 0.0, name
-    ders = {d.variable.derivative.name: d.variable.name for d in md.derivatives}
-    assert ders == {"x": "x_dot", "x_dot": "x_ddot", "theta": "theta_dot", "theta_dot": "theta_ddot",
-                    "phi": "phi_dot", "phi_dot": "phi_ddot", "W_drives": "P_drives"}, ders
+# modelDescription: checked against fmus/crane_dynamics/validation/contract.py by test_contract.py
 
 
 # =======================================================================================

@@ -1,4 +1,4 @@
-"""Issue 10's scenario, as a new user would go through it, outside the repository:
+"""A new user's first mechanism, as they would go through it, outside the repository:
 `mechfmu new DoublePendulum`, replace the example with a double pendulum, build, validate,
 and check the physics (energy conserved to 1e-8 relative over 10 s at rtol 1e-10)."""
 

@@ -25,10 +25,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-import fmpy
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import fmi2Error, fmi2Fatal, fmi2OK, fmi2Warning
-from fmpy.validation import validate_fmu
 
 import fmutest
 from fmutest import LogMark, Slave, make_input, max_error, record_figures, simulate, status_name
@@ -298,12 +296,7 @@ def test_reference_regimes_are_the_named_ones():
 
 
 # =======================================================================================
-# modelDescription
-
-
-def test_validate_fmu_reports_no_problems(fmu):
-    problems = validate_fmu(str(fmu(NAME)))
-    assert problems == [], "fmpy.validation.validate_fmu found problems:\n" + "\n".join(problems)
+# modelDescription (checked against fmus/oscillator/validation/contract.py by test_contract.py)
 
 
 def test_fmpy_validate_cli_exits_zero(fmu):
@@ -312,104 +305,6 @@ def test_fmpy_validate_cli_exits_zero(fmu):
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, f"`fmpy validate` exited {proc.returncode}:\n{proc.stdout}\n{proc.stderr}"
     assert "No problems found" in proc.stdout
-
-
-def _md(fmu):
-    return fmpy.read_model_description(str(fmu(NAME)), validate=False)
-
-
-def _raw_variables(fmu) -> dict[str, dict[str, str]]:
-    """The <ScalarVariable> attributes exactly as written (fmpy fills in defaults)."""
-    import xml.etree.ElementTree as ET
-    import zipfile
-
-    with zipfile.ZipFile(fmu(NAME)) as z:
-        root = ET.fromstring(z.read("modelDescription.xml"))
-    return {sv.get("name"): dict(sv.attrib) for sv in root.iter("ScalarVariable")}
-
-
-def test_model_description_identity_and_capabilities(fmu):
-    md = _md(fmu)
-    assert md.fmiVersion == "2.0"
-    assert md.modelName == NAME
-    assert md.coSimulation is not None, "no <CoSimulation> element"
-    assert md.coSimulation.modelIdentifier == NAME
-    assert md.modelExchange is None, "the FMU declares Model Exchange, which mechfmu does not export"
-    assert md.coSimulation.canHandleVariableCommunicationStepSize, \
-        "canHandleVariableCommunicationStepSize must be true (variable communication steps are supported)"
-    assert re.fullmatch(r"\{?[0-9a-fA-F]{8}-[0-9a-fA-F]{4}-[0-9a-fA-F]{4}-[0-9a-fA-F]{4}-[0-9a-fA-F]{12}\}?",
-                        md.guid or ""), f"guid {md.guid!r} is not a GUID"
-
-
-def test_default_experiment(fmu):
-    ex = _md(fmu).defaultExperiment
-    assert ex is not None, "no <DefaultExperiment>"
-    assert float(ex.startTime or 0.0) == 0.0
-    assert float(ex.stopTime) == STOP
-    assert float(ex.stepSize) == 0.01
-
-
-# (causality, variability, initial or None for "absent or calculated", start or None, SI dims)
-# dims: exponents (kg, m, s, rad); None = dimensionless (no unit, or a unit with zero exponents)
-CONTRACT = {
-    "m": ("parameter", "fixed", "exact", 1.0, (1, 0, 0, 0)),
-    "c": ("parameter", "tunable", "exact", 0.4, (1, 0, -1, 0)),
-    "k": ("parameter", "tunable", "exact", 4.0, (1, 0, -2, 0)),
-    "F0": ("parameter", "tunable", "exact", 0.0, (1, 1, -2, 0)),
-    "omega": ("parameter", "tunable", "exact", 1.0, (0, 0, -1, 1)),
-    "F": ("input", "continuous", None, 0.0, (1, 1, -2, 0)),
-    "x": ("output", "continuous", "exact", 1.0, (0, 1, 0, 0)),
-    "x_dot": ("output", "continuous", "exact", 0.0, (0, 1, -1, 0)),
-    "x_ddot": ("output", "continuous", "calculated", None, (0, 1, -2, 0)),
-    "omega_n": ("calculatedParameter", ("fixed", "tunable"), "calculated", None, (0, 0, -1, 1)),
-    "zeta": ("calculatedParameter", ("fixed", "tunable"), "calculated", None, None),
-}
-
-
-@pytest.mark.parametrize("name", list(CONTRACT))
-def test_variable_matches_contract(fmu, name):
-    md = _md(fmu)
-    variables = {v.name: v for v in md.modelVariables}
-    assert name in variables, f"variable {name!r} missing (has {sorted(variables)})"
-    v = variables[name]
-    raw_initial = _raw_variables(fmu)[name].get("initial")
-    causality, variability, initial, start, dims = CONTRACT[name]
-    assert v.type == "Real"
-    assert v.causality == causality
-    if isinstance(variability, tuple):
-        assert v.variability in variability
-    else:
-        assert v.variability == variability
-    if causality == "input":
-        assert raw_initial is None, f"inputs must not carry an `initial` attribute (has {raw_initial!r})"
-    elif initial == "calculated":
-        assert raw_initial in (None, "calculated"), f"initial={raw_initial!r}"
-        assert v.start is None, "a calculated variable must not have a start value"
-    else:
-        assert raw_initial == initial, f"initial={raw_initial!r}, the contract says {initial!r}"
-    if start is not None:
-        assert v.start is not None and float(v.start) == start
-    assert v.description, f"{name} has no description"
-    units = {u.name: u for u in md.unitDefinitions}
-    unit = v.unit or (v.declaredType.unit if v.declaredType is not None else None)
-    if dims is None:
-        if unit is not None:
-            bu = units[unit].baseUnit
-            assert bu is None or (bu.kg, bu.m, bu.s, bu.rad) == (0, 0, 0, 0)
-    else:
-        assert unit is not None, f"{name} has no unit"
-        assert unit in units, f"unit {unit!r} of {name} is not in <UnitDefinitions>"
-        bu = units[unit].baseUnit
-        assert bu is not None, f"unit {unit!r} has no <BaseUnit>"
-        assert (bu.kg, bu.m, bu.s, bu.rad) == dims, f"unit {unit!r}: (kg, m, s, rad) exponents"
-        assert (bu.A, bu.K, bu.mol, bu.cd) == (0, 0, 0, 0)
-        assert bu.factor == 1.0 and bu.offset == 0.0
-
-
-def test_mass_declares_a_positive_bound(fmu):
-    m = {v.name: v for v in _md(fmu).modelVariables}["m"]
-    assert m.min is not None, "m must declare min (a mass must be > 0)"
-    assert float(m.min) >= 0.0
 
 
 # =======================================================================================

@@ -33,7 +33,6 @@ from scipy.optimize import least_squares
 
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import fmi2Error, fmi2OK
-from fmpy.validation import validate_fmu
 
 from fmutest import LogMark, max_error, record_figures, simulate
 from refs import derive, step_input
@@ -47,27 +46,6 @@ PARAMETERS = dict(M=1.0, m=0.5, l=0.25, k=10.0, c1=0.0, c2=0.0, g=9.81)
 STARTS = dict(x=0.0, x_dot=0.0, theta=0.3, theta_dot=0.0)
 STATES = ["x", "x_dot", "theta", "theta_dot"]
 OUTPUTS = STATES + ["x_ddot", "theta_ddot", "F_N", "E"]
-
-CONTRACT = {
-    "M": ("parameter", "fixed", "kg", 1.0),
-    "m": ("parameter", "fixed", "kg", 0.5),
-    "l": ("parameter", "fixed", "m", 0.25),
-    "k": ("parameter", "tunable", "N/m", 10.0),
-    "c1": ("parameter", "tunable", "N.s/m", 0.0),
-    "c2": ("parameter", "tunable", "N.m.s/rad", 0.0),
-    "g": ("parameter", "fixed", "m/s2", 9.81),
-    "F": ("input", "continuous", "N", 0.0),
-    "x": ("output", "continuous", "m", 0.0),
-    "x_dot": ("output", "continuous", "m/s", 0.0),
-    "theta": ("output", "continuous", "rad", 0.3),
-    "theta_dot": ("output", "continuous", "rad/s", 0.0),
-    "x_ddot": ("output", "continuous", "m/s2", None),
-    "theta_ddot": ("output", "continuous", "rad/s2", None),
-    "F_N": ("output", "continuous", "N", None),
-    "E": ("output", "continuous", "J", None),
-    "omega_n1": ("calculatedParameter", None, "rad/s", None),
-    "omega_n2": ("calculatedParameter", None, "rad/s", None),
-}
 
 
 def params(**kw) -> dict:
@@ -158,32 +136,7 @@ def _row(var, err, rng, rel, limit, at_t, interval=None):
 
 
 # =======================================================================================
-# The FMU file
-
-
-def test_validate_fmu_reports_no_problems(fmu):
-    problems = validate_fmu(str(fmu(NAME)))
-    assert problems == [], "fmpy.validation.validate_fmu found problems:\n" + "\n".join(problems)
-
-
-def test_variables_match_contract(slave):
-    s = slave(NAME)
-    assert s.md.coSimulation.modelIdentifier == NAME
-    de = s.md.defaultExperiment
-    assert (float(de.startTime), float(de.stopTime), float(de.stepSize)) == (0.0, STOP, 0.01)
-    for name, (causality, variability, unit, start) in CONTRACT.items():
-        v = s.variables.get(name)
-        assert v is not None, f"{name} is missing"
-        assert v.causality == causality, f"{name}: causality {v.causality}"
-        if variability is not None:
-            assert v.variability == variability, f"{name}: variability {v.variability}"
-        assert (v.unit or (v.declaredType.unit if v.declaredType else None)) == unit, f"{name}: unit"
-        if start is not None:
-            assert float(v.start) == start, f"{name}: start {v.start}"
-        if name in STATES:
-            assert v.initial == "exact", f"{name}: initial {v.initial}"
-    for name in ("M", "m", "l"):
-        assert float(s.variables[name].min) == 0.0, f"{name} must declare min 0"
+# The FMU file (its modelDescription: fmus/pendulum_cart/validation/contract.py, test_contract.py)
 
 
 def test_outputs_at_start_follow_the_equations(slave):

@@ -16,7 +16,7 @@ References written here from the mathematics, not from mechfmu's Rust code:
   (M g d = Omega (I_3 w_3 - I_1 Omega cos theta)), the compound pendulum, a constant torque;
 * the independent DOP853 reference of tests/python/refs/rigid_body.py for a general body.
 
-Every simulation runs with relative_tolerance = 1e-8 (the issue's setting) unless a test says
+Every simulation runs with relative_tolerance = 1e-8 unless a test says
 otherwise. Achieved figures are written to target/test-figures/rigid_body.{json,md}.
 """
 
@@ -31,15 +31,14 @@ from scipy.special import ellipj, ellipk
 
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import fmi2Error, fmi2OK
-from fmpy.validation import validate_fmu
 
 from fmutest import LogMark, max_error, record_figures, simulate
 from refs import rigid_body, step_input
 
 NAME = "RigidBody"
 FIGURES = "rigid_body"
-RTOL = 1e-8        # the solver tolerance the issue prescribes
-CONSERVED = 1e-8   # drift of a constant of motion over 20 s, relative (issue)
+RTOL = 1e-8        # the solver tolerance of every run
+CONSERVED = 1e-8   # drift of a constant of motion over 20 s, relative
 REL_LIMIT = 1e-6   # max |FMU - reference| / range, the suite's standard
 STOP = 20.0
 
@@ -50,19 +49,6 @@ PARAMETERS = dict(M=2.0, I_xx=BOX[0], I_yy=BOX[1], I_zz=BOX[2], I_xy=0.0, I_xz=0
                   r_Cx=0.0, r_Cy=0.0, r_Cz=0.0, g=9.81)
 STARTS = dict(w_x=0.01, w_y=5.0, w_z=0.01, q_w=1.0, q_x=0.0, q_y=0.0, q_z=0.0)
 
-# name: (causality, variability, unit, start or None)
-CONTRACT = {
-    **{n: ("parameter", "fixed", "kg", 2.0) for n in ["M"]},
-    **{n: ("parameter", "fixed", "kg.m2", PARAMETERS[n]) for n in ["I_xx", "I_yy", "I_zz", "I_xy", "I_xz", "I_yz"]},
-    **{n: ("parameter", "fixed", "m", 0.0) for n in ["r_Cx", "r_Cy", "r_Cz"]},
-    "g": ("parameter", "fixed", "m/s2", 9.81),
-    **{n: ("input", "continuous", "N.m", 0.0) for n in ["tau_x", "tau_y", "tau_z"]},
-    **{n: ("output", "continuous", "rad/s", STARTS[n]) for n in ["w_x", "w_y", "w_z"]},
-    **{n: ("output", "continuous", "1", STARTS[n]) for n in ["q_w", "q_x", "q_y", "q_z"]},
-    **{n: ("output", "continuous", "kg.m2/s", None) for n in ["H_X", "H_Y", "H_Z"]},
-    **{n: ("output", "continuous", "J", None) for n in ["E_kin", "E_pot"]},
-    **{n: ("calculatedParameter", None, "kg.m2", None) for n in ["I_1", "I_2", "I_3"]},
-}
 W = ["w_x", "w_y", "w_z"]
 Q = ["q_w", "q_x", "q_y", "q_z"]
 H = ["H_X", "H_Y", "H_Z"]
@@ -130,31 +116,7 @@ def rotate(q, v):
 
 
 # =======================================================================================
-# The FMU file
-
-
-def test_validate_fmu_reports_no_problems(fmu):
-    problems = validate_fmu(str(fmu(NAME)))
-    assert problems == [], "fmpy.validation.validate_fmu found problems:\n" + "\n".join(problems)
-
-
-def test_variables_match_contract(slave):
-    s = slave(NAME)
-    de = s.md.defaultExperiment
-    assert (float(de.startTime), float(de.stopTime), float(de.stepSize)) == (0.0, STOP, 0.01)
-    for name, (causality, variability, unit, start) in CONTRACT.items():
-        v = s.variables.get(name)
-        assert v is not None, f"{name} is missing"
-        assert v.causality == causality, f"{name}: causality {v.causality}"
-        if variability is not None:
-            assert v.variability == variability, f"{name}: variability {v.variability}"
-        assert (v.unit or (v.declaredType.unit if v.declaredType else None)) == unit, f"{name}: unit"
-        if start is not None:
-            assert float(v.start) == start, f"{name}: start {v.start}"
-        if causality == "output" and start is not None:
-            assert v.initial == "exact", f"{name}: initial {v.initial}"
-    for name in ["M", "I_xx", "I_yy", "I_zz"]:
-        assert float(s.variables[name].min) == 0.0, f"{name} must declare min 0"
+# The FMU file (its modelDescription: fmus/rigid_body/validation/contract.py, test_contract.py)
 
 
 def test_default_box_and_initial_outputs(slave):

@@ -8,7 +8,8 @@
   processes that do not have the package: the sweep ships it);
 * the command end to end (`cargo run --release -- sweep`): results, plot, exit codes and
   the messages of bad requests;
-* the pieces: specs, designs, schedules, CSV inputs and the summaries.
+* the pieces: specs, designs, schedules, CSV inputs and the summaries; the grammar of the
+  request (python/mechfmu_sweep owns it: `mechfmu sweep` passes its arguments through).
 """
 
 from __future__ import annotations
@@ -27,26 +28,23 @@ import numpy as np
 import pytest
 
 import fmpy
-import fmutest
 from fmutest import REPO_ROOT, fmu_path, make_input
-
-sys.path.insert(0, str(REPO_ROOT / "python"))
-
-from mechfmu_sweep import cli as sweep_cli  # noqa: E402
-from mechfmu_sweep.design import (  # noqa: E402
+from mechfmu_sweep import cli as sweep_cli
+from mechfmu_sweep.design import (
     SpecError,
     build_design,
     input_table,
+    parse_param,
     parse_schedule,
     parse_spec,
 )
-from mechfmu_sweep.runner import (  # noqa: E402
+from mechfmu_sweep.runner import (
     CaseSetup,
     Runtime,
     Summary,
     parse_summary,
-    point_logger_proxy_at,
 )
+from mechfmu_validate import fmulog
 
 SUMMARIES = ["max_abs(phi)", "max(T)", "min(T)", "mean(phi)", "rms(phi)", "max|F|"]
 L_SPEC, A_SPEC = "2:10:20", "0.1:1:10"  # 20 x 10 = 200 cases
@@ -56,9 +54,9 @@ T0, WIDTH = 1.0, 2.0
 @pytest.fixture(autouse=True)
 def suite_logger():
     """An in-process Runtime points fmpy's process-wide logger proxy at its own callback;
-    give it back to fmutest's capture for the tests that follow."""
+    give it back to the suite's capture (mechfmu_validate.fmulog) for the tests that follow."""
     yield
-    point_logger_proxy_at(fmutest._LOGGER)
+    fmulog.repoint()
 
 
 def bangbang_reference(a: float) -> np.ndarray:
@@ -150,12 +148,27 @@ def test_crane_sweep_matches_sequential_simulate_fmu(crane_sweep, tmp_path):
 # An invalid case fails with the FMU's message; the others complete (existing cluster)
 
 
+# Preloaded into the worker process: the venv's interpreter has mechfmu's packages installed
+# (editable, python/pyproject.toml), so take them away there, as on a machine without them.
+WITHOUT_THE_PACKAGE = f"""
+import importlib, sys
+sys.meta_path[:] = [f for f in sys.meta_path
+                    if not ("__editable__" in getattr(f, "__module__", "") and "mechfmu" in f.__module__)]
+sys.path[:] = [p for p in sys.path if not p.startswith({str(REPO_ROOT / "python")!r})]
+for name in [n for n in sys.modules if n.split(".")[0] in ("mechfmu_sweep", "mechfmu_validate")]:
+    del sys.modules[name]
+importlib.invalidate_caches()
+"""
+
+
 @pytest.fixture(scope="module")
 def external_cluster(tmp_path_factory):
-    """`dask scheduler` and one `dask worker` process, on loopback, without this package
-    on their path (the sweep must ship it)."""
+    """`dask scheduler` and one `dask worker` process, on loopback, whose worker does not
+    have this package (the sweep must ship it)."""
     d = tmp_path_factory.mktemp("cluster")
     sched_file = d / "scheduler.json"
+    preload = d / "without_mechfmu.py"
+    preload.write_text(WITHOUT_THE_PACKAGE)
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     log = open(d / "log.txt", "w")
     common = dict(cwd=d, env=env, stdout=subprocess.DEVNULL, stderr=log)
@@ -170,7 +183,7 @@ def external_cluster(tmp_path_factory):
         address = json.loads(sched_file.read_text())["address"]
         procs.append(subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address,
                                        "--host", "127.0.0.1", "--nthreads", "1", "--nworkers", "1",
-                                       "--no-dashboard"], **common))
+                                       "--no-dashboard", "--preload", str(preload)], **common))
         yield address
     finally:
         for p in reversed(procs):
@@ -261,12 +274,18 @@ def test_cli_end_to_end(tmp_path):
         (["--param", "T=2,3"], "`T` cannot be set"),
         (["--param", "l=2", "--summary", "max(phi_dott)"], "no variable `phi_dott`"),
         (["--param", "x_ddot.value=1"], "has no variable `x_ddot.value`"),
+        # checked by the Rust side before it passed its arguments through: now by Python
+        (["--param", "l=2", "--summary", "avg(x)"], "unknown function `avg`"),
+        (["--param", "l=2", "--scheduler", "localhost"], "[tcp://]HOST:PORT"),
+        (["--param", "l=2", "--stop-time", "inf"], "--stop-time inf: not a number"),
+        (["--param", "l=2", "--plot", "p.txt"], "give a .png file"),
     ],
 )
 def test_cli_names_the_problem(args, message):
     p = mechfmu(fmu_path("Crane"), *args, "--no-progress")
     assert p.returncode != 0
     assert message in p.stderr, p.stderr
+    assert "the sweep was not started" in p.stderr and "Traceback" not in p.stderr, p.stderr
 
 
 def test_cli_missing_fmu():
@@ -287,6 +306,88 @@ def test_specs():
                      ("beta(1,2)", "unknown distribution"), ("2,,3", "not a number"), ("", "empty")]:
         with pytest.raises(SpecError, match=why):
             parse_spec("l", bad)
+
+
+# The request's grammar has one implementation, python/mechfmu_sweep (design.py, runner.py,
+# cli.py); `mechfmu sweep` passes its arguments through. These are the cases the Rust side's
+# own checks were tested with (crates/cli/src/sweep.rs: specs, params_schedules_summaries,
+# files_and_addresses), with the same assertions: accepted, or refused with a message
+# containing the text given.
+
+SPECS_ACCEPTED = ["5", "-1", "2:10:17", "2,3,5", "-1,2", "uniform(800,1200)", "normal(0, 0.1)", "1e3:2e3:3", "3:3:1"]
+SPECS_REFUSED = [
+    ("", "empty"),
+    ("2:10", "start:stop:count"),
+    ("2:10:0", "start:stop:count"),
+    ("2:10:1.5", "start:stop:count"),
+    ("2:10:1", "1 point"),
+    ("uniform(2,1)", "a < b"),
+    ("normal(0,-1)", "sigma > 0"),
+    ("gauss(0,1)", "unknown distribution"),
+    ("uniform(1)", "2 arguments"),
+    ("2,x", "`x` is not a number"),
+    ("inf", "not a number"),
+]
+
+
+def refused(parse, text) -> str:
+    with pytest.raises(SpecError) as info:
+        parse(text)
+    return str(info.value)
+
+
+@pytest.mark.parametrize("spec", SPECS_ACCEPTED)
+def test_spec_grammar_accepts(spec):
+    parse_spec("l", spec)
+
+
+@pytest.mark.parametrize("spec, why", SPECS_REFUSED)
+def test_spec_grammar_names_the_problem(spec, why):
+    message = refused(lambda t: parse_spec("l", t), spec)
+    assert why in message, f"{spec!r}: {message}"
+
+
+def test_param_schedule_and_summary_grammar():
+    assert parse_param("l=2:10:17").values == tuple(np.linspace(2, 10, 17))
+    assert parse_param("x_ddot.value=0.1,1").name == "x_ddot.value"
+    for bad in ["=3", "l"]:
+        assert "NAME=SPEC" in refused(parse_param, bad), bad
+    for ok in ["x_ddot=bangbang(t0=1,width=2,value=0.5)", "x_ddot=step(1, 0.5)", "x_ddot=step()"]:
+        parse_schedule(ok)
+    for bad, why in [("x_ddot=sine(1)", "unknown shape"), ("x_ddot=step(t0=1,amp=2)", "no argument `amp`"),
+                     ("x_ddot=step(t0=1,2)", "positional"), ("x_ddot=step(1,2,3)", "at most 2")]:
+        message = refused(parse_schedule, bad)
+        assert why in message, f"{bad}: {message}"
+    for ok in ["max_abs(phi)", "max|phi|", "max(T)", "min(x)", "rms(x)"]:
+        parse_summary(ok)
+    assert "unknown function" in refused(parse_summary, "avg(x)")
+    assert "FUNC(variable)" in refused(parse_summary, "phi")
+
+
+def test_files_and_addresses():
+    sweep_cli.check_out(Path("r.parquet"))
+    sweep_cli.check_out(Path("r.CSV"))
+    assert ".parquet or .csv" in refused(sweep_cli.check_out, Path("r.xlsx"))
+    refused(sweep_cli.check_plot, Path("p.txt"))
+    sweep_cli.check_scheduler("tcp://127.0.0.1:8786")
+    sweep_cli.check_scheduler("localhost:8786")
+    refused(sweep_cli.check_scheduler, "localhost")
+
+
+def test_the_numbers_of_the_request_are_checked_before_the_fmu_is_read():
+    """What clap's value parsers of the Rust side refused (a non-finite time, a step or a
+    tolerance <= 0) is refused here, before the FMU is even looked at."""
+    parser = sweep_cli.make_parser()
+    for extra, why in [(["--start-time", "nan"], "--start-time nan: not a number"),
+                       (["--stop-time", "inf"], "--stop-time inf: not a number"),
+                       (["--output-interval", "0"], "--output-interval 0.0: must be a finite number > 0"),
+                       (["--tolerance=-1e-6"], "--tolerance -1e-06: must be a finite number > 0"),
+                       (["--tolerance", "inf"], "must be a finite number > 0"),
+                       (["--workers", "0"], "--workers must be >= 1"),
+                       (["--seed", "-1"], "--seed -1: must be an integer from 0")]:
+        args = parser.parse_args(["no/such.fmu", "--param", "l=2", *extra])
+        message = refused(sweep_cli.Plan, args)
+        assert why in message, f"{extra}: {message}"
 
 
 def test_design_full_factorial_and_seeded_draws():
@@ -374,7 +475,7 @@ def test_the_suite_logger_works_after_an_in_process_runtime(slave):
         assert "l = -2" in rt.run([(0, [-2.0])])[0]["message"]
     finally:
         rt.close()
-    point_logger_proxy_at(fmutest._LOGGER)  # what the autouse fixture does after each test
+    fmulog.repoint()  # what the autouse fixture does after each test
     s = slave("Crane")
     s.setup()
     s.set(l=-3.0)

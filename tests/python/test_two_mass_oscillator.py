@@ -28,7 +28,6 @@ from scipy.linalg import eigh, expm, solve
 
 from fmpy.fmi2 import fmi2Error, fmi2OK
 from fmpy.fmi1 import FMICallException
-from fmpy.validation import validate_fmu
 
 from fmutest import LogMark, max_error, record_figures, simulate
 from refs import step_input, two_mass
@@ -41,32 +40,6 @@ STOP = 30.0
 PARAMETERS = dict(m1=1.0, m2=1.0, k1=1.0, k2=1.0, k3=1.0, c1=0.0, c2=0.0, c3=0.0)
 STARTS = dict(x1=1.0, x2=0.0, x1_dot=0.0, x2_dot=0.0)
 
-# name: (causality, variability, unit, start or None)
-CONTRACT = {
-    "m1": ("parameter", "fixed", "kg", 1.0),
-    "m2": ("parameter", "fixed", "kg", 1.0),
-    "k1": ("parameter", "tunable", "N/m", 1.0),
-    "k2": ("parameter", "tunable", "N/m", 1.0),
-    "k3": ("parameter", "tunable", "N/m", 1.0),
-    "c1": ("parameter", "tunable", "N.s/m", 0.0),
-    "c2": ("parameter", "tunable", "N.s/m", 0.0),
-    "c3": ("parameter", "tunable", "N.s/m", 0.0),
-    "F1": ("input", "continuous", "N", 0.0),
-    "F2": ("input", "continuous", "N", 0.0),
-    "x1": ("output", "continuous", "m", 1.0),
-    "x2": ("output", "continuous", "m", 0.0),
-    "x1_dot": ("output", "continuous", "m/s", 0.0),
-    "x2_dot": ("output", "continuous", "m/s", 0.0),
-    "x1_ddot": ("output", "continuous", "m/s2", None),
-    "x2_ddot": ("output", "continuous", "m/s2", None),
-    "E": ("output", "continuous", "J", None),
-    "omega_n1": ("calculatedParameter", None, "rad/s", None),
-    "omega_n2": ("calculatedParameter", None, "rad/s", None),
-    "mode1_x1": ("calculatedParameter", None, "1", None),
-    "mode1_x2": ("calculatedParameter", None, "1", None),
-    "mode2_x1": ("calculatedParameter", None, "1", None),
-    "mode2_x2": ("calculatedParameter", None, "1", None),
-}
 CALCULATED = ["omega_n1", "omega_n2", "mode1_x1", "mode1_x2", "mode2_x1", "mode2_x2"]
 
 
@@ -145,35 +118,7 @@ def _row(var, err, rng, rel, limit, at_t, interval=None):
 
 
 # =======================================================================================
-# The FMU file
-
-
-def test_validate_fmu_reports_no_problems(fmu):
-    problems = validate_fmu(str(fmu(NAME)))
-    assert problems == [], "fmpy.validation.validate_fmu found problems:\n" + "\n".join(problems)
-
-
-def test_variables_match_contract(slave):
-    s = slave(NAME)
-    md = s.md
-    assert md.coSimulation.modelIdentifier == NAME
-    de = md.defaultExperiment
-    assert (float(de.startTime), float(de.stopTime), float(de.stepSize)) == (0.0, STOP, 0.01)
-    for name, (causality, variability, unit, start) in CONTRACT.items():
-        v = s.variables.get(name)
-        assert v is not None, f"{name} is missing"
-        assert v.causality == causality, f"{name}: causality {v.causality}"
-        if variability is not None:
-            assert v.variability == variability, f"{name}: variability {v.variability}"
-        assert (v.unit or (v.declaredType.unit if v.declaredType else None)) == unit, f"{name}: unit"
-        if start is not None:
-            assert float(v.start) == start, f"{name}: start {v.start}"
-        if name in ("x1", "x2", "x1_dot", "x2_dot"):
-            assert v.initial == "exact", f"{name}: initial {v.initial}"
-    for name in ("m1", "m2"):
-        assert float(s.variables[name].min) == 0.0, f"{name} must declare min 0"
-    for name in ("k1", "k2", "k3", "c1", "c2", "c3"):
-        assert float(s.variables[name].min) == 0.0, f"{name} must declare min 0"
+# The FMU file (its modelDescription: fmus/two_mass_oscillator/validation/contract.py, test_contract.py)
 
 
 def test_start_values_read_back_after_initialization(slave):

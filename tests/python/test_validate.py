@@ -72,7 +72,9 @@ def broken_oscillator(tmp_path_factory) -> Path:
     text = manifest.read_text()
     text = text.replace('name = "oscillator-fmu"', 'name = "broken-oscillator-fmu"')
     text = text.replace('name = "oscillator"', 'name = "broken_oscillator"')
-    text = re.sub(r'mechfmu = \{ path = "[^"]*" \}', f'mechfmu = {{ path = "{REPO.as_posix()}" }}', text)
+    # the path dependencies (mechfmu, mechfmu-testkit), relative to fmus/oscillator: made absolute
+    text = re.sub(r'path = "([^"]*)"',
+                  lambda m: f'path = "{(REPO / "fmus/oscillator" / m.group(1)).resolve().as_posix()}"', text)
     # a workspace of its own, with the repository's release profile and lock file, so that the
     # shared target directory's compiled dependencies are reused
     profile = re.search(r"\[profile\.release\][^\[]*", (REPO / "Cargo.toml").read_text())
@@ -131,7 +133,6 @@ def test_the_fmi_crate_rows_fail_when_its_runner_is_missing(tmp_path):
     the fmi-crate row fails, saying why; FMPy's row still passes."""
     js = tmp_path / "missing.json"
     env = {k: v for k, v in os.environ.items() if k != "MECHFMU_FMI_RUN"}
-    env["PYTHONPATH"] = str(REPO / "python")
     proc = subprocess.run([sys.executable, "-m", "mechfmu_validate", str(fmutest.fmu_path("Oscillator")),
                            "--cases", f"Oscillator={REPO / 'fmus/oscillator/validation/cases.py'}",
                            "--case", "free_critical", "--no-libcosim", "--json", str(js)],

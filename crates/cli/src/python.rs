@@ -1,5 +1,6 @@
 //! The Python environment validation and sweeps run in: a venv under `target/venv` with
-//! the pinned packages of `tests/python/requirements.txt`, created on first use.
+//! the pinned packages of `tests/python/requirements.txt` and mechfmu's own Python packages
+//! (`python/`: `mechfmu_validate`, `mechfmu_sweep`) installed editable, created on first use.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -9,16 +10,29 @@ pub fn venv_python(workspace: &Path) -> PathBuf {
     workspace.join("target/venv/bin/python")
 }
 
-/// Creates or updates the venv when its requirements changed (the same stamp as
-/// `scripts/test`), telling the user what takes time. Returns the interpreter.
+/// Creates or updates the venv when its requirements or `python/pyproject.toml` changed (the
+/// same stamps as `scripts/test`: copies of both files in the venv), telling the user what
+/// takes time. Returns the interpreter.
 pub fn ensure_venv(workspace: &Path) -> Result<PathBuf, String> {
-    let requirements = workspace.join("tests/python/requirements.txt");
     let venv = workspace.join("target/venv");
     let python = venv_python(workspace);
-    let wanted = std::fs::read(&requirements)
-        .map_err(|e| format!("cannot read {}: {e}", requirements.display()))?;
-    let stamp = venv.join(".requirements");
-    if python.exists() && std::fs::read(&stamp).is_ok_and(|s| s == wanted) {
+    let requirements = workspace.join("tests/python/requirements.txt");
+    let package = workspace.join("python");
+    // each file, and its copy in the venv that says what was installed
+    let stamps = [
+        (requirements.clone(), venv.join(".requirements")),
+        (package.join("pyproject.toml"), venv.join(".pyproject.toml")),
+    ];
+    let mut wanted = Vec::new();
+    for (file, _) in &stamps {
+        wanted
+            .push(std::fs::read(file).map_err(|e| format!("cannot read {}: {e}", file.display()))?);
+    }
+    let current = stamps
+        .iter()
+        .zip(&wanted)
+        .all(|((_, stamp), want)| std::fs::read(stamp).is_ok_and(|s| &s == want));
+    if python.exists() && current {
         return Ok(python);
     }
     eprintln!(
@@ -37,7 +51,18 @@ pub fn ensure_venv(workspace: &Path) -> Result<PathBuf, String> {
             .arg(&requirements),
         "install the pinned Python packages",
     )?;
-    std::fs::write(&stamp, wanted).map_err(|e| format!("cannot write {}: {e}", stamp.display()))?;
+    // editable: the venv imports the packages from `python/` (no PYTHONPATH); their
+    // dependencies are the pins above
+    run(
+        Command::new(&python)
+            .args(["-m", "pip", "install", "-q", "--no-deps", "-e"])
+            .arg(&package),
+        "install mechfmu's Python packages (python/)",
+    )?;
+    for ((_, stamp), want) in stamps.iter().zip(wanted) {
+        std::fs::write(stamp, want)
+            .map_err(|e| format!("cannot write {}: {e}", stamp.display()))?;
+    }
     Ok(python)
 }
 

@@ -4,7 +4,8 @@
 //! FMPy; with a table, an exit status, and optionally a report.
 //!
 //! The work is done by the Python package `mechfmu_validate` (in `python/` of mechfmu's
-//! source tree), run in the venv that [`ensure_venv`](super::ensure_venv) provisions. The
+//! source tree), installed in the venv that [`ensure_venv`](super::python::ensure_venv)
+//! provisions (editable, so the venv's interpreter imports it as is). The
 //! fmi-crate importer is a separate executable, `mechfmu-fmi-run` (`tools/fmi-run`), which
 //! this command builds first (`cargo build --release -p mechfmu-fmi-run` in mechfmu's source
 //! tree; it needs libclang) and names to the Python side in `MECHFMU_FMI_RUN`. If it cannot
@@ -146,16 +147,10 @@ pub fn run(args: Args) -> Result<(), String> {
             }
         }
     };
-    let mut pythonpath = std::ffi::OsString::from(home.join("python"));
-    if let Some(existing) = std::env::var_os("PYTHONPATH").filter(|p| !p.is_empty()) {
-        pythonpath.push(":");
-        pythonpath.push(existing);
-    }
     let mut command = Command::new(&python);
     command
         .args(["-m", "mechfmu_validate"])
         .args(&py)
-        .env("PYTHONPATH", pythonpath)
         .env_remove(FMI_RUN_ENV);
     if let Some(path) = &fmi_run {
         command.env(FMI_RUN_ENV, path);

@@ -540,7 +540,7 @@ impl Report {
         if let Some(b) = &self.build {
             let _ = writeln!(o, "\nClean release build of every FMU: {:.0} s.", b.seconds);
         }
-        let _ = writeln!(o, "\n**Targets** (issue 9):\n");
+        let _ = writeln!(o, "\n**Targets**:\n");
         let _ = writeln!(o, "| target | limit | measured | met |");
         let _ = writeln!(o, "|---|---|---|---|");
         for t in self.targets() {

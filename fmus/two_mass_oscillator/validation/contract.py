@@ -1,0 +1,46 @@
+"""The interface contract of `TwoMassOscillator` (shared/MECHANISMS.md section 2): what its
+modelDescription.xml must declare. Data only: tests/python/test_contract.py checks every FMU
+against its crate's file (mechfmu's Rust side does not read it).
+
+VARIABLES: name -> (causality, variability, initial, start, unit). A variability is a value
+or a tuple of the values allowed; initial is None for an input (no `initial` attribute),
+"exact" with the start value given, or "calculated" (no start value); unit is the name of a
+<UnitDefinitions> unit ("1": dimensionless).
+"""
+
+MODEL = "TwoMassOscillator"
+
+#: <DefaultExperiment>: startTime, stopTime, stepSize
+DEFAULT_EXPERIMENT = (0.0, 30.0, 0.01)
+
+CALCULATED = ("fixed", "tunable")  # the variabilities a calculatedParameter may have
+
+VARIABLES = {
+    "m1": ("parameter", "fixed", "exact", 1.0, "kg"),
+    "m2": ("parameter", "fixed", "exact", 1.0, "kg"),
+    "k1": ("parameter", "tunable", "exact", 1.0, "N/m"),
+    "k2": ("parameter", "tunable", "exact", 1.0, "N/m"),
+    "k3": ("parameter", "tunable", "exact", 1.0, "N/m"),
+    "c1": ("parameter", "tunable", "exact", 0.0, "N.s/m"),
+    "c2": ("parameter", "tunable", "exact", 0.0, "N.s/m"),
+    "c3": ("parameter", "tunable", "exact", 0.0, "N.s/m"),
+    "F1": ("input", "continuous", None, 0.0, "N"),
+    "F2": ("input", "continuous", None, 0.0, "N"),
+    "x1": ("output", "continuous", "exact", 1.0, "m"),
+    "x2": ("output", "continuous", "exact", 0.0, "m"),
+    "x1_dot": ("output", "continuous", "exact", 0.0, "m/s"),
+    "x2_dot": ("output", "continuous", "exact", 0.0, "m/s"),
+    "x1_ddot": ("output", "continuous", "calculated", None, "m/s2"),
+    "x2_ddot": ("output", "continuous", "calculated", None, "m/s2"),
+    "E": ("output", "continuous", "calculated", None, "J"),
+    "omega_n1": ("calculatedParameter", CALCULATED, "calculated", None, "rad/s"),
+    "omega_n2": ("calculatedParameter", CALCULATED, "calculated", None, "rad/s"),
+    "mode1_x1": ("calculatedParameter", CALCULATED, "calculated", None, "1"),
+    "mode1_x2": ("calculatedParameter", CALCULATED, "calculated", None, "1"),
+    "mode2_x1": ("calculatedParameter", CALCULATED, "calculated", None, "1"),
+    "mode2_x2": ("calculatedParameter", CALCULATED, "calculated", None, "1"),
+}
+
+#: declared with min="0": the masses must be > 0 (the FMU rejects 0), the springs and
+#: dampers >= 0 (k1 = k2 = 0 allowed)
+MIN_ZERO = ["m1", "m2", "k1", "k2", "k3", "c1", "c2", "c3"]
