@@ -1,7 +1,38 @@
 //! Committed files generated from a mechanism's declaration (its `modelDescription.xml`, its
 //! interface page), checked by a test to be current.
 
+use mechfmu::model::Mechanism;
 use std::path::Path;
+
+/// Asserts `modelDescription/<Name>.xml` of the repository holding the mechanism crate at
+/// `crate_dir` (two folders up, as `fmus/<name>/`) is what `M`'s declaration generates;
+/// `package` names the crate in the regeneration command.
+///
+/// ```ignore
+/// #[test]
+/// fn model_description_is_current() {
+///     mechfmu_testkit::golden::model_description::<Oscillator>(
+///         env!("CARGO_MANIFEST_DIR"),
+///         env!("CARGO_PKG_NAME"),
+///     );
+/// }
+/// ```
+pub fn model_description<M: Mechanism>(crate_dir: &str, package: &str) {
+    let xml = mechfmu::xml::model_description::<M>().unwrap_or_else(|e| panic!("{e}"));
+    let path = Path::new(crate_dir).join(format!("../../modelDescription/{}.xml", M::NAME));
+    let hint = format!("MECHFMU_BLESS=1 cargo test -p {package} model_description");
+    assert_current(&path, &xml, &hint);
+}
+
+/// Asserts `docs/mechanisms/<Name>.md` of the repository holding the mechanism crate at
+/// `crate_dir` is the interface page `M`'s declaration generates (what `mechfmu docs`
+/// writes).
+pub fn interface<M: Mechanism>(crate_dir: &str, package: &str) {
+    let page = mechfmu::docs::interface::<M>().unwrap_or_else(|e| panic!("{e}"));
+    let path = Path::new(crate_dir).join(format!("../../docs/mechanisms/{}.md", M::NAME));
+    let hint = format!("MECHFMU_BLESS=1 cargo test -p {package} interface");
+    assert_current(&path, &page, &hint);
+}
 
 /// Asserts the file committed at `path` is `generated`; with `MECHFMU_BLESS=1` in the
 /// environment, (re)writes it instead (creating its folder). A missing or stale file panics

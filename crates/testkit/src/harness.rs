@@ -490,14 +490,3 @@ pub fn assert_rejected_at_initialization<M: Mechanism>(name: &str, value: f64) {
         fmu.messages()
     );
 }
-
-/// Asserts the committed modelDescription at `path` is what the declaration generates now;
-/// with `MECHFMU_BLESS=1` in the environment, (re)writes it instead.
-pub fn check_model_description<M: Mechanism>(path: impl AsRef<std::path::Path>) {
-    let xml = mechfmu::xml::model_description::<M>().unwrap_or_else(|e| panic!("{e}"));
-    crate::golden::assert_current(
-        path.as_ref(),
-        &xml,
-        "MECHFMU_BLESS=1 cargo test -p <crate> model_description",
-    );
-}

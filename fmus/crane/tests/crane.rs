@@ -67,34 +67,15 @@ fn downward_zero_crossings(fmu: &mut Fmu, t_end: f64, h: f64) -> Vec<f64> {
 
 #[test]
 fn model_description_is_current() {
-    mechfmu_testkit::golden::assert_current(
-        std::path::Path::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../modelDescription/Crane.xml"
-        )),
-        &mechfmu::xml::model_description::<Crane>().unwrap_or_else(|e| panic!("{e}")),
-        concat!(
-            "MECHFMU_BLESS=1 cargo test -p ",
-            env!("CARGO_PKG_NAME"),
-            " model_description"
-        ),
+    mechfmu_testkit::golden::model_description::<Crane>(
+        env!("CARGO_MANIFEST_DIR"),
+        env!("CARGO_PKG_NAME"),
     );
 }
 
 #[test]
 fn interface_is_current() {
-    mechfmu_testkit::golden::assert_current(
-        std::path::Path::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../docs/mechanisms/Crane.md"
-        )),
-        &mechfmu::docs::interface::<Crane>().unwrap_or_else(|e| panic!("{e}")),
-        concat!(
-            "MECHFMU_BLESS=1 cargo test -p ",
-            env!("CARGO_PKG_NAME"),
-            " interface"
-        ),
-    );
+    mechfmu_testkit::golden::interface::<Crane>(env!("CARGO_MANIFEST_DIR"), env!("CARGO_PKG_NAME"));
 }
 
 #[test]

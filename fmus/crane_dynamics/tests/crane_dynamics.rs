@@ -20,33 +20,17 @@ fn static_loads(x: f64, theta: f64) -> (f64, f64) {
 
 #[test]
 fn model_description_is_current() {
-    mechfmu_testkit::golden::assert_current(
-        std::path::Path::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../modelDescription/CraneDynamics.xml"
-        )),
-        &mechfmu::xml::model_description::<CraneDynamics>().unwrap_or_else(|e| panic!("{e}")),
-        concat!(
-            "MECHFMU_BLESS=1 cargo test -p ",
-            env!("CARGO_PKG_NAME"),
-            " model_description"
-        ),
+    mechfmu_testkit::golden::model_description::<CraneDynamics>(
+        env!("CARGO_MANIFEST_DIR"),
+        env!("CARGO_PKG_NAME"),
     );
 }
 
 #[test]
 fn interface_is_current() {
-    mechfmu_testkit::golden::assert_current(
-        std::path::Path::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../docs/mechanisms/CraneDynamics.md"
-        )),
-        &mechfmu::docs::interface::<CraneDynamics>().unwrap_or_else(|e| panic!("{e}")),
-        concat!(
-            "MECHFMU_BLESS=1 cargo test -p ",
-            env!("CARGO_PKG_NAME"),
-            " interface"
-        ),
+    mechfmu_testkit::golden::interface::<CraneDynamics>(
+        env!("CARGO_MANIFEST_DIR"),
+        env!("CARGO_PKG_NAME"),
     );
 }
 

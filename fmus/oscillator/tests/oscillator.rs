@@ -167,33 +167,17 @@ fn tunable_damping_takes_effect_at_the_next_step() {
 
 #[test]
 fn model_description_is_current() {
-    mechfmu_testkit::golden::assert_current(
-        std::path::Path::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../modelDescription/Oscillator.xml"
-        )),
-        &mechfmu::xml::model_description::<Oscillator>().unwrap_or_else(|e| panic!("{e}")),
-        concat!(
-            "MECHFMU_BLESS=1 cargo test -p ",
-            env!("CARGO_PKG_NAME"),
-            " model_description"
-        ),
+    mechfmu_testkit::golden::model_description::<Oscillator>(
+        env!("CARGO_MANIFEST_DIR"),
+        env!("CARGO_PKG_NAME"),
     );
 }
 
 #[test]
 fn interface_is_current() {
-    mechfmu_testkit::golden::assert_current(
-        std::path::Path::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../docs/mechanisms/Oscillator.md"
-        )),
-        &mechfmu::docs::interface::<Oscillator>().unwrap_or_else(|e| panic!("{e}")),
-        concat!(
-            "MECHFMU_BLESS=1 cargo test -p ",
-            env!("CARGO_PKG_NAME"),
-            " interface"
-        ),
+    mechfmu_testkit::golden::interface::<Oscillator>(
+        env!("CARGO_MANIFEST_DIR"),
+        env!("CARGO_PKG_NAME"),
     );
 }
 

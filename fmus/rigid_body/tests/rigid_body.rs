@@ -11,33 +11,17 @@ type Fmu = Harness<RigidBody>;
 
 #[test]
 fn model_description_is_current() {
-    mechfmu_testkit::golden::assert_current(
-        std::path::Path::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../modelDescription/RigidBody.xml"
-        )),
-        &mechfmu::xml::model_description::<RigidBody>().unwrap_or_else(|e| panic!("{e}")),
-        concat!(
-            "MECHFMU_BLESS=1 cargo test -p ",
-            env!("CARGO_PKG_NAME"),
-            " model_description"
-        ),
+    mechfmu_testkit::golden::model_description::<RigidBody>(
+        env!("CARGO_MANIFEST_DIR"),
+        env!("CARGO_PKG_NAME"),
     );
 }
 
 #[test]
 fn interface_is_current() {
-    mechfmu_testkit::golden::assert_current(
-        std::path::Path::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../docs/mechanisms/RigidBody.md"
-        )),
-        &mechfmu::docs::interface::<RigidBody>().unwrap_or_else(|e| panic!("{e}")),
-        concat!(
-            "MECHFMU_BLESS=1 cargo test -p ",
-            env!("CARGO_PKG_NAME"),
-            " interface"
-        ),
+    mechfmu_testkit::golden::interface::<RigidBody>(
+        env!("CARGO_MANIFEST_DIR"),
+        env!("CARGO_PKG_NAME"),
     );
 }
 

@@ -333,6 +333,11 @@ impl Fmu {
     pub fn name(&self) -> &str {
         &self.md.model_identifier
     }
+
+    /// The unpacked binary.
+    pub fn binary(&self) -> PathBuf {
+        self.dir.join(format!("{}.so", self.md.model_identifier))
+    }
 }
 
 impl Drop for Fmu {
