@@ -226,41 +226,5 @@ pub fn package_fmu(
 
 /// The modelDescription.xml a built FMU binary carries.
 pub fn model_description_of(library: &Path) -> Result<String, String> {
-    exported_text(library, "mechfmu_model_description", "modelDescription")
-}
-
-/// The text a built FMU binary renders of itself through one of the documented extras of
-/// `export_fmu!` (`symbol`: `mechfmu_model_description`, `mechfmu_documentation`,
-/// `mechfmu_interface`; `what` names the text in messages), with the buffer protocol of
-/// `mechfmu::export::write_text`.
-pub(crate) fn exported_text(library: &Path, symbol: &str, what: &str) -> Result<String, String> {
-    type Render = unsafe extern "C" fn(*mut u8, usize) -> usize;
-    // SAFETY: loading our own freshly built FMU binary; its initializers are Rust's.
-    let lib = unsafe { libloading::Library::new(library) }
-        .map_err(|e| format!("cannot load {}: {e}", library.display()))?;
-    // SAFETY: the extras are exported by `export_fmu!` with this signature.
-    let render: libloading::Symbol<Render> =
-        unsafe { lib.get(symbol.as_bytes()) }.map_err(|e| {
-            format!(
-                "{} does not export {symbol} (not a mechfmu FMU binary, or built by an older \
-                 mechfmu?): {e}",
-                library.display()
-            )
-        })?;
-    // SAFETY: a NULL buffer asks for the length; then a buffer of that length plus the NUL.
-    let len = unsafe { render(std::ptr::null_mut(), 0) };
-    let mut buf = vec![0u8; len + 1];
-    let written = unsafe { render(buf.as_mut_ptr(), buf.len()) };
-    if written != len || len == 0 {
-        return Err(format!("{} rendered no {what}", library.display()));
-    }
-    buf.truncate(len);
-    let text = String::from_utf8(buf).map_err(|e| format!("{what} is not UTF-8: {e}"))?;
-    match text.strip_prefix("error: ") {
-        Some(message) => Err(format!(
-            "{}: cannot render its {what}: {message}",
-            library.display()
-        )),
-        None => Ok(text),
-    }
+    crate::extras::exported_text(library, "mechfmu_model_description", "modelDescription")
 }

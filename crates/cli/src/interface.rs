@@ -4,7 +4,8 @@
 //! the binary for its modelDescription and documentation: the tool never renders a
 //! mechanism itself. Each crate's `interface_is_current` test checks the same page.
 
-use crate::build::{built_libraries, exported_text, Flavor};
+use crate::build::{built_libraries, Flavor};
+use crate::extras::exported_text;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
