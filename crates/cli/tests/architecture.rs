@@ -264,3 +264,50 @@ fn mechanism_crates_and_the_template_forbid_unsafe_code() {
         );
     }
 }
+
+/// The top-level modules of the crate whose sources are in `src`.
+fn top_modules(src: &Path) -> BTreeSet<String> {
+    std::fs::read_dir(src)
+        .unwrap()
+        .flatten()
+        .filter_map(|e| {
+            let path = e.path();
+            let name = path.file_stem()?.to_str()?.to_string();
+            let module = path.is_dir() || path.extension().is_some_and(|x| x == "rs");
+            (module && name != "lib" && name != "main").then_some(name)
+        })
+        .collect()
+}
+
+#[test]
+fn no_crate_has_modules_that_use_each_other_in_a_circle() {
+    for krate in ["runtime", "testkit", "cli"] {
+        let src = root().join("crates").join(krate).join("src");
+        let modules = top_modules(&src);
+        let uses: BTreeMap<String, BTreeSet<String>> = modules
+            .iter()
+            .map(|m| {
+                let used = module_files(&src, m)
+                    .iter()
+                    .flat_map(|f| crate_paths(&code(f)))
+                    .filter(|u| modules.contains(u) && u != m)
+                    .collect();
+                (m.clone(), used)
+            })
+            .collect();
+        // A module reaches itself through others: a circle.
+        for start in &modules {
+            let mut seen = BTreeSet::new();
+            let mut stack: Vec<&String> = uses[start].iter().collect();
+            while let Some(m) = stack.pop() {
+                assert!(
+                    m != start,
+                    "crates/{krate}: `{start}` reaches itself through {seen:?}"
+                );
+                if seen.insert(m.clone()) {
+                    stack.extend(uses[m].iter());
+                }
+            }
+        }
+    }
+}
