@@ -10,7 +10,7 @@ use super::fmu_state::FmuState;
 use super::instance::Instance;
 use super::logger::Logger;
 use super::state::ModelState;
-use super::wall::{discard, error, Outcome, StateSlot};
+use super::wall::{discard, error, Buffer, Outcome, StateSlot};
 use crate::model::{Layout, Mechanism, SetPhase};
 use crate::simulation::StepFailure;
 
@@ -35,13 +35,14 @@ pub fn silence_panic_messages() {
     ONCE.call_once(|| std::panic::set_hook(Box::new(|_| {})));
 }
 
-/// `fmi2Instantiate` once the callbacks are known: `instance_name` and `guid` are `None`
-/// when NULL or not UTF-8. `Err` is logged through `logger` and gives NULL.
-pub fn instantiate<M: Mechanism>(
+/// `fmi2Instantiate` once the callbacks are known: `instance_name` is `None` when NULL or not
+/// UTF-8, as is what `guid` gives (asked only once the name and the type are accepted).
+/// `Err` is logged through `logger` and gives NULL.
+pub fn instantiate<'a, M: Mechanism>(
     logger: Logger,
     instance_name: Option<&str>,
     fmu_type: fmi2Type,
-    guid: Option<&str>,
+    guid: impl FnOnce() -> Option<&'a str>,
 ) -> Result<Box<Instance<M>>, (Logger, String)> {
     if instance_name.is_none_or(str::is_empty) {
         return Err((
@@ -59,7 +60,7 @@ pub fn instantiate<M: Mechanism>(
         ));
     }
     let expected = crate::contract::guid::<M>();
-    match guid {
+    match guid() {
         Some(g) if g == expected => {}
         Some(g) => {
             return Err((
@@ -196,16 +197,16 @@ pub fn serialized_fmu_state_size<M: Mechanism>(state: &FmuState, size: &mut usiz
     Ok(fmi2OK)
 }
 
-pub fn serialize_fmu_state<M: Mechanism>(state: &FmuState, buffer: &mut [u8]) -> Outcome {
+pub fn serialize_fmu_state<M: Mechanism>(state: &FmuState, buffer: Buffer) -> Outcome {
     let bytes = state.to_bytes::<M>();
-    if buffer.len() != bytes.len() {
+    if buffer.size() != bytes.len() {
         return Err(error(format!(
             "size = {}, but the serialized state has {} bytes (ask fmi2SerializedFMUstateSize)",
-            buffer.len(),
+            buffer.size(),
             bytes.len()
         )));
     }
-    buffer.copy_from_slice(&bytes);
+    buffer.fill(&bytes, "serializedState[]")?;
     Ok(fmi2OK)
 }
 

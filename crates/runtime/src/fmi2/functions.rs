@@ -13,7 +13,7 @@
 use super::api;
 use super::ffi::*;
 use super::state::*;
-use super::wall::{self, fmu_state, guarded, out, slice, slice_mut, strings, StateSlot};
+use super::wall::{self, fmu_state, guarded, out, slice, slice_mut, strings, Buffer, StateSlot};
 use crate::model::Mechanism;
 
 /// The table of FMI 2.0 functions. `$emit` receives every row as
@@ -26,7 +26,7 @@ macro_rules! fmi2_functions {
         fmi2GetTypesPlatform() -> fmi2String = api::get_types_platform();
         fmi2GetVersion() -> fmi2String = api::get_version();
         fmi2SetDebugLogging(c: fmi2Component, loggingOn: fmi2Boolean, nCategories: usize, categories: *const fmi2String) -> fmi2Status
-            = guarded::<M>(c, &SET_DEBUG_LOGGING, |inst| api::set_debug_logging(inst, loggingOn, &strings(categories, nCategories, "categories[]")?));
+            = guarded::<M>(c, &SET_DEBUG_LOGGING, |inst| api::set_debug_logging(inst, loggingOn, &strings(categories, nCategories, "categories[]", "a category")?));
         [before_export: api::silence_panic_messages]
         fmi2Instantiate(instanceName: fmi2String, fmuType: fmi2Type, fmuGUID: fmi2String, fmuResourceLocation: fmi2String, functions: *const fmi2CallbackFunctions, visible: fmi2Boolean, loggingOn: fmi2Boolean) -> fmi2Component
             = wall::instantiate::<M>(instanceName, fmuType, fmuGUID, functions, loggingOn);
@@ -57,17 +57,17 @@ macro_rules! fmi2_functions {
         fmi2SetString(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *const fmi2String) -> fmi2Status
             = guarded::<M>(c, &SET_STRING, |_| { let vr = slice(vr, nvr, "vr[]")?; slice(value, nvr, "value[]")?; api::no_variables(SET_STRING.name, vr, "String") });
         fmi2GetFMUstate(c: fmi2Component, FMUstate: *mut fmi2FMUstate) -> fmi2Status
-            = guarded::<M>(c, &GET_FMU_STATE, |inst| api::get_fmu_state(inst, StateSlot::new(FMUstate)?));
+            = guarded::<M>(c, &GET_FMU_STATE, |inst| api::get_fmu_state(inst, StateSlot::new(FMUstate)));
         fmi2SetFMUstate(c: fmi2Component, FMUstate: fmi2FMUstate) -> fmi2Status
             = guarded::<M>(c, &SET_FMU_STATE, |inst| api::set_fmu_state(inst, fmu_state(FMUstate)?));
         fmi2FreeFMUstate(c: fmi2Component, FMUstate: *mut fmi2FMUstate) -> fmi2Status
-            = guarded::<M>(c, &FREE_FMU_STATE, |_| StateSlot::new(FMUstate)?.free());
+            = guarded::<M>(c, &FREE_FMU_STATE, |_| StateSlot::new(FMUstate).free());
         fmi2SerializedFMUstateSize(c: fmi2Component, FMUstate: fmi2FMUstate, size: *mut usize) -> fmi2Status
             = guarded::<M>(c, &SERIALIZED_FMU_STATE_SIZE, |_| api::serialized_fmu_state_size::<M>(fmu_state(FMUstate)?, out(size, "size")?));
         fmi2SerializeFMUstate(c: fmi2Component, FMUstate: fmi2FMUstate, serializedState: *mut fmi2Byte, size: usize) -> fmi2Status
-            = guarded::<M>(c, &SERIALIZE_FMU_STATE, |_| api::serialize_fmu_state::<M>(fmu_state(FMUstate)?, slice_mut(serializedState as *mut u8, size, "serializedState[]")?));
+            = guarded::<M>(c, &SERIALIZE_FMU_STATE, |_| api::serialize_fmu_state::<M>(fmu_state(FMUstate)?, Buffer::new(serializedState as *mut u8, size)));
         fmi2DeSerializeFMUstate(c: fmi2Component, serializedState: *const fmi2Byte, size: usize, FMUstate: *mut fmi2FMUstate) -> fmi2Status
-            = guarded::<M>(c, &DESERIALIZE_FMU_STATE, |_| api::deserialize_fmu_state::<M>(slice(serializedState as *const u8, size, "serializedState[]")?, StateSlot::new(FMUstate)?));
+            = guarded::<M>(c, &DESERIALIZE_FMU_STATE, |_| api::deserialize_fmu_state::<M>(slice(serializedState as *const u8, size, "serializedState[]")?, StateSlot::new(FMUstate)));
         fmi2GetDirectionalDerivative(c: fmi2Component, vUnknown_ref: *const fmi2ValueReference, nUnknown: usize, vKnown_ref: *const fmi2ValueReference, nKnown: usize, dvKnown: *const fmi2Real, dvUnknown: *mut fmi2Real) -> fmi2Status
             = guarded::<M>(c, &GET_DIRECTIONAL_DERIVATIVE, |inst| api::get_directional_derivative(inst, slice(vUnknown_ref, nUnknown, "vUnknown_ref[]")?, slice(vKnown_ref, nKnown, "vKnown_ref[]")?, slice(dvKnown, nKnown, "dvKnown[]")?, slice_mut(dvUnknown, nUnknown, "dvUnknown[]")?));
         fmi2SetRealInputDerivatives(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, order: *const fmi2Integer, value: *const fmi2Real) -> fmi2Status

@@ -5,7 +5,7 @@
 //! checked, the call against the state table, the body runs under `catch_unwind`, and a
 //! failure becomes a status and a message to the importer's logger. Each kind of pointer
 //! argument has one checked conversion here ([`slice`], [`slice_mut`], [`out`], [`c_str`],
-//! [`strings`], [`fmu_state`], [`StateSlot`]), with the one SAFETY argument it rests on; the
+//! [`strings`], [`fmu_state`], [`StateSlot`], [`Buffer`]), with the one SAFETY argument it rests on; the
 //! bodies they feed ([`api`](super::api)) are safe Rust.
 
 #![allow(non_upper_case_globals)]
@@ -232,7 +232,8 @@ pub unsafe fn c_str<'a>(ptr: fmi2String) -> Option<&'a str> {
     unsafe { CStr::from_ptr(ptr) }.to_str().ok()
 }
 
-/// An importer's array of `n` strings, each non-NULL and UTF-8.
+/// An importer's array of `n` strings, each non-NULL and UTF-8 (`element` names one in the
+/// message when it is not).
 ///
 /// # Safety
 /// As for [`slice`] and, for each element, [`c_str`].
@@ -240,6 +241,7 @@ pub unsafe fn strings<'a>(
     ptr: *const fmi2String,
     n: usize,
     what: &str,
+    element: &str,
 ) -> Result<Vec<&'a str>, Failure> {
     // SAFETY: the caller's promise.
     let pointers = unsafe { slice(ptr, n, what) }?;
@@ -247,8 +249,7 @@ pub unsafe fn strings<'a>(
         .iter()
         // SAFETY: the caller's promise.
         .map(|&p| {
-            unsafe { c_str(p) }
-                .ok_or_else(|| error(format!("an element of {what} is NULL or not UTF-8")))
+            unsafe { c_str(p) }.ok_or_else(|| error(format!("{element} is NULL or not UTF-8")))
         })
         .collect()
 }
@@ -274,39 +275,82 @@ pub unsafe fn fmu_state<'a>(s: fmi2FMUstate) -> Result<&'a mut FmuState, Failure
 }
 
 /// The importer's `fmi2FMUstate*` argument: where a state is handed over, or freed from.
-pub struct StateSlot<'a>(&'a mut fmi2FMUstate);
+/// Checked when used, so a call checks its other arguments first.
+pub struct StateSlot(*mut fmi2FMUstate);
 
-impl<'a> StateSlot<'a> {
+impl StateSlot {
     /// # Safety
-    /// As for [`out`]; what `*ptr` holds is NULL or a handle as for [`fmu_state`].
-    pub unsafe fn new(ptr: *mut fmi2FMUstate) -> Result<Self, Failure> {
-        // SAFETY: the caller's promise.
-        Ok(StateSlot(unsafe { out(ptr, "FMUstate") }?))
+    /// `ptr` is NULL or points to a writable `fmi2FMUstate` that is NULL or a handle as for
+    /// [`fmu_state`].
+    pub unsafe fn new(ptr: *mut fmi2FMUstate) -> Self {
+        StateSlot(ptr)
+    }
+
+    fn get<'a>(&self) -> Result<&'a mut fmi2FMUstate, Failure> {
+        // SAFETY: `new`'s promise.
+        unsafe { out(self.0, "FMUstate") }
     }
 
     /// Hands `state` to the importer, reusing the state the slot holds if any.
     pub fn store(self, state: FmuState) -> Outcome {
-        if self.0.is_null() {
-            *self.0 = Box::into_raw(Box::new(state)) as fmi2FMUstate;
+        let slot = self.get()?;
+        if slot.is_null() {
+            *slot = Box::into_raw(Box::new(state)) as fmi2FMUstate;
         } else {
             // SAFETY: `new`'s promise about what the slot holds.
-            *unsafe { fmu_state(*self.0) }? = state;
+            *unsafe { fmu_state(*slot) }? = state;
         }
         Ok(fmi2OK)
     }
 
     /// Frees the state the slot holds (nothing if NULL) and sets the slot to NULL.
     pub fn free(self) -> Outcome {
-        if self.0.is_null() {
+        let slot = self.get()?;
+        if slot.is_null() {
             return Ok(fmi2OK);
         }
         // SAFETY: `new`'s promise about what the slot holds.
-        unsafe { fmu_state(*self.0) }?.magic = 0;
+        unsafe { fmu_state(*slot) }?.magic = 0;
         // SAFETY: a live state (magic checked, then cleared) that `store` created with
         // Box::into_raw.
-        drop(unsafe { Box::from_raw(*self.0 as *mut FmuState) });
-        *self.0 = std::ptr::null_mut();
+        drop(unsafe { Box::from_raw(*slot as *mut FmuState) });
+        *slot = std::ptr::null_mut();
         Ok(fmi2OK)
+    }
+}
+
+/// The importer's output buffer of `len` bytes (`fmi2SerializeFMUstate`), checked when it is
+/// filled, so a call checks its length first.
+pub struct Buffer {
+    ptr: *mut u8,
+    len: usize,
+}
+
+impl Buffer {
+    /// # Safety
+    /// As for [`slice_mut`]: when `ptr` is non-NULL and `len` plausible, `ptr` points to `len`
+    /// writable bytes.
+    pub unsafe fn new(ptr: *mut u8, len: usize) -> Self {
+        Buffer { ptr, len }
+    }
+
+    /// Its length in bytes, as the importer gave it.
+    pub fn size(&self) -> usize {
+        self.len
+    }
+
+    /// Copies `bytes` into the buffer, which must be exactly as long.
+    pub fn fill(self, bytes: &[u8], what: &str) -> Result<(), Failure> {
+        if bytes.len() != self.len {
+            return Err(error(format!(
+                "{what} has {} bytes, not the {} given",
+                self.len,
+                bytes.len()
+            )));
+        }
+        // SAFETY: `new`'s promise.
+        unsafe { slice_mut(self.ptr, self.len, what) }?.copy_from_slice(bytes);
+        Ok(())
     }
 }
 
@@ -332,13 +376,15 @@ pub unsafe fn instantiate<M: Mechanism>(
         // SAFETY: the caller's promise; NULL and misalignment are refused.
         let functions = unsafe { *functions };
         // SAFETY: the caller's promise.
-        let (name, guid) = unsafe { (c_str(instance_name), c_str(guid)) };
+        let name = unsafe { c_str(instance_name) };
         let logger = super::logger::Logger::new(
             functions.logger,
             functions.componentEnvironment,
             name.unwrap_or(""),
             logging_on != 0,
         );
+        // SAFETY: the caller's promise (read only once the name and the type are accepted).
+        let guid = || unsafe { c_str(guid) };
         match super::api::instantiate::<M>(logger, name, fmu_type, guid) {
             Ok(instance) => into_component(instance),
             Err((logger, message)) => {

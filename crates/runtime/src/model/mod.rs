@@ -281,8 +281,15 @@ macro_rules! mechanism {
             /// The time plus one value per variable.
             const LEN: usize = 1 + <[&str]>::len(&[$(stringify!($var)),*]);
 
-            impl<S: $crate::model::Scalar> $crate::model::Fields<S> for $values<S> {
+            // SAFETY: `$values` is the repr(C) struct declared above: the time and one field
+            // per variable, every one of type S (`_fields_are_scalars` would not compile
+            // otherwise), LEN in all.
+            unsafe impl<S: $crate::model::Scalar> $crate::model::Fields<S> for $values<S> {
                 const LEN: usize = LEN;
+            }
+            #[allow(dead_code)]
+            fn _fields_are_scalars<S: $crate::model::Scalar>(v: $values<S>) -> [S; LEN] {
+                [v.time $(, v.$var)*]
             }
 
             impl<S: $crate::model::Scalar> $crate::model::ValueSet<S> for $values<S> {

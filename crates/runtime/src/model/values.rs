@@ -5,10 +5,25 @@ use super::Scalar;
 use std::mem::{align_of, size_of};
 
 /// A `#[repr(C)]` struct of `LEN` fields, all of type `S`: the values struct `mechanism!`
-/// declares (the time, then one field per variable in value-reference order). The macro
-/// implements it; it is not meant to be implemented by hand.
+/// declares (the time, then one field per variable in value-reference order).
+///
+/// # Safety
+/// Implement it only for a `#[repr(C)]` struct whose `LEN` fields all have type `S`: the
+/// runtime reads and writes the struct as `[S; LEN]`. `mechanism!` implements it for the
+/// struct it declares, and checks there at compile time that every field is an `S`; a crate
+/// that forbids unsafe code cannot implement it by hand, and no crate can without `unsafe`:
+///
+/// ```compile_fail
+/// struct NotScalars {
+///     time: f64,
+///     boxed: Box<u64>,
+/// }
+/// impl mechfmu::model::Fields<f64> for NotScalars {
+///     const LEN: usize = 2;
+/// }
+/// ```
 #[doc(hidden)]
-pub trait Fields<S: Scalar>: Sized {
+pub unsafe trait Fields<S: Scalar>: Sized {
     /// The number of fields: the variables plus the time.
     const LEN: usize;
 }

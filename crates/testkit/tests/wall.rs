@@ -1,0 +1,155 @@
+//! The C boundary checks a call's arguments in the order the standard's functions take them
+//! and reads no pointer it has not yet accepted: through the generic C functions, in-process.
+
+use mechfmu::fmi2::ffi::*;
+use mechfmu::fmi2::functions;
+use mechfmu::model::{Experiment, Mechanism, Scalar, Variable};
+use mechfmu_testkit::harness::{Harness, MessageLog};
+
+mechfmu::mechanism! {
+    /// Decay: y' = -k y.
+    pub struct Decay / DecayValues {
+        /// Rate
+        k: Variable::parameter("1/s", 1.0),
+        /// Amount
+        y: Variable::state("1", 1.0, "y_dot"),
+        /// Rate of change
+        y_dot: Variable::output("1/s"),
+    }
+}
+
+impl Mechanism for Decay {
+    const EXPERIMENT: Experiment = Experiment {
+        start: 0.0,
+        stop: 1.0,
+        step: 0.1,
+        tolerance: 1e-8,
+    };
+    fn evaluate<S: Scalar>(v: &mut DecayValues<S>) {
+        v.y_dot = -v.k * v.y;
+    }
+}
+
+fn started() -> Harness<Decay> {
+    let mut fmu = Harness::<Decay>::new();
+    fmu.initialize(None, 0.0, &[]).unwrap();
+    fmu
+}
+
+#[test]
+fn a_wrong_size_is_refused_before_the_buffer_is_looked_at() {
+    let mut fmu = started();
+    let state = fmu.get_fmu_state().unwrap();
+    let size = fmu.serialize(state).unwrap().len();
+    // A NULL buffer with a wrong size: the size is what is wrong.
+    let status = unsafe {
+        functions::fmi2SerializeFMUstate::<Decay>(
+            fmu.component(),
+            state,
+            std::ptr::null_mut(),
+            size + 5,
+        )
+    };
+    assert_eq!(status, fmi2Error);
+    assert!(
+        fmu.logged(&format!(
+            "size = {}, but the serialized state has {size} bytes",
+            size + 5
+        )),
+        "{:?}",
+        fmu.messages()
+    );
+    // The right size with a NULL buffer: now the buffer is.
+    let status = unsafe {
+        functions::fmi2SerializeFMUstate::<Decay>(
+            fmu.component(),
+            state,
+            std::ptr::null_mut(),
+            size,
+        )
+    };
+    assert_eq!(status, fmi2Error);
+    assert!(
+        fmu.logged("serializedState[] is NULL"),
+        "{:?}",
+        fmu.messages()
+    );
+    assert_eq!(fmu.free_fmu_state(state), fmi2OK);
+}
+
+#[test]
+fn bytes_that_are_no_state_are_refused_before_the_slot_is_looked_at() {
+    let mut fmu = started();
+    let bytes = [0u8; 16];
+    let status = unsafe {
+        functions::fmi2DeSerializeFMUstate::<Decay>(
+            fmu.component(),
+            bytes.as_ptr() as *const fmi2Byte,
+            bytes.len(),
+            std::ptr::null_mut(),
+        )
+    };
+    assert_eq!(status, fmi2Error);
+    assert!(!fmu.logged("FMUstate is NULL"), "{:?}", fmu.messages());
+    assert!(
+        fmu.logged("not a serialized mechfmu FMU state"),
+        "{:?}",
+        fmu.messages()
+    );
+}
+
+#[test]
+fn a_null_category_is_named_as_one() {
+    let fmu = started();
+    let categories = [c"logEvents".as_ptr(), std::ptr::null()];
+    let status = unsafe {
+        functions::fmi2SetDebugLogging::<Decay>(fmu.component(), fmi2True, 2, categories.as_ptr())
+    };
+    assert_eq!(status, fmi2Error);
+    assert!(
+        fmu.logged("a category is NULL or not UTF-8"),
+        "{:?}",
+        fmu.messages()
+    );
+}
+
+/// An importer's garbage GUID pointer is not read when the name or the type is refused
+/// first (reading it would fault: it points nowhere).
+#[test]
+fn the_guid_is_read_only_once_the_name_and_the_type_are_accepted() {
+    let log = MessageLog::new();
+    let nowhere = 8 as fmi2String;
+    let empty_name = unsafe {
+        functions::fmi2Instantiate::<Decay>(
+            c"".as_ptr(),
+            fmi2CoSimulation,
+            nowhere,
+            std::ptr::null(),
+            log.callbacks(),
+            fmi2False,
+            fmi2False,
+        )
+    };
+    assert!(empty_name.is_null());
+    let wrong_type = unsafe {
+        functions::fmi2Instantiate::<Decay>(
+            c"decay".as_ptr(),
+            fmi2ModelExchange,
+            nowhere,
+            std::ptr::null(),
+            log.callbacks(),
+            fmi2False,
+            fmi2False,
+        )
+    };
+    assert!(wrong_type.is_null());
+    let messages: Vec<String> = log.messages().into_iter().map(|(_, _, m)| m).collect();
+    assert!(
+        messages[0].contains("instanceName is NULL or empty"),
+        "{messages:?}"
+    );
+    assert!(
+        messages[1].contains("Co-Simulation FMU only"),
+        "{messages:?}"
+    );
+}
