@@ -79,7 +79,7 @@ fn a_wrong_size_is_refused_before_the_buffer_is_looked_at() {
 
 #[test]
 fn bytes_that_are_no_state_are_refused_before_the_slot_is_looked_at() {
-    let mut fmu = started();
+    let fmu = started();
     let bytes = [0u8; 16];
     let status = unsafe {
         functions::fmi2DeSerializeFMUstate::<Decay>(
