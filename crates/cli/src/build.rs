@@ -14,7 +14,10 @@ pub(crate) fn list(manifest_path: Option<&Path>) -> Result<(), String> {
     Ok(())
 }
 
-fn select(all: Vec<MechanismCrate>, names: &[String]) -> Result<Vec<MechanismCrate>, String> {
+pub(crate) fn select(
+    all: Vec<MechanismCrate>,
+    names: &[String],
+) -> Result<Vec<MechanismCrate>, String> {
     if all.is_empty() {
         return Err("no mechanism crates found (a crate declares one with `[package.metadata.mechfmu] model = \"Name\"`)".into());
     }

@@ -7,7 +7,8 @@ use crate::bench::native::Effort;
 use crate::bench::precision::{self, Problem};
 use crate::bench::report::{Build, Report};
 use crate::bench::{self as b, fmu};
-use crate::workspace::{cargo, mechanism_crates, MechanismCrate};
+use crate::build::select;
+use crate::workspace::{cargo, mechanism_crates};
 use serde_json::json;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -103,22 +104,6 @@ fn workspace_root(manifest_path: Option<&Path>) -> Result<PathBuf, String> {
         .ok_or_else(|| format!("{} has no folder", manifest.display()))
 }
 
-fn select(all: Vec<MechanismCrate>, names: &[String]) -> Result<Vec<MechanismCrate>, String> {
-    if names.is_empty() {
-        return Ok(all);
-    }
-    let known: Vec<String> = all.iter().map(|c| c.model.clone()).collect();
-    names
-        .iter()
-        .map(|n| {
-            all.iter()
-                .find(|c| &c.model == n)
-                .cloned()
-                .ok_or_else(|| format!("unknown mechanism `{n}` (known: {})", known.join(", ")))
-        })
-        .collect()
-}
-
 pub fn run(args: Args) -> Result<(), String> {
     if let Some(probe) = args.probe {
         let (Some(so), Some(xml)) = (&args.probe_so, &args.probe_xml) else {
@@ -140,9 +125,6 @@ pub fn run(args: Args) -> Result<(), String> {
         mechanism_crates(args.manifest_path.as_deref())?,
         &args.names,
     )?;
-    if crates.is_empty() {
-        return Err("no mechanism crates found".into());
-    }
     let names: Vec<String> = crates.iter().map(|c| c.model.clone()).collect();
     if !args.no_build {
         let target_dir = root.join("target/bench/build");

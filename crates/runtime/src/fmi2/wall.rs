@@ -70,6 +70,28 @@ pub(crate) unsafe fn instance<'a, M: Mechanism>(c: fmi2Component) -> Option<&'a 
     (inst.magic == MAGIC).then_some(inst)
 }
 
+/// Whether `function` may be called in the instance's state (the standard's table); logs
+/// why not when it may not.
+#[inline(always)]
+fn allowed<M: Mechanism>(inst: &Instance<M>, function: &Function) -> bool {
+    function.allowed.contains(inst.state) || refused(inst, function)
+}
+
+/// Logs an illegal call sequence; false.
+#[cold]
+#[inline(never)]
+fn refused<M: Mechanism>(inst: &Instance<M>, function: &Function) -> bool {
+    inst.logger.log(
+        fmi2Error,
+        &format!(
+            "{}: illegal call sequence: the instance is {}",
+            function.name,
+            inst.state.name()
+        ),
+    );
+    false
+}
+
 /// The wall every function of an instance stands behind: `c` is checked, the call is
 /// checked against `function`'s row of the state table, `body` runs under `catch_unwind`,
 /// and a failure is logged through the importer's logger and returned as its status.
@@ -86,15 +108,7 @@ pub unsafe fn guarded<M: Mechanism>(
         let Some(inst) = (unsafe { instance::<M>(c) }) else {
             return fmi2Error;
         };
-        if !function.allowed.contains(inst.state) {
-            inst.logger.log(
-                fmi2Error,
-                &format!(
-                    "{}: illegal call sequence: the instance is {}",
-                    function.name,
-                    inst.state.name()
-                ),
-            );
+        if !allowed(inst, function) {
             return fmi2Error;
         }
         match body(inst) {
@@ -152,15 +166,7 @@ pub unsafe fn free_component<M: Mechanism>(c: fmi2Component, function: &Function
         let Some(inst) = (unsafe { instance::<M>(c) }) else {
             return;
         };
-        if !function.allowed.contains(inst.state) {
-            inst.logger.log(
-                fmi2Error,
-                &format!(
-                    "{}: illegal call sequence: the instance is {}",
-                    function.name,
-                    inst.state.name()
-                ),
-            );
+        if !allowed(inst, function) {
             return;
         }
         inst.magic = 0;

@@ -28,15 +28,19 @@ pub unsafe trait Fields<S: Scalar>: Sized {
     const LEN: usize;
 }
 
+/// `V` has exactly the size and alignment of `[S; LEN]`: no padding, nothing but its
+/// fields. Evaluated at compile time for every scalar type the values are used with.
+const fn assert_laid_out_as_array<S: Scalar, V: Fields<S>>() {
+    assert!(
+        size_of::<V>() == V::LEN * size_of::<S>() && align_of::<V>() == align_of::<S>(),
+        "a values struct must be LEN fields of its scalar type, nothing else"
+    )
+}
+
 /// The fields of `values` as a slice, field `i` at index `i`.
 #[inline(always)]
 fn fields<S: Scalar, V: Fields<S>>(values: &V) -> &[S] {
-    const {
-        assert!(
-            size_of::<V>() == V::LEN * size_of::<S>() && align_of::<V>() == align_of::<S>(),
-            "a values struct must be LEN fields of its scalar type, nothing else"
-        )
-    };
+    const { assert_laid_out_as_array::<S, V>() };
     // SAFETY: `V` is a repr(C) struct of `LEN` fields of type `S` (the contract of
     // `Fields`), and has exactly the size and alignment of `[S; LEN]` (checked above, at
     // compile time, for every scalar type it is used with): no padding, field `i` at offset
@@ -47,12 +51,7 @@ fn fields<S: Scalar, V: Fields<S>>(values: &V) -> &[S] {
 /// As [`fields`], mutably.
 #[inline(always)]
 fn fields_mut<S: Scalar, V: Fields<S>>(values: &mut V) -> &mut [S] {
-    const {
-        assert!(
-            size_of::<V>() == V::LEN * size_of::<S>() && align_of::<V>() == align_of::<S>(),
-            "a values struct must be LEN fields of its scalar type, nothing else"
-        )
-    };
+    const { assert_laid_out_as_array::<S, V>() };
     // SAFETY: as in `fields`; the borrow is exclusive.
     unsafe { std::slice::from_raw_parts_mut(values as *mut V as *mut S, V::LEN) }
 }
