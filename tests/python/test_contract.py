@@ -5,8 +5,8 @@ contract.py`` (``MODEL``, ``DEFAULT_EXPERIMENT``, ``VARIABLES``, ``MIN_ZERO`` an
 structure is part of it, ``DERIVATIVES``; the file's docstring says how to read a row). One
 test checks every FMU against its file, the same way:
 
-* identity: FMI 2.0, modelName and modelIdentifier, Co-Simulation only, variable
-  communication steps, a GUID;
+* identity: FMI 2.0, modelName and modelIdentifier, Model Exchange and Co-Simulation
+  with the same model identifier, variable communication steps, a GUID;
 * the DefaultExperiment's start, stop and step;
 * every variable of the contract: present, Real, its causality and variability, its
   `initial` attribute as written (none on an input; "exact" with the contract's start value;
@@ -114,7 +114,10 @@ def contract_problems(path: Path, contract: ModuleType) -> list[str]:
         check(cs.modelIdentifier == model, f"modelIdentifier {cs.modelIdentifier!r}")
         check(cs.canHandleVariableCommunicationStepSize,
               "canHandleVariableCommunicationStepSize must be true (variable communication steps are supported)")
-    check(md.modelExchange is None, "the FMU declares Model Exchange, which mechfmu does not export")
+    me = md.modelExchange
+    check(me is not None, "no <ModelExchange> element")
+    if me is not None:
+        check(me.modelIdentifier == model, f"Model Exchange modelIdentifier {me.modelIdentifier!r}")
     check(GUID.fullmatch(md.guid or ""), f"guid {md.guid!r} is not a GUID")
 
     # the default experiment

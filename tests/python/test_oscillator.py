@@ -570,18 +570,20 @@ def test_wrong_guid_fails_to_instantiate(fmu):
         s.fmu.freeLibrary()
 
 
-def test_model_exchange_instantiation_is_refused(fmu):
+def test_an_unknown_fmu_type_is_refused(fmu):
+    """fmuType is fmi2ModelExchange (0) or fmi2CoSimulation (1); anything else is refused
+    with a message."""
     path = fmu(NAME)
     s = Slave(path, instantiate=False)
     try:
         mark = LogMark()
-        comp = s.fmu.fmi2Instantiate(NAME.encode(), 0, s.md.guid.encode(),
+        comp = s.fmu.fmi2Instantiate(NAME.encode(), 2, s.md.guid.encode(),
                                      Path(s.unzipdir, "resources").as_uri().encode(),
                                      byref(fmutest.CALLBACKS), 0, 0)
         if comp:
             s.fmu.fmi2FreeInstance(comp)
-        assert not comp, "fmi2Instantiate(fmi2ModelExchange) succeeded on a Co-Simulation-only FMU"
-        assert mark.records, "refused without a message"
+        assert not comp, "fmi2Instantiate(fmuType = 2) succeeded"
+        assert mark.find(r"fmuType = 2"), f"refused without a message naming it; log:\n{mark.text()}"
     finally:
         s.fmu.freeLibrary()
 

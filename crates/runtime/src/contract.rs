@@ -8,8 +8,9 @@
 
 use crate::model::Mechanism;
 
-/// The Co-Simulation capability flags of the `<CoSimulation>` element. The runtime must do
-/// what these promise; [`CAPABILITIES`] is the one place they are set for every FMU.
+/// The capability flags of the `<CoSimulation>` element, and those of them that
+/// `<ModelExchange>` has too. The runtime must do what these promise; [`CAPABILITIES`] is
+/// the one place they are set for every FMU.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Capabilities {
     pub needs_execution_tool: bool,
@@ -44,6 +45,37 @@ impl Capabilities {
         can_serialize_fmu_state: false,
         provides_directional_derivative: false,
     };
+
+    /// The attributes of `<ModelExchange>` after `modelIdentifier`, in the schema's order.
+    /// `completedIntegratorStepNotNeeded` is the mechanism's: true unless something runs
+    /// at `fmi2CompletedIntegratorStep`.
+    pub(crate) fn model_exchange_attributes(
+        &self,
+        needs_completed_integrator_step: bool,
+    ) -> [(&'static str, String); 7] {
+        let b = |x: bool| x.to_string();
+        [
+            ("needsExecutionTool", b(self.needs_execution_tool)),
+            (
+                "completedIntegratorStepNotNeeded",
+                b(!needs_completed_integrator_step),
+            ),
+            (
+                "canBeInstantiatedOnlyOncePerProcess",
+                b(self.can_be_instantiated_only_once_per_process),
+            ),
+            (
+                "canNotUseMemoryManagementFunctions",
+                b(self.can_not_use_memory_management_functions),
+            ),
+            ("canGetAndSetFMUstate", b(self.can_get_and_set_fmu_state)),
+            ("canSerializeFMUstate", b(self.can_serialize_fmu_state)),
+            (
+                "providesDirectionalDerivative",
+                b(self.provides_directional_derivative),
+            ),
+        ]
+    }
 
     /// The attributes of `<CoSimulation>` after `modelIdentifier`, in the schema's order.
     pub(crate) fn attributes(&self) -> [(&'static str, String); 10] {
@@ -111,7 +143,7 @@ pub const LOG_CATEGORIES: [(&str, &str); 6] = [
 
 /// Bump when the modelDescription generator changes what it writes from the same
 /// declaration, so binaries and XML of different generator versions never match.
-const GENERATOR_VERSION: &str = "mechfmu-md-2";
+const GENERATOR_VERSION: &str = "mechfmu-md-3";
 
 /// 64-bit FNV-1a over a stream of fields (each prefixed by its length, so field boundaries
 /// count).
@@ -145,6 +177,10 @@ fn hash<M: Mechanism>(seed: u64) -> u64 {
     for x in [e.start, e.stop, e.step, e.tolerance] {
         h.f64(Some(x));
     }
+    for indicator in M::EVENT_INDICATORS {
+        h.bytes(indicator.as_bytes());
+    }
+    h.bytes(&[M::MONITORED as u8, M::PROJECTED as u8]);
     for v in M::VARIABLES {
         h.bytes(v.name.as_bytes());
         h.bytes(v.description.as_bytes());

@@ -13,8 +13,9 @@
 
 use std::panic::catch_unwind;
 
-/// Exports a mechanism as an FMU: the 34 FMI 2.0 Co-Simulation functions under their C
-/// names, plus the extras of [`export`](crate::export).
+/// Exports a mechanism as an FMU: the 44 FMI 2.0 functions (Model Exchange and
+/// Co-Simulation) under their C names, plus the extras of [`export`](crate::export). Checks
+/// the mechanism's event indicators at compile time.
 ///
 /// ```ignore
 /// mechfmu::export_fmu!(Oscillator);
@@ -22,6 +23,11 @@ use std::panic::catch_unwind;
 #[macro_export]
 macro_rules! export_fmu {
     ($mechanism:ty) => {
+        const _: () = $crate::model::check_event_indicators(
+            <$mechanism as $crate::model::Declaration>::VARIABLES,
+            <$mechanism as $crate::model::Mechanism>::EVENT_INDICATORS,
+        );
+
         /// The C functions of this FMU.
         #[allow(non_snake_case, clippy::missing_safety_doc)]
         pub mod fmi2_exports {

@@ -112,9 +112,16 @@ impl Mechanism for Crane {
 
         ## Limits
         - `T < 0`: a cable cannot push. The FMU goes on as if the cable were a rod and logs a
-          warning once per episode (the step returns `fmi2Warning`).
-        - `x ≤ 0`: the trolley reached the pivot. The step ends with `fmi2Discard` and a
-          message; a start value `x ≤ 0` is refused at initialization.
+          warning once per episode (Co-Simulation: the step returns `fmi2Warning`).
+        - `x ≤ 0`: the trolley reached the pivot. Co-Simulation: the step ends with
+          `fmi2Discard` at the last valid time, with a message. A start value `x ≤ 0` is
+          refused at initialization.
+
+        In Model Exchange both limits are event indicators, `x` and `T`: the importer's
+        solver locates where either changes sign and enters event mode there. At the event
+        a slack cable is logged as a warning (`fmi2NewDiscreteStates` returns
+        `fmi2Warning`) and the simulation goes on; the trolley at the pivot ends it
+        (`terminateSimulation`, the reason logged), at the time of the crossing.
     ";
 
     fn calculate(v: &mut CraneValues<f64>) -> Result<(), String> {
@@ -157,6 +164,9 @@ impl Mechanism for Crane {
     }
 
     const MONITORED: bool = true;
+
+    /// Where the monitor's verdict changes: the trolley at the pivot, the cable going slack.
+    const EVENT_INDICATORS: &'static [&'static str] = &["x", "T"];
 
     /// The trolley at the pivot (`x ≤ 0`) ends the step; a slack cable (`T < 0`) is a warning.
     fn monitor(v: &CraneValues<f64>) -> Monitor {

@@ -145,8 +145,12 @@ impl Mechanism for CraneDynamics {
 
         ## Limits
         - `T < 0`: slack cable, a warning once per episode (`fmi2Warning`).
-        - `x ≤ 0`: the trolley reached the pivot; the step ends with `fmi2Discard` and a
-          message. A start value `x ≤ 0` is refused at initialization.
+        - `x ≤ 0`: the trolley reached the pivot; the Co-Simulation step ends with
+          `fmi2Discard` and a message. A start value `x ≤ 0` is refused at initialization.
+
+        In Model Exchange both are event indicators (`x`, `T`): at the crossing the importer
+        enters event mode, a slack cable is logged as a warning and the simulation goes on,
+        the trolley at the pivot ends it (`terminateSimulation`, the reason logged).
     ";
 
     fn calculate(v: &mut CraneDynamicsValues<f64>) -> Result<(), String> {
@@ -232,6 +236,9 @@ impl Mechanism for CraneDynamics {
     }
 
     const MONITORED: bool = true;
+
+    /// Where the monitor's verdict changes: the trolley at the pivot, the cable going slack.
+    const EVENT_INDICATORS: &'static [&'static str] = &["x", "T"];
 
     /// The trolley at the pivot (`x ≤ 0`) ends the step; a slack cable (`T < 0`) is a warning.
     fn monitor(v: &CraneDynamicsValues<f64>) -> Monitor {

@@ -9,9 +9,9 @@ use super::ffi::*;
 use super::fmu_state::FmuState;
 use super::instance::Instance;
 use super::logger::Logger;
-use super::state::ModelState;
+use super::state::{Interface, ModelState};
 use super::wall::{discard, error, Buffer, Outcome, StateSlot};
-use crate::model::{Layout, Mechanism, SetPhase};
+use crate::model::{event_indicator_references, Layout, Mechanism, SetPhase};
 use crate::simulation::StepFailure;
 
 // ---------------------------------------------------------------------------------------
@@ -50,15 +50,18 @@ pub fn instantiate<'a, M: Mechanism>(
             "instanceName is NULL or empty (or not UTF-8)".into(),
         ));
     }
-    if fmu_type != fmi2CoSimulation {
-        return Err((
-            logger,
-            format!(
-                "fmuType = {fmu_type}: {} is a Co-Simulation FMU only (fmi2CoSimulation = 1)",
-                M::NAME
-            ),
-        ));
-    }
+    let interface = match fmu_type {
+        fmi2ModelExchange => Interface::ModelExchange,
+        fmi2CoSimulation => Interface::CoSimulation,
+        _ => {
+            return Err((
+                logger,
+                format!(
+                    "fmuType = {fmu_type} is neither fmi2ModelExchange (0) nor fmi2CoSimulation (1)"
+                ),
+            ))
+        }
+    };
     let expected = crate::contract::guid::<M>();
     match guid() {
         Some(g) if g == expected => {}
@@ -72,8 +75,11 @@ pub fn instantiate<'a, M: Mechanism>(
         }
         None => return Err((logger, "fmuGUID is NULL".into())),
     }
-    match Layout::new(M::VARIABLES) {
-        Ok(layout) => Ok(Box::new(Instance::<M>::new(logger, layout))),
+    let layout = Layout::new(M::VARIABLES).and_then(|layout| {
+        event_indicator_references(M::VARIABLES, M::EVENT_INDICATORS).map(|_| layout)
+    });
+    match layout {
+        Ok(layout) => Ok(Box::new(Instance::<M>::new(logger, layout, interface))),
         Err(message) => Err((logger, message)),
     }
 }
@@ -125,7 +131,7 @@ pub fn exit_initialization_mode<M: Mechanism>(inst: &mut Instance<M>) -> Outcome
         return Err(error(format!("initialization failed: {message}")));
     }
     inst.last_successful_time = inst.sim.time();
-    inst.state = ModelState::StepComplete;
+    inst.state = inst.interface.initialized();
     inst.logger
         .log(fmi2OK, &format!("initialized at t = {}", inst.sim.time()));
     Ok(fmi2OK)
@@ -162,6 +168,7 @@ pub fn set_real<M: Mechanism>(
     let phase = match inst.state {
         ModelState::Instantiated => SetPhase::Instantiated,
         ModelState::InitializationMode => SetPhase::Initialization,
+        ModelState::ContinuousTimeMode => SetPhase::ContinuousTime,
         _ => SetPhase::Running,
     };
     inst.sim.set_real(vr, value, phase)?;

@@ -64,6 +64,18 @@ pub struct fmi2CallbackFunctions {
     pub componentEnvironment: fmi2ComponentEnvironment,
 }
 
+/// What `fmi2NewDiscreteStates` reports (layout of the header's `fmi2EventInfo`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct fmi2EventInfo {
+    pub newDiscreteStatesNeeded: fmi2Boolean,
+    pub terminateSimulation: fmi2Boolean,
+    pub nominalsOfContinuousStatesChanged: fmi2Boolean,
+    pub valuesOfContinuousStatesChanged: fmi2Boolean,
+    pub nextEventTimeDefined: fmi2Boolean,
+    pub nextEventTime: fmi2Real,
+}
+
 /// `fmi2GetTypesPlatform()`'s answer.
 pub const TYPES_PLATFORM: &std::ffi::CStr = c"default";
 /// `fmi2GetVersion()`'s answer.

@@ -43,7 +43,7 @@ pub struct FmuState {
     pub last_step_status: fmi2Status,
 }
 
-const STATES: [ModelState; 9] = [
+const STATES: [ModelState; 11] = [
     ModelState::Instantiated,
     ModelState::InitializationMode,
     ModelState::StepComplete,
@@ -53,6 +53,8 @@ const STATES: [ModelState; 9] = [
     ModelState::Terminated,
     ModelState::Error,
     ModelState::Fatal,
+    ModelState::EventMode,
+    ModelState::ContinuousTimeMode,
 ];
 
 fn fnv(bytes: &[u8]) -> u64 {

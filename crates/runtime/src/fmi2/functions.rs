@@ -1,4 +1,4 @@
-//! The FMI 2.0 Co-Simulation functions, each written once: its C signature (as in
+//! The FMI 2.0 functions (Model Exchange and Co-Simulation), each written once: its C signature (as in
 //! `fmi2FunctionTypes.h`) and its guarded call, one row of [`fmi2_functions!`].
 //!
 //! The table is expanded twice. Here, into generic `extern "C"` functions (`fmi2DoStep::<M>`,
@@ -12,6 +12,7 @@
 
 use super::api;
 use super::ffi::*;
+use super::model_exchange as me;
 use super::state::*;
 use super::wall::{self, fmu_state, guarded, out, slice, slice_mut, strings, Buffer, StateSlot};
 use crate::model::Mechanism;
@@ -70,6 +71,25 @@ macro_rules! fmi2_functions {
             = guarded::<M>(c, &DESERIALIZE_FMU_STATE, |_| api::deserialize_fmu_state::<M>(slice(serializedState as *const u8, size, "serializedState[]")?, StateSlot::new(FMUstate)));
         fmi2GetDirectionalDerivative(c: fmi2Component, vUnknown_ref: *const fmi2ValueReference, nUnknown: usize, vKnown_ref: *const fmi2ValueReference, nKnown: usize, dvKnown: *const fmi2Real, dvUnknown: *mut fmi2Real) -> fmi2Status
             = guarded::<M>(c, &GET_DIRECTIONAL_DERIVATIVE, |inst| api::get_directional_derivative(inst, slice(vUnknown_ref, nUnknown, "vUnknown_ref[]")?, slice(vKnown_ref, nKnown, "vKnown_ref[]")?, slice(dvKnown, nKnown, "dvKnown[]")?, slice_mut(dvUnknown, nUnknown, "dvUnknown[]")?));
+        fmi2EnterEventMode(c: fmi2Component) -> fmi2Status = guarded::<M>(c, &ENTER_EVENT_MODE, me::enter_event_mode);
+        fmi2NewDiscreteStates(c: fmi2Component, fmi2eventInfo: *mut fmi2EventInfo) -> fmi2Status
+            = guarded::<M>(c, &NEW_DISCRETE_STATES, |inst| me::new_discrete_states(inst, out(fmi2eventInfo, "fmi2eventInfo")?));
+        fmi2EnterContinuousTimeMode(c: fmi2Component) -> fmi2Status
+            = guarded::<M>(c, &ENTER_CONTINUOUS_TIME_MODE, me::enter_continuous_time_mode);
+        fmi2CompletedIntegratorStep(c: fmi2Component, noSetFMUStatePriorToCurrentPoint: fmi2Boolean, enterEventMode: *mut fmi2Boolean, terminateSimulation: *mut fmi2Boolean) -> fmi2Status
+            = guarded::<M>(c, &COMPLETED_INTEGRATOR_STEP, |inst| me::completed_integrator_step(inst, out(enterEventMode, "enterEventMode")?, out(terminateSimulation, "terminateSimulation")?));
+        fmi2SetTime(c: fmi2Component, time: fmi2Real) -> fmi2Status
+            = guarded::<M>(c, &SET_TIME, |inst| me::set_time(inst, time));
+        fmi2SetContinuousStates(c: fmi2Component, x: *const fmi2Real, nx: usize) -> fmi2Status
+            = guarded::<M>(c, &SET_CONTINUOUS_STATES, |inst| me::set_continuous_states(inst, slice(x, nx, "x[]")?));
+        fmi2GetDerivatives(c: fmi2Component, derivatives: *mut fmi2Real, nx: usize) -> fmi2Status
+            = guarded::<M>(c, &GET_DERIVATIVES, |inst| me::get_derivatives(inst, slice_mut(derivatives, nx, "derivatives[]")?));
+        fmi2GetEventIndicators(c: fmi2Component, eventIndicators: *mut fmi2Real, ni: usize) -> fmi2Status
+            = guarded::<M>(c, &GET_EVENT_INDICATORS, |inst| me::get_event_indicators(inst, slice_mut(eventIndicators, ni, "eventIndicators[]")?));
+        fmi2GetContinuousStates(c: fmi2Component, x: *mut fmi2Real, nx: usize) -> fmi2Status
+            = guarded::<M>(c, &GET_CONTINUOUS_STATES, |inst| me::get_continuous_states(inst, slice_mut(x, nx, "x[]")?));
+        fmi2GetNominalsOfContinuousStates(c: fmi2Component, x_nominal: *mut fmi2Real, nx: usize) -> fmi2Status
+            = guarded::<M>(c, &GET_NOMINALS_OF_CONTINUOUS_STATES, |inst| me::get_nominals_of_continuous_states(inst, slice_mut(x_nominal, nx, "x_nominal[]")?));
         fmi2SetRealInputDerivatives(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, order: *const fmi2Integer, value: *const fmi2Real) -> fmi2Status
             = guarded::<M>(c, &SET_REAL_INPUT_DERIVATIVES, |inst| api::set_real_input_derivatives(inst, slice(vr, nvr, "vr[]")?, slice(order, nvr, "order[]")?, slice(value, nvr, "value[]")?));
         fmi2GetRealOutputDerivatives(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, order: *const fmi2Integer, value: *mut fmi2Real) -> fmi2Status

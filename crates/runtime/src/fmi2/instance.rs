@@ -4,7 +4,7 @@
 use super::ffi::*;
 use super::fmu_state::{FmuState, STATE_MAGIC};
 use super::logger::Logger;
-use super::state::ModelState;
+use super::state::{Interface, ModelState};
 use crate::model::{Layout, Mechanism};
 use crate::simulation::Simulation;
 
@@ -14,6 +14,8 @@ pub(crate) const MAGIC: u64 = 0x6d65_6368_666d_7532; // "mechfmu2"
 pub struct Instance<M: Mechanism> {
     pub(crate) magic: u64,
     pub logger: Logger,
+    /// Model Exchange or Co-Simulation, as instantiated.
+    pub interface: Interface,
     pub state: ModelState,
     pub sim: Simulation<M>,
     pub stop_time: Option<f64>,
@@ -26,10 +28,11 @@ pub struct Instance<M: Mechanism> {
 }
 
 impl<M: Mechanism> Instance<M> {
-    pub fn new(logger: Logger, layout: Layout) -> Self {
+    pub fn new(logger: Logger, layout: Layout, interface: Interface) -> Self {
         Instance {
             magic: MAGIC,
             logger,
+            interface,
             state: ModelState::Instantiated,
             sim: Simulation::new(layout),
             stop_time: None,
@@ -64,8 +67,21 @@ impl<M: Mechanism> Instance<M> {
         }
     }
 
-    /// Restores a captured state (`fmi2SetFMUstate`).
+    /// Restores a captured state (`fmi2SetFMUstate`); refuses one saved in a state of the
+    /// other interface type's machine.
     pub fn restore(&mut self, saved: &FmuState) -> Result<(), String> {
+        if let Some(other) = saved
+            .model_state
+            .interface()
+            .filter(|&i| i != self.interface)
+        {
+            return Err(format!(
+                "the FMU state was saved by a {} instance ({}); this instance is {}",
+                other.name(),
+                saved.model_state.name(),
+                self.interface.name()
+            ));
+        }
         self.sim.restore(&saved.sim)?;
         self.state = saved.model_state;
         self.stop_time = saved.stop_time;

@@ -74,21 +74,27 @@ pub(crate) unsafe fn instance<'a, M: Mechanism>(c: fmi2Component) -> Option<&'a 
 /// why not when it may not.
 #[inline(always)]
 fn allowed<M: Mechanism>(inst: &Instance<M>, function: &Function) -> bool {
-    function.allowed.contains(inst.state) || refused(inst, function)
+    function.allows(inst.interface, inst.state) || refused(inst, function)
 }
 
-/// Logs an illegal call sequence; false.
+/// Logs an illegal call sequence, or a function of the other interface type; false.
 #[cold]
 #[inline(never)]
 fn refused<M: Mechanism>(inst: &Instance<M>, function: &Function) -> bool {
-    inst.logger.log(
-        fmi2Error,
-        &format!(
+    let message = match function.interface {
+        Some(interface) if interface != inst.interface => format!(
+            "{}: a {} function, but the instance was instantiated for {}",
+            function.name,
+            interface.name(),
+            inst.interface.name()
+        ),
+        _ => format!(
             "{}: illegal call sequence: the instance is {}",
             function.name,
             inst.state.name()
         ),
-    );
+    };
+    inst.logger.log(fmi2Error, &message);
     false
 }
 

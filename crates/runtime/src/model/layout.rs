@@ -243,3 +243,59 @@ pub const fn check_declaration(variables: &[Variable]) {
         i += 1;
     }
 }
+
+/// Compile-time check of a mechanism's event indicators, run by `export_fmu!`: each names a
+/// declared continuous variable, once.
+pub const fn check_event_indicators(variables: &[Variable], indicators: &[&str]) {
+    let mut k = 0;
+    while k < indicators.len() {
+        let mut found = false;
+        let mut j = 0;
+        while j < variables.len() {
+            if str_eq(variables[j].name, indicators[k]) {
+                found = true;
+                if !matches!(variables[j].variability, Variability::Continuous) {
+                    panic!("Mechanism::EVENT_INDICATORS: an event indicator is not a continuous variable");
+                }
+            }
+            j += 1;
+        }
+        if !found {
+            panic!("Mechanism::EVENT_INDICATORS: an event indicator names no declared variable");
+        }
+        let mut i = 0;
+        while i < k {
+            if str_eq(indicators[i], indicators[k]) {
+                panic!("Mechanism::EVENT_INDICATORS: an event indicator is listed twice");
+            }
+            i += 1;
+        }
+        k += 1;
+    }
+}
+
+/// The value references of the event indicators `names`, in their order; `Err` names the
+/// first that is not a declared continuous variable, or is listed twice.
+pub fn event_indicator_references(
+    variables: &[Variable],
+    names: &[&str],
+) -> Result<Vec<usize>, String> {
+    let mut references = Vec::with_capacity(names.len());
+    for (k, name) in names.iter().enumerate() {
+        let Some(vr) = variables.iter().position(|v| v.name == *name) else {
+            return Err(format!(
+                "event indicator `{name}` names no declared variable"
+            ));
+        };
+        if variables[vr].variability != Variability::Continuous {
+            return Err(format!(
+                "event indicator `{name}` is not a continuous variable"
+            ));
+        }
+        if names[..k].contains(name) {
+            return Err(format!("event indicator `{name}` is listed twice"));
+        }
+        references.push(vr);
+    }
+    Ok(references)
+}

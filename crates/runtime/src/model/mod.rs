@@ -9,7 +9,7 @@ mod scalar;
 mod values;
 mod variable;
 
-pub use layout::{check_declaration, Layout};
+pub use layout::{check_declaration, check_event_indicators, event_indicator_references, Layout};
 #[doc(hidden)]
 pub use layout::{
     count_selected, derivative_references, derivatives_among_states, selected_references, Selection,
@@ -163,9 +163,21 @@ pub trait Mechanism: Declaration {
 
     /// Checks the model's validity at every accepted solver step (values evaluated there by
     /// [`Mechanism::evaluate`] alone: it must not read what [`Mechanism::outputs`] writes).
+    /// In Model Exchange, where the importer's solver takes the steps, it is asked at every
+    /// `fmi2CompletedIntegratorStep` and at every event: `Warning` is logged once per
+    /// episode, `Invalid` ends the simulation (`terminateSimulation`, with the message).
     fn monitor(_values: &Self::Values<f64>) -> Monitor {
         Monitor::Valid
     }
+
+    /// The event indicators of Model Exchange, by variable name: continuous variables
+    /// (states, or variables [`Mechanism::evaluate`] computes) whose sign changes where
+    /// [`Mechanism::monitor`]'s verdict changes, e.g. `x` for a trolley that must stay on
+    /// its side of the pivot (`x > 0`) and `T` for a cable that must pull (`T ≥ 0`). The
+    /// importer's solver locates each change of sign and stops there, so the monitor is
+    /// asked at the very time a limit is crossed rather than at the end of the step that
+    /// crossed it. A name that is not a continuous variable does not compile.
+    const EVENT_INDICATORS: &'static [&'static str] = &[];
 }
 
 /// A complete evaluation at the point the values hold: [`Mechanism::evaluate`] (the

@@ -245,6 +245,9 @@ impl Variable {
                     || (self.causality == Causality::Parameter
                         && self.variability == Variability::Tunable)
             }
+            SetPhase::ContinuousTime => {
+                self.causality == Causality::Input && self.variability == Variability::Continuous
+            }
         }
     }
 
@@ -299,5 +302,15 @@ impl Variable {
 pub enum SetPhase {
     Instantiated,
     Initialization,
+    /// After initialization: Co-Simulation between steps, Model Exchange in event mode.
     Running,
+    /// Model Exchange in continuous-time mode: continuous inputs only.
+    ContinuousTime,
+}
+
+impl SetPhase {
+    /// After initialization (running or in continuous-time mode).
+    pub fn initialized(self) -> bool {
+        matches!(self, SetPhase::Running | SetPhase::ContinuousTime)
+    }
 }

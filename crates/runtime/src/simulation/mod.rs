@@ -3,6 +3,7 @@
 
 mod bench;
 mod derivatives;
+mod model_exchange;
 #[cfg(test)]
 mod tests;
 
@@ -74,6 +75,12 @@ pub struct Simulation<M: Mechanism> {
     /// Only inputs changed since the outputs were last computed: the parameters are as
     /// checked, the calculated parameters current; the outputs need one evaluation.
     stale: bool,
+    /// With `stale`: `evaluate` has run at the point the values hold since it last moved,
+    /// so the derivatives are current and only what `outputs` computes is not (Model
+    /// Exchange: `fmi2GetDerivatives` evaluates no more than that). Meaningless otherwise.
+    derivatives_current: bool,
+    /// The event indicators' value references ([`Mechanism::EVENT_INDICATORS`]).
+    indicators: Vec<usize>,
     /// Whether the inputs are held over the next step (see [`Simulation::inputs_held`]),
     /// once known: forgotten by everything that sets inputs, their derivatives or values.
     held: Option<bool>,
@@ -93,6 +100,8 @@ impl<M: Mechanism> Clone for Simulation<M> {
             warnings: self.warnings.clone(),
             dirty: self.dirty,
             stale: self.stale,
+            derivatives_current: self.derivatives_current,
+            indicators: self.indicators.clone(),
             held: self.held,
             counters: self.counters,
         }
@@ -123,6 +132,10 @@ impl<M: Mechanism> Simulation<M> {
             warnings: Vec::new(),
             dirty: true,
             stale: false,
+            derivatives_current: false,
+            // Checked at compile time by `export_fmu!`, and when an instance is made.
+            indicators: crate::model::event_indicator_references(M::VARIABLES, M::EVENT_INDICATORS)
+                .unwrap_or_default(),
             held: None,
             counters: Counters::default(),
         };
@@ -198,6 +211,8 @@ impl<M: Mechanism> Simulation<M> {
                     match phase {
                         SetPhase::Running =>
                             "after initialization (only inputs and tunable parameters can)",
+                        SetPhase::ContinuousTime =>
+                            "in continuous-time mode (only continuous inputs can; tunable parameters in event mode)",
                         _ => "(it is computed by the model)",
                     }
                 ));
@@ -207,12 +222,12 @@ impl<M: Mechanism> Simulation<M> {
             }
             if var.causality == crate::model::Causality::Parameter {
                 sets_parameter = true;
-                if phase == SetPhase::Running {
+                if phase.initialized() {
                     var.check_value(value)?;
                 }
             }
         }
-        let running = phase == SetPhase::Running;
+        let running = phase.initialized();
         // What to go back to if the calculated parameters cannot be computed: only a
         // parameter set while running can cause that (inputs alone, set at every step by
         // most importers, need no copy of every value).
@@ -258,7 +273,10 @@ impl<M: Mechanism> Simulation<M> {
         if running && !parameter_changed {
             // Inputs only: the parameters passed `update` and are unchanged, so the outputs
             // need an evaluation, not the whole update.
-            self.stale |= input_changed;
+            if input_changed {
+                self.stale = true;
+                self.derivatives_current = false;
+            }
         } else {
             self.dirty = true;
         }

@@ -1,4 +1,4 @@
-//! The FMI 2.0 Co-Simulation `modelDescription.xml` of a mechanism, generated from its
+//! The FMI 2.0 `modelDescription.xml` (Model Exchange and Co-Simulation) of a mechanism, generated from its
 //! declaration: deterministic, byte for byte (no timestamp).
 //!
 //! - [`model_description`]: the XML of a mechanism, with the [`CAPABILITIES`] the runtime
@@ -37,6 +37,11 @@ pub struct FmuInfo<'a> {
     /// `(name, description)` of each `<Category>`.
     pub log_categories: &'a [(&'a str, &'a str)],
     pub structure: &'a ModelStructure,
+    /// `numberOfEventIndicators`.
+    pub event_indicators: usize,
+    /// Whether Model Exchange needs `fmi2CompletedIntegratorStep` (a monitor or a
+    /// projection runs there).
+    pub needs_completed_integrator_step: bool,
 }
 
 /// The modelDescription.xml of mechanism `M`, with [`CAPABILITIES`].
@@ -49,7 +54,7 @@ pub fn model_description<M: Mechanism>() -> Result<String, String> {
 
 /// The modelDescription.xml of mechanism `M`, declaring `capabilities`.
 pub fn model_description_for<M: Mechanism>(capabilities: &Capabilities) -> Result<String, String> {
-    let structure = structure::model_structure::<M>(capabilities)?;
+    let structure = structure::model_structure::<M>()?;
     let guid = crate::contract::guid::<M>();
     model_description_with(&FmuInfo {
         name: M::NAME,
@@ -60,6 +65,8 @@ pub fn model_description_for<M: Mechanism>(capabilities: &Capabilities) -> Resul
         capabilities: *capabilities,
         log_categories: &LOG_CATEGORIES,
         structure: &structure,
+        event_indicators: M::EVENT_INDICATORS.len(),
+        needs_completed_integrator_step: M::MONITORED || M::PROJECTED,
     })
 }
 
@@ -160,7 +167,7 @@ fn check<'a>(info: &FmuInfo<'a>) -> Result<Vec<UnitInfo<'a>>, String> {
     let s = info.structure;
     let lists = [
         Some(&s.outputs),
-        s.derivatives.as_ref(),
+        Some(&s.derivatives),
         Some(&s.initial_unknowns),
     ];
     for unknown in lists.into_iter().flatten().flatten() {
@@ -207,11 +214,19 @@ fn write(info: &FmuInfo, units: &[UnitInfo]) -> io::Result<Vec<u8>> {
             format!("mechfmu {}", env!("CARGO_PKG_VERSION")),
         ),
         ("variableNamingConvention", "flat".into()),
-        ("numberOfEventIndicators", "0".into()),
+        ("numberOfEventIndicators", info.event_indicators.to_string()),
     ]);
     w.create_element("fmiModelDescription")
         .with_attributes(pairs(&root))
         .write_inner_content(|w| {
+            let mut me: Attributes = vec![("modelIdentifier", info.name.into())];
+            me.extend(
+                info.capabilities
+                    .model_exchange_attributes(info.needs_completed_integrator_step),
+            );
+            w.create_element("ModelExchange")
+                .with_attributes(pairs(&me))
+                .write_empty()?;
             let mut cs: Attributes = vec![("modelIdentifier", info.name.into())];
             cs.extend(info.capabilities.attributes());
             w.create_element("CoSimulation")
@@ -392,7 +407,7 @@ fn write_unknowns(w: &mut Writer<Vec<u8>>, element: &str, unknowns: &[Unknown]) 
 }
 
 fn write_structure(w: &mut Writer<Vec<u8>>, s: &ModelStructure) -> io::Result<()> {
-    let derivatives = s.derivatives.as_deref().unwrap_or(&[]);
+    let derivatives = &s.derivatives;
     if s.outputs.is_empty() && derivatives.is_empty() && s.initial_unknowns.is_empty() {
         w.create_element("ModelStructure").write_empty()?;
         return Ok(());

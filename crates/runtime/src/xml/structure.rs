@@ -13,7 +13,6 @@
 
 use std::collections::BTreeSet;
 
-use crate::contract::Capabilities;
 use crate::model::{evaluate_all, Causality, Initial, Layout, Mechanism, ValueSet, Variable};
 use crate::simulation::start_values;
 
@@ -29,12 +28,12 @@ pub struct Unknown {
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct ModelStructure {
     /// Every output, in value-reference order. Knowns: the inputs, and the continuous
-    /// states when the FMU provides directional derivatives.
+    /// states.
     pub outputs: Vec<Unknown>,
-    /// The state derivatives in state order (`None`: the element is not written).
-    pub derivatives: Option<Vec<Unknown>>,
-    /// Outputs with `initial` approx/calculated, calculated parameters and (with
-    /// `derivatives`) approx/calculated states and state derivatives, by value reference.
+    /// The state derivatives in state order. Knowns: the inputs and the states.
+    pub derivatives: Vec<Unknown>,
+    /// Outputs with `initial` approx/calculated, calculated parameters, and
+    /// approx/calculated states and state derivatives, by value reference.
     /// Knowns: the inputs and the variables with `initial="exact"`.
     pub initial_unknowns: Vec<Unknown>,
 }
@@ -48,22 +47,17 @@ fn is_unknown_initially(v: &Variable) -> bool {
 
 /// Computes the model structure of `M`.
 ///
-/// Per FMI 2.0.5 (section 2.2.8): for Co-Simulation, `<Derivatives>` is ignored and
-/// `dependencies` do not list the continuous-time states unless
-/// `providesDirectionalDerivative` is true; so both follow that capability.
-pub fn model_structure<M: Mechanism>(
-    capabilities: &Capabilities,
-) -> Result<ModelStructure, String> {
+/// Every FMU is a Model Exchange FMU too, and Model Exchange needs `<Derivatives>` and the
+/// continuous-time states among the knowns of `dependencies` (FMI 2.0.5, section 2.2.8):
+/// so both are always there, whatever the capabilities.
+pub fn model_structure<M: Mechanism>() -> Result<ModelStructure, String> {
     let variables = M::VARIABLES;
     let layout = Layout::new(variables).map_err(|e| format!("{}: {e}", M::NAME))?;
-    let with_states = capabilities.provides_directional_derivative;
     let points = points::<M>()?;
 
-    // Knowns at communication points: inputs and (with directional derivatives) states.
+    // Knowns at communication points and in continuous-time mode: inputs and states.
     let mut knowns: Vec<usize> = layout.inputs.clone();
-    if with_states {
-        knowns.extend(&layout.states);
-    }
+    knowns.extend(&layout.states);
     knowns.sort_unstable();
     knowns.dedup();
 
@@ -82,25 +76,16 @@ pub fn model_structure<M: Mechanism>(
             vr,
             dependencies: match computed.iter().position(|&c| c == vr) {
                 Some(i) => deps[i].clone(),
-                None if with_states => vec![vr],
-                None => Vec::new(),
+                None => vec![vr],
             },
         })
         .collect();
 
-    let derivatives = if with_states {
-        let deps = dependencies::<M>(&points, &layout.derivatives, &knowns);
-        Some(
-            layout
-                .derivatives
-                .iter()
-                .zip(deps)
-                .map(|(&vr, dependencies)| Unknown { vr, dependencies })
-                .collect::<Vec<_>>(),
-        )
-    } else {
-        None
-    };
+    let deps = dependencies::<M>(&points, &layout.derivatives, &knowns);
+    let derivatives = (layout.derivatives.iter())
+        .zip(deps)
+        .map(|(&vr, dependencies)| Unknown { vr, dependencies })
+        .collect();
 
     // InitialUnknowns, knowns in Initialization Mode: inputs and initial="exact".
     let mut unknowns: Vec<usize> = variables
@@ -112,16 +97,12 @@ pub fn model_structure<M: Mechanism>(
         })
         .map(|(vr, _)| vr)
         .collect();
-    if with_states {
-        unknowns.extend(
-            layout
-                .states
-                .iter()
-                .chain(&layout.derivatives)
-                .copied()
-                .filter(|&vr| is_unknown_initially(&variables[vr])),
-        );
-    }
+    unknowns.extend(
+        (layout.states.iter())
+            .chain(&layout.derivatives)
+            .copied()
+            .filter(|&vr| is_unknown_initially(&variables[vr])),
+    );
     unknowns.sort_unstable();
     unknowns.dedup();
     let initial_knowns: Vec<usize> = variables
@@ -328,33 +309,13 @@ mod tests {
     }
 
     #[test]
-    fn without_directional_derivatives_states_are_not_knowns() {
-        let s = model_structure::<Probe>(&Capabilities::NONE).unwrap();
-        // x depends on no input; y on u (x is a state: not listed); z on nothing.
-        assert_eq!(
-            s.outputs,
-            vec![unknown(3, &[]), unknown(5, &[2]), unknown(6, &[])]
-        );
-        assert_eq!(s.derivatives, None);
-        // y = a x + sin u: a is detected although x = 0 at the start (the random points).
-        assert_eq!(
-            s.initial_unknowns,
-            vec![unknown(5, &[0, 2, 3]), unknown(6, &[1]), unknown(7, &[1])]
-        );
-    }
-
-    #[test]
-    fn with_directional_derivatives_states_are_knowns() {
-        let capabilities = Capabilities {
-            provides_directional_derivative: true,
-            ..Capabilities::NONE
-        };
-        let s = model_structure::<Probe>(&capabilities).unwrap();
+    fn states_are_knowns() {
+        let s = model_structure::<Probe>().unwrap();
         assert_eq!(
             s.outputs,
             vec![unknown(3, &[3]), unknown(5, &[2, 3]), unknown(6, &[])]
         );
-        assert_eq!(s.derivatives, Some(vec![unknown(4, &[2, 3])]));
+        assert_eq!(s.derivatives, vec![unknown(4, &[2, 3])]);
         // x_dot (local, calculated) is an initial unknown here too.
         assert_eq!(
             s.initial_unknowns,
@@ -369,10 +330,7 @@ mod tests {
 
     #[test]
     fn deterministic() {
-        assert_eq!(
-            model_structure::<Probe>(&Capabilities::NONE),
-            model_structure::<Probe>(&Capabilities::NONE)
-        );
+        assert_eq!(model_structure::<Probe>(), model_structure::<Probe>());
     }
 
     #[test]

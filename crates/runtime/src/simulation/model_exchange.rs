@@ -1,0 +1,190 @@
+//! Model Exchange: the importer's solver integrates, and the simulation evaluates the
+//! equations at the points it is given (the time, the states, the inputs as set), and says
+//! where the model needs an event: its event indicators, the monitor's verdict at accepted
+//! points, the drift off the manifold its projection restores.
+
+use super::Simulation;
+use crate::model::{Mechanism, Monitor, ValueSet};
+use crate::solver::StateVector;
+
+impl<M: Mechanism> Simulation<M> {
+    /// The number of continuous states.
+    pub fn state_count(&self) -> usize {
+        M::STATES.len()
+    }
+
+    /// The number of event indicators.
+    pub fn event_indicator_count(&self) -> usize {
+        self.indicators.len()
+    }
+
+    /// `fmi2SetTime`: the point moves to time `t`.
+    pub fn set_time(&mut self, t: f64) -> Result<(), String> {
+        if !t.is_finite() {
+            return Err(format!("time = {t} is not a finite number"));
+        }
+        if self.values.time().to_bits() != t.to_bits() {
+            self.values.set_time(t);
+            self.moved();
+        }
+        Ok(())
+    }
+
+    /// `fmi2SetContinuousStates`: `x` holds one value per state, in the states' order. All or
+    /// nothing: a value that is not finite is refused before any is set. The same states
+    /// again (an importer often sets the point it evaluated last) keep the evaluation.
+    pub fn set_states(&mut self, x: &[f64]) -> Result<(), String> {
+        debug_assert_eq!(x.len(), M::STATES.len());
+        // `v - v` is +0.0 for a finite `v` and NaN otherwise (see `first_non_finite`).
+        #[allow(clippy::eq_op)]
+        let nonfinite_bits = x.iter().fold(0, |any, &v| any | (v - v).to_bits());
+        if nonfinite_bits != 0 {
+            let i = x.iter().position(|v| !v.is_finite()).unwrap_or(0);
+            return Err(format!(
+                "x[{i}] (`{}`) = {} is not a finite number",
+                M::VARIABLES[M::STATES[i]].name,
+                x[i]
+            ));
+        }
+        let mut changed = false;
+        for (&vr, &v) in M::STATES.iter().zip(x) {
+            changed |= self.values.get(vr).map(f64::to_bits) != Some(v.to_bits());
+            self.values.set(vr, v);
+        }
+        if changed {
+            self.moved();
+        }
+        Ok(())
+    }
+
+    /// `fmi2GetContinuousStates`: the states, in their order.
+    pub fn states(&self, x: &mut [f64]) {
+        for (x, &vr) in x.iter_mut().zip(M::STATES) {
+            *x = self.values.get(vr).unwrap_or(f64::NAN);
+        }
+    }
+
+    /// `fmi2GetDerivatives`: the states' derivatives at the current point. `Err` when one is
+    /// not a number (the point is outside the equations' domain: the importer's solver
+    /// should try a smaller step).
+    pub fn derivatives(&mut self, dx: &mut [f64]) -> Result<(), String> {
+        self.evaluate_derivatives()?;
+        for (d, &vr) in dx.iter_mut().zip(M::DERIVATIVES) {
+            *d = self.values.get(vr).unwrap_or(f64::NAN);
+        }
+        self.all_finite(dx, M::DERIVATIVES, "the derivative")
+    }
+
+    /// `fmi2GetEventIndicators`: the indicators at the current point (as `derivatives`).
+    pub fn event_indicators(&mut self, z: &mut [f64]) -> Result<(), String> {
+        self.evaluate_derivatives()?;
+        for (z, &vr) in z.iter_mut().zip(&self.indicators) {
+            *z = self.values.get(vr).unwrap_or(f64::NAN);
+        }
+        // `indicators` is short and only read here: a copy keeps the borrow simple.
+        let indicators = std::mem::take(&mut self.indicators);
+        let result = self.all_finite(z, &indicators, "the event indicator");
+        self.indicators = indicators;
+        result
+    }
+
+    /// What the monitor says about the current point (an accepted point of the importer's
+    /// solver, or an event): `Ok(None)` when the model holds (a warning that starts an
+    /// episode is in [`Simulation::warnings`]), `Ok(Some(reason))` when it no longer does
+    /// (the simulation must stop), `Err` when the point cannot be evaluated.
+    pub fn check_point(&mut self) -> Result<Option<String>, String> {
+        self.warnings.clear();
+        if !M::MONITORED {
+            return Ok(None);
+        }
+        self.evaluate_derivatives()?;
+        let t = self.time();
+        match M::monitor(&self.values) {
+            Monitor::Valid => self.warning_active = false,
+            Monitor::Warning(message) => {
+                if !self.warning_active {
+                    self.warnings.push(format!("at t = {t}: {message}"));
+                }
+                self.warning_active = true;
+            }
+            Monitor::Invalid(message) => return Ok(Some(format!("at t = {t}: {message}"))),
+        }
+        Ok(None)
+    }
+
+    /// Whether [`Mechanism::project`] would move a state by more than the tolerance
+    /// (`atol + rtol |x|`): then the importer is asked for a step event, where
+    /// [`Simulation::project`] runs.
+    pub fn projection_due(&self) -> bool {
+        if !M::PROJECTED {
+            return false;
+        }
+        let mut projected = self.values.clone();
+        M::project(&mut projected);
+        let (rtol, atol) = (self.tolerance.rtol(), self.tolerance.atol());
+        M::STATES.iter().any(|&vr| {
+            let (x, p) = (self.values.get(vr), projected.get(vr));
+            let (x, p) = (x.unwrap_or(0.0), p.unwrap_or(0.0));
+            // NaN counts as drift.
+            (x - p).abs() > atol + rtol * x.abs() || (x - p).is_nan()
+        })
+    }
+
+    /// Projects the states back onto their manifold (at an event); whether any changed.
+    pub fn project(&mut self) -> bool {
+        if !M::PROJECTED {
+            return false;
+        }
+        let before = self.state_vector();
+        M::project(&mut self.values);
+        let after = self.state_vector();
+        let changed = (before.as_slice().iter().zip(after.as_slice()))
+            .any(|(a, b)| a.to_bits() != b.to_bits());
+        if changed {
+            self.moved();
+        }
+        changed
+    }
+
+    /// The point the values hold has moved: what was evaluated there is stale.
+    #[inline(always)]
+    fn moved(&mut self) {
+        self.stale = true;
+        self.derivatives_current = false;
+        self.held = None;
+    }
+
+    /// Brings the derivatives up to date at the current point: the whole update when
+    /// something other than the point changed (parameters, a restored state), else one
+    /// evaluation of `evaluate` if the point moved. What only `outputs` computes stays
+    /// stale until a value is read.
+    #[inline(always)]
+    fn evaluate_derivatives(&mut self) -> Result<(), String> {
+        if self.dirty {
+            return self.update();
+        }
+        if self.stale && !self.derivatives_current {
+            M::evaluate(&mut self.values);
+            self.counters.evaluations += 1;
+            self.derivatives_current = true;
+        }
+        Ok(())
+    }
+
+    /// `Err` naming the first of `values` (read from `references`) that is not finite.
+    #[inline(always)]
+    fn all_finite(&self, values: &[f64], references: &[usize], what: &str) -> Result<(), String> {
+        #[allow(clippy::eq_op)]
+        let nonfinite_bits = values.iter().fold(0, |any, &v| any | (v - v).to_bits());
+        if nonfinite_bits == 0 {
+            return Ok(());
+        }
+        let i = values.iter().position(|v| !v.is_finite()).unwrap_or(0);
+        Err(format!(
+            "{what} `{}` is {} at t = {}: the point is outside the equations' domain",
+            M::VARIABLES[references[i]].name,
+            values[i],
+            self.time()
+        ))
+    }
+}
