@@ -4,11 +4,15 @@
 //!
 //! - [`harness`]: an in-process importer that drives a mechanism through the very C
 //!   functions its FMU exports, recording every logged message;
+//! - [`model_exchange`]: the same importer instantiating Model Exchange, with a fixed-step
+//!   Runge–Kutta integrator that locates events;
 //! - [`conformance`]: the checks every mechanism passes whatever its physics (reset, FMU
-//!   state and its bytes, derivatives against finite differences, threads);
+//!   state and its bytes, derivatives against finite differences, threads, Model
+//!   Exchange);
 //! - [`golden`]: committed files generated from the declaration (modelDescription,
 //!   interface page) checked to be current, or regenerated with `MECHFMU_BLESS=1`.
 
 pub mod conformance;
 pub mod golden;
 pub mod harness;
+pub mod model_exchange;

@@ -6,6 +6,7 @@
 use crane::Crane;
 use mechfmu::fmi2::ffi::*;
 use mechfmu_testkit::harness::Harness;
+use mechfmu_testkit::model_exchange::ModelExchange;
 
 type Fmu = Harness<Crane>;
 
@@ -326,6 +327,63 @@ fn trolley_reaching_the_pivot_discards_the_step() {
     let x = fmu.get("x");
     assert!(x > 0.0 && x <= 1.0 - 1.05 * 0.9 + 1e-12, "x = {x}");
     assert_eq!(fmu.do_step(1.0, 0.1), fmi2Error, "no step after a discard");
+}
+
+#[test]
+fn model_exchange_stops_where_the_trolley_reaches_the_pivot() {
+    // x = 1 - 1.05 t: the indicator x crosses 0 at t = 1/1.05, inside the RK4 step
+    // [0.9, 1.0] (exact for a straight line); the importer locates it and the FMU asks to
+    // stop there, with the reason.
+    let mut me = ModelExchange::<Crane>::new();
+    me.initialize(Some(1e-8), 0.0, &[("x", 1.0), ("x_dot", -1.05)])
+        .unwrap();
+    let run = me.integrate(2.0, 0.1).unwrap();
+    let t = run
+        .terminated_at
+        .expect("the simulation goes on past the pivot");
+    assert!((t - 1.0 / 1.05).abs() < 1e-12, "stopped at t = {t}");
+    assert_eq!(run.state_events, 1);
+    let terminated: Vec<_> = me
+        .messages()
+        .into_iter()
+        .filter(|(s, _, m)| *s == fmi2Warning && m.contains("terminateSimulation"))
+        .collect();
+    assert_eq!(terminated.len(), 1, "{:?}", me.messages());
+    assert!(terminated[0].2.contains("the trolley reached the pivot"));
+    assert!(me.fmu.get("x").abs() < 1e-12);
+    assert_eq!(me.fmu.terminate(), fmi2OK);
+}
+
+#[test]
+fn model_exchange_warns_once_per_slack_episode_at_the_crossing() {
+    // As in Co-Simulation: released at 120°, T < 0 at the release and again around t = P/2.
+    // The indicator T locates the second episode's start: T ≈ 0 there.
+    let phi0 = 120f64.to_radians();
+    let period = 4.0 * (L / G).sqrt() * ellip_k((phi0 / 2.0).sin());
+    let mut me = ModelExchange::<Crane>::new();
+    me.initialize(Some(1e-8), 0.0, &[("phi", phi0)]).unwrap();
+    let run = me.integrate(0.8 * period, 0.001).unwrap();
+    assert_eq!(run.terminated_at, None);
+    let warnings: Vec<_> = me
+        .messages()
+        .into_iter()
+        .filter(|(s, _, m)| *s == fmi2Warning && m.contains("slack"))
+        .collect();
+    assert_eq!(warnings.len(), 2, "{warnings:?}");
+    // T changes sign twice per episode: into slack and out of it.
+    assert!(run.state_events >= 3, "{run:?}");
+    // The second warning is logged at the located crossing, where T is -0 or a rounding.
+    let at = warnings[1]
+        .2
+        .split("T = ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next());
+    let tension: f64 = at.and_then(|s| s.parse().ok()).unwrap_or(f64::NAN);
+    assert!(
+        tension <= 0.0 && tension > -1e-6 * M * G,
+        "{}",
+        warnings[1].2
+    );
 }
 
 #[test]

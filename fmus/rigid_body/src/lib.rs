@@ -43,6 +43,16 @@
 //! (the solver's own step size); 10 to 55 times less than without the term. What is left
 //! is removed at every communication point by [`Mechanism::project`] (`q ← q/|q|`, the
 //! same rotation), so `|q| = 1` to rounding at every output.
+//!
+//! In Model Exchange the importer's solver integrates and there are no communication
+//! points. The pull works as in Co-Simulation, whatever the solver: at the balance of the
+//! solver's error and the pull, `|q|` stays put instead of drifting (measured over 200 s of
+//! RK4 at 0.05 s: `||q| - 1|` 3.7e-6 with the pull, 1.3e-4 and growing without). On top of
+//! it the projection becomes a step event: `fmi2CompletedIntegratorStep` asks for one when
+//! `q/|q|` would move a component by more than the tolerance, and `fmi2NewDiscreteStates`
+//! projects there, so `||q| - 1|` stays within a few times the tolerance at every accepted
+//! step (2e-8 at the default 1e-8, same run). The rotation the outputs show is `q/|q|`'s in
+//! every case.
 
 #![forbid(unsafe_code)]
 
@@ -264,7 +274,8 @@ impl Mechanism for RigidBody {
           term `-k_q (|q|² - 1) q` (`k_q = 1/s`) pulls `q` back to the unit sphere without
           changing the rotation it stands for (it is parallel to `q` and vanishes on the
           sphere), and `q` is renormalized at every communication point, so `|q| = 1` to
-          rounding at every output.
+          rounding at every output. In Model Exchange the renormalization is a step event
+          (see Events): `|q| = 1` to a few times the tolerance at every accepted step.
         - A tensor that is not a physical body (not positive definite, or violating
           `I_1 + I_2 ≥ I_3`) is refused at initialization with a message.
     ";

@@ -685,3 +685,51 @@ fn quaternion_stabilization_changes_only_its_length() {
 fn conforms() {
     mechfmu_testkit::conformance::check::<rigid_body::RigidBody>();
 }
+
+/// The largest `||q| - 1|` at the ends of 1 s chunks of a Model Exchange run of `seconds`
+/// (RK4, step `h`) at `tolerance`, with the quaternion's pull `k_q`; and the step events.
+fn quaternion_drift_in_model_exchange(
+    tolerance: f64,
+    k_q: f64,
+    h: f64,
+    seconds: u32,
+) -> (f64, usize) {
+    let mut me = mechfmu_testkit::model_exchange::ModelExchange::<rigid_body::RigidBody>::new();
+    me.initialize(Some(tolerance), 0.0, &[("k_q", k_q)])
+        .unwrap();
+    let (mut drift, mut events) = (0.0f64, 0);
+    for second in 1..=seconds {
+        events += me.integrate(second as f64, h).unwrap().step_events;
+        let x = me.states().unwrap();
+        // States: w_x, w_y, w_z, q_w, q_x, q_y, q_z.
+        let norm = x[3..7].iter().map(|q| q * q).sum::<f64>().sqrt();
+        drift = drift.max((norm - 1.0).abs());
+    }
+    (drift, events)
+}
+
+#[test]
+fn model_exchange_keeps_the_quaternion_a_unit_one() {
+    // Tumbling near the intermediate axis for 200 s under an importer's coarse RK4 (0.05 s,
+    // h |ω| = 0.25). With the tolerance 1e-8, a step event renormalizes q whenever a
+    // component would move by more than atol + rtol |q_i|: |q| = 1 to a few 1e-8 (the
+    // components' allowances add up in the norm) at every accepted step.
+    let (drift, events) = quaternion_drift_in_model_exchange(1e-8, 1.0, 0.05, 200);
+    assert!(drift <= 4e-8, "||q| - 1| reached {drift:e}");
+    assert!(events > 0, "no step event in 200 s");
+    // An importer that never stops for them (here: a tolerance too loose to ask) still
+    // keeps |q| near 1: the stabilized derivative -k_q (|q|² - 1) q pulls it back, so the
+    // drift stays at the balance of RK4's error and the pull instead of growing.
+    let (stabilized, none) = quaternion_drift_in_model_exchange(1e-2, 1.0, 0.05, 200);
+    assert_eq!(none, 0);
+    let (free, _) = quaternion_drift_in_model_exchange(1e-2, 0.0, 0.05, 200);
+    assert!(
+        stabilized < 1e-5,
+        "||q| - 1| reached {stabilized:e} with the pull"
+    );
+    assert!(
+        free > 10.0 * stabilized,
+        "without the pull {free:e}, with it {stabilized:e}"
+    );
+    eprintln!("||q| - 1| over 200 s: {drift:e} with {events} step events; {stabilized:e} with the pull alone, {free:e} without");
+}

@@ -47,6 +47,8 @@ pub fn interface<M: Mechanism>() -> Result<String, String> {
     } else {
         md.push_str(&notes(M::NOTES));
     }
+    md.push_str("\n## Events\n\n");
+    md.push_str(&super::events::<M>());
     Ok(md)
 }
 
@@ -144,7 +146,10 @@ mod tests {
         ] {
             assert!(md.contains(needle), "missing {needle:?} in\n{md}");
         }
-        assert!(md.ends_with("*really*.\n"), "{md}");
+        assert!(
+            md.ends_with("*really*.\n\n## Events\n\nNone: no event indicators, no limits, nothing to do at `fmi2CompletedIntegratorStep` (`completedIntegratorStepNotNeeded`).\n"),
+            "{md}"
+        );
         assert!(!md.contains("\n\n\n"), "{md}");
     }
 

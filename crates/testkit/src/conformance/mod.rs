@@ -1,7 +1,10 @@
 //! Checks every mechanism must pass whatever its physics, through its real FMI functions:
-//! reset, FMU state and its serialized form, directional and output derivatives, and
-//! independent instances in threads. A mechanism crate runs them all with
-//! `mechfmu_testkit::conformance::check::<M>()` in one of its tests.
+//! reset, FMU state and its serialized form, directional and output derivatives,
+//! independent instances in threads, and Model Exchange ([`model_exchange`]). A mechanism
+//! crate runs them all with `mechfmu_testkit::conformance::check::<M>()` in one of its
+//! tests.
+
+pub mod model_exchange;
 
 use crate::harness::Harness;
 use mechfmu::fmi2::ffi::*;
@@ -16,6 +19,7 @@ pub fn check<M: Mechanism>() {
     directional_derivatives_match_finite_differences::<M>();
     output_derivatives_match_finite_differences::<M>();
     threads_match_sequential_runs::<M>();
+    model_exchange::check::<M>();
 }
 
 fn layout<M: Mechanism>() -> Layout {

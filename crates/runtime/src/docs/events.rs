@@ -1,0 +1,68 @@
+//! What a mechanism's FMU does about events, in the notes' Markdown subset: one text, from
+//! the declaration, for the FMU's page and the interface page.
+
+use crate::model::Mechanism;
+
+/// The events of mechanism `M`: its event indicators, what the monitor does in each
+/// interface type, and the projection's step events.
+pub fn events<M: Mechanism>() -> String {
+    let mut text = String::new();
+    if !M::EVENT_INDICATORS.is_empty() {
+        let list: Vec<String> = M::EVENT_INDICATORS
+            .iter()
+            .enumerate()
+            .map(|(i, name)| {
+                let description = (M::VARIABLES.iter())
+                    .find(|v| v.name == *name)
+                    .map_or("", |v| v.description);
+                format!("- z[{i}] = `{name}`: {}", one_line(description))
+            })
+            .collect();
+        text.push_str(&format!(
+            "Model Exchange: {} event indicators, in this order:\n\n{}\n\n\
+             The importer's solver locates where each changes sign and enters event mode \
+             there.\n\n",
+            M::EVENT_INDICATORS.len(),
+            list.join("\n")
+        ));
+    }
+    if M::MONITORED {
+        text.push_str(
+            "The model's limits are checked at every accepted point: in Co-Simulation at \
+             every step of the FMU's own solver (a limit that no longer holds ends the \
+             communication step with `fmi2Discard` at the last valid time, a warning is \
+             logged once per episode and the step returns `fmi2Warning`); in Model Exchange \
+             at every `fmi2CompletedIntegratorStep` and every `fmi2NewDiscreteStates` (a \
+             warning is logged once per episode, a limit that no longer holds ends the \
+             simulation: `terminateSimulation`, with the reason logged).",
+        );
+        if M::EVENT_INDICATORS.is_empty() {
+            text.push_str(
+                " Without event indicators, Model Exchange notices a limit at the end of \
+                 the integrator step that crossed it.",
+            );
+        }
+        text.push_str("\n\n");
+    }
+    if M::PROJECTED {
+        text.push_str(
+            "The states are projected back onto the manifold they must stay on: in \
+             Co-Simulation at the end of every communication step; in Model Exchange \
+             `fmi2CompletedIntegratorStep` asks for a step event when the projection would \
+             move a state by more than the tolerance (`atol + rtol |x|`), and \
+             `fmi2NewDiscreteStates` projects there (`valuesOfContinuousStatesChanged`).\n\n",
+        );
+    }
+    if text.is_empty() {
+        text.push_str(
+            "None: no event indicators, no limits, nothing to do at \
+             `fmi2CompletedIntegratorStep` (`completedIntegratorStepNotNeeded`).\n",
+        );
+    }
+    text.trim_end().to_string() + "\n"
+}
+
+/// Whitespace runs (doc-comment line breaks) as single spaces.
+fn one_line(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
+}
