@@ -1,5 +1,5 @@
-//! Checks, at compile time, that the functions `mechfmu::export_fmu!` exports have exactly
-//! the signatures of the official FMI 2.0 headers (`fmi2FunctionTypes.h`, as bindgen reads
+//! Checks, at compile time, that the 44 functions `mechfmu::export_fmu!` exports have
+//! exactly the signatures of the official FMI 2.0 headers (`fmi2FunctionTypes.h`, as bindgen reads
 //! them in `fmi-sys`). Building this crate is the test; the shipped FMUs do not depend on
 //! it (nor on libclang).
 
@@ -39,6 +39,54 @@ const _: header::fmi2GetRealStatusTYPE = Some(exports::fmi2GetRealStatus);
 const _: header::fmi2GetIntegerStatusTYPE = Some(exports::fmi2GetIntegerStatus);
 const _: header::fmi2GetBooleanStatusTYPE = Some(exports::fmi2GetBooleanStatus);
 const _: header::fmi2GetStringStatusTYPE = Some(exports::fmi2GetStringStatus);
+const _: header::fmi2EnterEventModeTYPE = Some(exports::fmi2EnterEventMode);
+const _: header::fmi2EnterContinuousTimeModeTYPE = Some(exports::fmi2EnterContinuousTimeMode);
+const _: header::fmi2CompletedIntegratorStepTYPE = Some(exports::fmi2CompletedIntegratorStep);
+const _: header::fmi2SetTimeTYPE = Some(exports::fmi2SetTime);
+const _: header::fmi2SetContinuousStatesTYPE = Some(exports::fmi2SetContinuousStates);
+const _: header::fmi2GetDerivativesTYPE = Some(exports::fmi2GetDerivatives);
+const _: header::fmi2GetEventIndicatorsTYPE = Some(exports::fmi2GetEventIndicators);
+const _: header::fmi2GetContinuousStatesTYPE = Some(exports::fmi2GetContinuousStates);
+const _: header::fmi2GetNominalsOfContinuousStatesTYPE =
+    Some(exports::fmi2GetNominalsOfContinuousStates);
+
+// fmi2NewDiscreteStates takes the header's event-info struct: as for the callbacks below,
+// the signature through the header's aliases and the struct's layout field by field.
+const _: unsafe extern "C" fn(
+    header::fmi2Component,
+    *mut mechfmu::fmi2::ffi::fmi2EventInfo,
+) -> header::fmi2Status = exports::fmi2NewDiscreteStates;
+
+const _: () = {
+    use core::mem::{align_of, offset_of, size_of};
+    use header::fmi2EventInfo as H;
+    use mechfmu::fmi2::ffi::fmi2EventInfo as O;
+    assert!(size_of::<H>() == size_of::<O>());
+    assert!(align_of::<H>() == align_of::<O>());
+    assert!(offset_of!(H, newDiscreteStatesNeeded) == offset_of!(O, newDiscreteStatesNeeded));
+    assert!(offset_of!(H, terminateSimulation) == offset_of!(O, terminateSimulation));
+    assert!(
+        offset_of!(H, nominalsOfContinuousStatesChanged)
+            == offset_of!(O, nominalsOfContinuousStatesChanged)
+    );
+    assert!(
+        offset_of!(H, valuesOfContinuousStatesChanged)
+            == offset_of!(O, valuesOfContinuousStatesChanged)
+    );
+    assert!(offset_of!(H, nextEventTimeDefined) == offset_of!(O, nextEventTimeDefined));
+    assert!(offset_of!(H, nextEventTime) == offset_of!(O, nextEventTime));
+};
+
+/// The field types of the event-info struct, checked through the header's aliases.
+#[allow(dead_code)]
+fn event_info_field_types(o: mechfmu::fmi2::ffi::fmi2EventInfo) {
+    let _: header::fmi2Boolean = o.newDiscreteStatesNeeded;
+    let _: header::fmi2Boolean = o.terminateSimulation;
+    let _: header::fmi2Boolean = o.nominalsOfContinuousStatesChanged;
+    let _: header::fmi2Boolean = o.valuesOfContinuousStatesChanged;
+    let _: header::fmi2Boolean = o.nextEventTimeDefined;
+    let _: header::fmi2Real = o.nextEventTime;
+}
 
 // fmi2Instantiate takes the header's callback struct, which is a distinct nominal type in
 // Rust: check every scalar argument through the header's aliases and the struct's layout
@@ -91,6 +139,7 @@ mod tests {
         assert_eq!(o::fmi2Fatal, h::fmi2Status_fmi2Fatal);
         assert_eq!(o::fmi2Pending, h::fmi2Status_fmi2Pending);
         assert_eq!(o::fmi2CoSimulation, h::fmi2Type_fmi2CoSimulation);
+        assert_eq!(o::fmi2ModelExchange, h::fmi2Type_fmi2ModelExchange);
         assert_eq!(
             o::fmi2LastSuccessfulTime,
             h::fmi2StatusKind_fmi2LastSuccessfulTime
