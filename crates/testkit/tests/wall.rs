@@ -153,3 +153,57 @@ fn the_guid_is_read_only_once_the_name_and_the_type_are_accepted() {
         "{messages:?}"
     );
 }
+
+/// Model Exchange's pointer arguments: NULL is refused with a message naming it, and the
+/// instance goes on.
+#[test]
+fn model_exchange_refuses_null_arguments_by_name() {
+    let mut me = mechfmu_testkit::model_exchange::ModelExchange::<Decay>::new();
+    me.initialize(None, 0.0, &[]).unwrap();
+    let c = me.fmu.component();
+    let null = std::ptr::null_mut::<f64>();
+    let mut flag = fmi2False;
+    let statuses = unsafe {
+        [
+            functions::fmi2SetContinuousStates::<Decay>(c, null, 1),
+            functions::fmi2GetDerivatives::<Decay>(c, null, 1),
+            functions::fmi2GetContinuousStates::<Decay>(c, null, 1),
+            functions::fmi2GetNominalsOfContinuousStates::<Decay>(c, null, 1),
+            functions::fmi2CompletedIntegratorStep::<Decay>(
+                c,
+                fmi2True,
+                std::ptr::null_mut(),
+                &mut flag,
+            ),
+            functions::fmi2CompletedIntegratorStep::<Decay>(
+                c,
+                fmi2True,
+                &mut flag,
+                std::ptr::null_mut(),
+            ),
+        ]
+    };
+    assert_eq!(statuses, [fmi2Error; 6]);
+    for name in [
+        "x[] is NULL",
+        "derivatives[] is NULL",
+        "x_nominal[] is NULL",
+        "enterEventMode is NULL",
+        "terminateSimulation is NULL",
+    ] {
+        assert!(me.fmu.logged(name), "{name}: {:?}", me.messages());
+    }
+    assert_eq!(me.enter_event_mode(), fmi2OK);
+    assert_eq!(
+        unsafe { functions::fmi2NewDiscreteStates::<Decay>(c, std::ptr::null_mut()) },
+        fmi2Error
+    );
+    assert!(me.fmu.logged("fmi2eventInfo is NULL"));
+    // No event indicators: an empty array is the only right one.
+    assert_eq!(
+        unsafe { functions::fmi2GetEventIndicators::<Decay>(c, null, 0) },
+        fmi2OK
+    );
+    assert_eq!(me.enter_continuous_time_mode(), fmi2OK);
+    assert!(me.derivatives().unwrap()[0] < 0.0);
+}
