@@ -81,11 +81,7 @@ impl<M: Mechanism> Simulation<M> {
         for (z, &vr) in z.iter_mut().zip(&self.indicators) {
             *z = self.values.get(vr).unwrap_or(f64::NAN);
         }
-        // `indicators` is short and only read here: a copy keeps the borrow simple.
-        let indicators = std::mem::take(&mut self.indicators);
-        let result = self.all_finite(z, &indicators, "the event indicator");
-        self.indicators = indicators;
-        result
+        self.all_finite(z, &self.indicators, "the event indicator")
     }
 
     /// What the monitor says about the current point (an accepted point of the importer's
