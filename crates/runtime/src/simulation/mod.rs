@@ -674,7 +674,7 @@ fn complete_point<M: Mechanism>(values: &mut M::Values<f64>) {
 
 fn describe(e: &SolverError) -> String {
     match e {
-        SolverError::Stopped { t, message } => format!("at t = {t}: {message}"),
+        SolverError::Stopped { message, .. } => message.clone(),
         other => other.to_string(),
     }
 }
@@ -899,7 +899,9 @@ impl<M: Mechanism> OdeSystem for System<'_, M> {
                 }
                 *self.warning_active = true;
             }
-            Monitor::Invalid(message) => return Err(message),
+            Monitor::Invalid(message) => {
+                return Err(format!("the next point, t = {t}, is not valid: {message}"))
+            }
         }
         Ok(())
     }
