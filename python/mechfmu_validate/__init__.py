@@ -1,10 +1,11 @@
-"""mechfmu_validate: validation of FMI 2.0 Co-Simulation FMUs, what ``mechfmu validate`` runs.
+"""mechfmu_validate: validation of FMI 2.0 FMUs, what ``mechfmu validate`` runs.
 
 For each FMU: FMPy's ``validate_fmu`` and mechfmu's stricter checks (:mod:`.checks`); the
 mechanism's reference cases, declared once in ``<crate>/validation/cases.py`` with
-:class:`mechfmu_validate.case.Case`, under FMPy's ``simulate_fmu`` and under libcosim
-(:mod:`.importers`); a table, an exit status, and optionally a report with one plot per case
-(:mod:`.report`). The same cases are what ``tests/python/test_cases.py`` runs.
+:class:`mechfmu_validate.case.Case`, under FMPy's ``simulate_fmu``, libcosim and the fmi crate
+in Co-Simulation (:mod:`.importers`), and in Model Exchange (:mod:`.model_exchange`); a table,
+an exit status, and optionally a report with one plot per case (:mod:`.report`). The same
+cases are what ``tests/python/test_cases.py`` and ``test_model_exchange.py`` run.
 
 Command line (what ``mechfmu validate`` runs, in the venv where ``python/pyproject.toml``
 installs this package)::

@@ -2,12 +2,13 @@
 
     python -m mechfmu_validate FMU [FMU ...] [--cases MODEL=cases.py ...] [--case TEXT ...]
                                [--report DIR] [--json FILE] [--readme DIR] [--no-libcosim]
-                               [--no-fmi-crate]
+                               [--no-fmi-crate] [--no-model-exchange]
     python -m mechfmu_validate references FMU [FMU ...] --cases MODEL=cases.py ...
 
 Each case runs under FMPy (against the case's reference), then under libcosim and under the
 Rust ``fmi`` crate (``mechfmu-fmi-run``, named by ``$MECHFMU_FMI_RUN``), each of which must agree
-with FMPy to 1e-9, relative, at the same settings.
+with FMPy to 1e-9, relative, at the same settings; then in Model Exchange under FMPy's CVode
+and Euler and the fmi crate's RK4, against the reference (:mod:`.model_exchange`).
 
 Exit status: 0 when everything passes, 1 when a check or a case fails, 2 for a usage error.
 """
@@ -33,6 +34,8 @@ from .importers import (FMI_CRATE_NOTE, LIBCOSIM_NOTE, Fmu, agreement, capture_f
                         libcosim_available, run_fmi_crate, run_fmpy, run_libcosim)
 from .loader import default_case, load_cases
 from .reference import write_references
+from .report import limit_text, result_text
+from . import model_exchange
 
 #: libcosim must agree with FMPy to this, relative (max |a - b| / max |b|), at the same settings
 LIBCOSIM_TOLERANCE = 1e-9
@@ -58,6 +61,7 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-libcosim", action="store_true", help="do not run the cases under libcosim")
     p.add_argument("--no-fmi-crate", action="store_true",
                    help="do not run the cases under the Rust fmi crate (mechfmu-fmi-run)")
+    p.add_argument("--no-model-exchange", action="store_true", help="do not run the cases in Model Exchange")
     return p
 
 
@@ -89,7 +93,8 @@ def _settings(case: Case) -> str:
 
 
 def validate_fmu(path: Path, cases_file: Path | None, only: list[str], use_libcosim: bool,
-                 rows: list[dict], plots: list[dict], details: list[dict], use_fmi_crate: bool = True) -> None:
+                 rows: list[dict], plots: list[dict], details: list[dict], use_fmi_crate: bool = True,
+                 use_model_exchange: bool = True) -> None:
     fmu = Fmu(path)
     name = fmu.model
     try:
@@ -181,6 +186,11 @@ def validate_fmu(path: Path, cases_file: Path | None, only: list[str], use_libco
                                   problems=[f"fmi crate run failed: {type(e).__name__}: {e}"])
                 rows.append(fc_row)
                 entry["passed"] = entry["passed"] and fc_row["passed"]
+            if use_model_exchange:
+                for me_row in model_exchange.rows(fmu, case, anchor, entry, use_fmi_crate,
+                                                  lambda what: _progress(f"{name}: {case.name} ({what})")):
+                    rows.append(me_row)
+                    entry["passed"] = entry["passed"] and me_row["passed"]
             if ev is not None and ev.signals:
                 plots.append(entry)
             details.append(dict(fmu=name, **describe(case)))
@@ -198,8 +208,8 @@ def print_table(rows: list[dict]) -> None:
         return f"{x:.2e}"
 
     head = ("FMU", "case", "importer", "max error", "tolerance", "result")
-    table = [head] + [(r["fmu"], r["case"], r["importer"], fmt(r["max_error"]), fmt(r["tolerance"]),
-                       "PASS" if r["passed"] else "FAIL") for r in rows]
+    table = [head] + [(r["fmu"], r["case"], r["importer"], fmt(r["max_error"]), limit_text(r, fmt),
+                       result_text(r)) for r in rows]
     widths = [max(len(str(row[i])) for row in table) for i in range(len(head))]
     for k, row in enumerate(table):
         print("  ".join(str(c).ljust(w) if i < 3 else str(c).rjust(w) if i < 5 else str(c)
@@ -214,11 +224,21 @@ def print_table(rows: list[dict]) -> None:
         for n in r.get("notes", []):
             print(f"  ({n})")
         for name, s in (r.get("signals") or {}).items():
-            if not s["passed"]:
+            if not s["passed"] and "scale" in s:
                 print(f"  - {name}: {s['max_error']:.3e} of scale {s['scale']:.4g} at t = {s['at_time']:g} "
                       f"(tolerance {s['tolerance']:.0e})")
+    skipped = [r for r in rows if r.get("skipped")]
+    for r in skipped:
+        print(f"\nSKIP {r['fmu']} / {r['case']} / {r['importer']}: {'; '.join(r['problems'])}")
+    limited = [r for r in rows if r.get("limited")]
+    for r in limited:
+        print(f"\nLIMIT {r['fmu']} / {r['case']} / {r['importer']} (the importer's solver; reported, not failed):")
+        for n in r.get("notes", [])[:4]:
+            print(f"  ({n})")
     n_fail = len(failed)
-    print(f"\n{len(rows) - n_fail} passed, {n_fail} failed")
+    print(f"\n{len(rows) - n_fail - len(skipped) - len(limited)} passed, {n_fail} failed" +
+          (f", {len(limited)} at the importer's limit" if limited else "") +
+          (f", {len(skipped)} skipped" if skipped else ""))
 
 
 def _jsonable(x):
@@ -297,7 +317,7 @@ def main(argv: list[str] | None = None) -> int:
         except Exception:
             pass
         validate_fmu(path, cases_map.get(md_model or path.stem), args.case, use_libcosim, rows, plots, details,
-                     use_fmi_crate=use_fmi_crate)
+                     use_fmi_crate=use_fmi_crate, use_model_exchange=not args.no_model_exchange)
     header = dict(fmpy=fmpy.__version__, libcosim=libcosim_info, fmi_crate=fmi_crate_info,
                   python=platform.python_version())
     print_table(rows)

@@ -1,5 +1,7 @@
 """Running a case under an importer: FMPy's ``simulate_fmu``, libcosim (``libcosimpy``) and
-the Rust ``fmi`` crate (rust-fmi, through ``mechfmu-fmi-run``, built from ``tools/fmi-run``).
+the Rust ``fmi`` crate (rust-fmi, through ``mechfmu-fmi-run``, built from ``tools/fmi-run``),
+in Co-Simulation, and under FMPy and the fmi crate in Model Exchange (:func:`run_fmpy_me`,
+``run_fmi_crate(interface="me")``).
 
 All three run the same experiment: the case's start values, its input table (FMPy reads it
 itself; libcosim and the fmi crate are fed, before every communication step, the value
@@ -15,6 +17,12 @@ The fmi-crate runner takes the tolerance (and the stop time) like FMPy, so it is
 with FMPy at the case's own settings. It is a separate executable, found through the
 environment variable ``MECHFMU_FMI_RUN`` (``mechfmu validate`` builds it and sets it); it
 reads the experiment as JSON and writes its result as CSV.
+
+In Model Exchange the importer integrates. The inputs are the Co-Simulation run's: the
+value FMPy applies at each communication point, held to the next (:func:`held_input`), so
+every run of a case sees the same signal. At a communication point where the inputs jump,
+Co-Simulation records the outputs before the jump; :func:`run_fmpy_me` keeps FMPy's sample
+from before the event there, for the same reason.
 """
 
 from __future__ import annotations
@@ -35,10 +43,11 @@ import fmpy
 from fmpy import read_model_description
 
 from . import fmulog
-from .case import Case, Result
+from .case import Case, Result, step_input
 
-__all__ = ["Fmu", "run_fmpy", "run_libcosim", "libcosim_available", "run_fmi_crate", "fmi_crate_available",
-           "capture_fmu_log", "LIBCOSIM_NOTE", "FMI_CRATE_NOTE", "FMI_RUN_ENV"]
+__all__ = ["Fmu", "run_fmpy", "run_fmpy_me", "simulate_me", "held_input", "run_libcosim", "libcosim_available",
+           "run_fmi_crate", "fmi_crate_available", "NotSupported", "capture_fmu_log", "LIBCOSIM_NOTE",
+           "FMI_CRATE_NOTE", "FMI_RUN_ENV", "ME_CVODE_RTOL"]
 
 LIBCOSIM_NOTE = ("libcosim passes no tolerance to fmi2SetupExperiment (the FMU uses its "
                  "DefaultExperiment tolerance): compared with FMPy run at relative_tolerance=None")
@@ -47,6 +56,13 @@ FMI_CRATE_NOTE = "the fmi crate (rust-fmi) through mechfmu-fmi-run: compared wit
 
 #: the environment variable naming the mechfmu-fmi-run executable
 FMI_RUN_ENV = "MECHFMU_FMI_RUN"
+
+#: the relative tolerance of FMPy's CVode in the Model Exchange runs
+ME_CVODE_RTOL = 1e-10
+
+
+class NotSupported(RuntimeError):
+    """The importer cannot run this kind of experiment (a row to skip, not a failure)."""
 
 
 @dataclass
@@ -115,6 +131,86 @@ def run_fmpy(fmu: Fmu, case: Case, relative_tolerance: float | None | str = "cas
     if len(table) != n:
         raise RuntimeError(f"FMPy recorded {len(table)} rows, expected {n} (did the FMU stop early?)")
     return Result(table, [r.brief() for r in mark.records])
+
+
+# ---------------------------------------------------------------------------------------
+# FMPy, Model Exchange
+
+
+@dataclass
+class MeRun:
+    """An FMPy Model Exchange run as FMPy recorded it (every event's samples included)."""
+
+    table: np.ndarray
+    log: list[str]
+    #: the reason the FMU gave for terminateSimulation, when it asked for it
+    terminated: str | None = None
+
+    @property
+    def end_time(self) -> float:
+        return float(self.table["time"][-1])
+
+
+def simulate_me(fmu: Fmu, *, stop_time: float, output_interval: float, solver: str = "CVode",
+                relative_tolerance: float = ME_CVODE_RTOL, start_values=None, input=None,
+                output=None) -> MeRun:
+    """``fmpy.simulate_fmu`` in Model Exchange, recording events. FMPy 0.3's Euler steps from
+    one output point to the next (``step_size`` is only checked to divide the interval), so
+    Euler's step is ``output_interval``. The run ends early only when the FMU asks for
+    terminateSimulation (FMPy stops there without a word): the reason is in its log."""
+    mark = fmulog.LogMark()
+    table = fmpy.simulate_fmu(
+        str(fmu.directory), fmi_type="ModelExchange", solver=solver, start_time=0.0, stop_time=stop_time,
+        output_interval=output_interval, step_size=output_interval, relative_tolerance=relative_tolerance,
+        start_values=dict(start_values or {}), input=input, output=output, record_events=True, validate=False)
+    stops = [r.message for r in mark.records if "terminateSimulation" in r.message]
+    return MeRun(table, [r.brief() for r in mark.records], stops[-1] if stops else None)
+
+
+def held_input(case: Case, fmu: Fmu) -> np.ndarray | None:
+    """The case's inputs as its Co-Simulation runs see them: the value FMPy applies at each
+    communication point, held until the next (a jump only where the value changes). A table
+    that already holds its values between jumps on the grid is that signal: it is kept as is
+    (resampled, FMPy's interpolation would add jumps of one ulp)."""
+    names, _ = _input_values(case, fmu, 0.0)
+    if not names:
+        return None
+    table = case.input_table()
+    t = np.asarray(table[table.dtype.names[0]], dtype=float)
+    spans = np.diff(t) > 0  # the rows that begin a span of time (the others begin a jump)
+    if _input_events_on_grid(case) and all(np.array_equal(table[n][:-1][spans], table[n][1:][spans]) for n in names):
+        return table
+    h = case.output_interval
+    times, values = [], []
+    for k in range(case.steps()):  # the value at the stop time is never applied
+        v = _input_values(case, fmu, k * h)[1]
+        if not values or v != values[-1]:
+            times.append(k * h)
+            values.append(v)
+    return step_input(names, times, values, case.stop_time)
+
+
+def on_grid(table: np.ndarray, h: float, n: int) -> np.ndarray:
+    """The rows at t = k h, k = 0 .. n: the first sample of each time, which at an event is
+    the one FMPy takes before it (the outputs before an input jump, as Co-Simulation has them)."""
+    t = np.asarray(table["time"], dtype=float)
+    grid = np.arange(n + 1) * h
+    idx = np.minimum(np.searchsorted(t, grid - 1e-9 * h), len(t) - 1)
+    off = np.abs(t[idx] - grid) > 1e-9 * h
+    if np.any(off):
+        raise RuntimeError(f"FMPy recorded no sample at t = {grid[np.argmax(off)]:g}")
+    return table[idx]
+
+
+def run_fmpy_me(fmu: Fmu, case: Case, solver: str = "CVode", step: float | None = None) -> Result:
+    """The case in Model Exchange under FMPy: CVode at :data:`ME_CVODE_RTOL`, or Euler with
+    the fixed ``step`` (a divisor of the output interval), at the case's communication points.
+    Raises when the FMU asks to terminate."""
+    run = simulate_me(fmu, stop_time=case.stop_time, output_interval=step or case.output_interval, solver=solver,
+                      start_values=case.start_values, input=held_input(case, fmu), output=case.recorded())
+    if run.terminated:
+        raise RuntimeError(f"the FMU asked to terminate the simulation: {run.terminated}")
+    return Result(on_grid(run.table, case.output_interval, case.steps()), run.log)
 
 
 # ---------------------------------------------------------------------------------------
@@ -253,11 +349,16 @@ def fmi_crate_available() -> tuple[bool, str]:
     return True, path
 
 
-def run_fmi_crate(fmu: Fmu, case: Case, relative_tolerance: float | None | str = "case") -> Result:
+def run_fmi_crate(fmu: Fmu, case: Case, relative_tolerance: float | None | str = "case", interface: str = "cs",
+                  step: float | None = None) -> Result:
     """The case under the Rust ``fmi`` crate: ``mechfmu-fmi-run`` runs a fixed-step experiment
     with the case's output interval, start values and stop time, the tolerance
     (``"case"``: the case's; ``None``: none), the inputs FMPy applies set before every step,
-    and records the case's variables. Raises with the runner's message when it fails."""
+    and records the case's variables. Raises with the runner's message when it fails.
+
+    ``interface="me"``: Model Exchange, the runner integrating with its own RK4 at ``step``
+    (a divisor of the output interval, run as ``--substeps``; default: the output interval).
+    Raises :class:`NotSupported` when the runner does not accept ``--interface``."""
     ok, found = fmi_crate_available()
     if not ok:
         raise RuntimeError(f"the fmi-crate importer is not available: {found}")
@@ -265,17 +366,25 @@ def run_fmi_crate(fmu: Fmu, case: Case, relative_tolerance: float | None | str =
     if not _input_events_on_grid(case):
         raise RuntimeError("an input jump is off the communication grid: a fixed-step master cannot follow it")
     n, h = case.steps(), case.output_interval
+    substeps = 1 if step is None else round(h / step)
+    if abs(substeps * (step or h) - h) > 1e-9 * h:
+        raise ValueError(f"the step {step} does not divide the output interval {h}")
     input_names, _ = _input_values(case, fmu, 0.0)
     rows = [_input_values(case, fmu, k * h)[1] for k in range(n + 1)] if input_names else []
     names = case.recorded()
     experiment = dict(fmu=str(fmu.path), relative_tolerance=rtol, stop_time=float(case.stop_time), step_size=h,
                       steps=n, start_values={k: float(v) for k, v in case.start_values.items()},
                       inputs=input_names, input_values=rows, record=names)
+    options = [] if interface == "cs" else ["--interface", interface]
+    if substeps > 1:
+        options += ["--substeps", str(substeps)]
     with tempfile.TemporaryDirectory(prefix="mechfmu-fmi-run-") as tmp:
         spec, out = Path(tmp) / "experiment.json", Path(tmp) / "result.csv"
         spec.write_text(json.dumps(experiment, allow_nan=False))
-        proc = subprocess.run([found, str(spec), "--out", str(out)], capture_output=True, text=True)
+        proc = subprocess.run([found, str(spec), "--out", str(out), *options], capture_output=True, text=True)
         log = [line for line in proc.stderr.splitlines() if line.strip()]
+        if options and proc.returncode == 2 and log and log[-1].startswith("usage:"):
+            raise NotSupported(f"mechfmu-fmi-run does not accept {' '.join(options)} ({log[-1]})")
         if proc.returncode != 0:
             problem = next((line for line in reversed(log) if line.startswith("mechfmu-fmi-run:")),
                            log[-1] if log else f"exit status {proc.returncode}")

@@ -1,7 +1,7 @@
 """The report of ``mechfmu validate --report DIR``: ``DIR/index.md``, ``DIR/index.html`` and
 one PNG per case (``DIR/<FMU>/<case>.png``): the FMU's signals against the reference, and the
-error over time on a log scale (with the tolerance, and libcosim's and the fmi crate's deviations
-from FMPy).
+error over time on a log scale (with the tolerance, libcosim's and the fmi crate's deviations
+from FMPy, and the Model Exchange run under CVode).
 ``--readme DIR`` writes the table (``DIR/validation.md``) and the highlighted cases' PNGs.
 """
 
@@ -16,7 +16,9 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["plot_case", "write_report", "write_readme", "markdown_table"]
+from .model_exchange import CVODE, EULER, METHODS, RK4, band_text
+
+__all__ = ["plot_case", "write_report", "write_readme", "markdown_table", "limit_text", "result_text"]
 
 COLORS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#17becf"]
 FLOOR = 1e-17  # zeros on the log scale
@@ -32,6 +34,24 @@ def _fmt(x: Any) -> str:
     if not math.isfinite(x):
         return str(x)
     return f"{x:.1e}"
+
+
+def limit_text(row: dict[str, Any], fmt=_fmt) -> str:
+    """A row's tolerance cell: the limit, or for a fixed-step Model Exchange row judged by
+    its order, the observed order and the band it must lie in."""
+    if row.get("observed_order") is not None:
+        return f"order {row['observed_order']:.2f} in {band_text(row['order_band'])}, h {row['step']:g} s"
+    return fmt(row.get("tolerance"))
+
+
+def result_text(row: dict[str, Any]) -> str:
+    """PASS, FAIL, SKIP, or LIMIT: the importer's solver did not reach the case's limit, the
+    error it reached is reported (Model Exchange rows; not a failure)."""
+    if row.get("skipped"):
+        return "SKIP"
+    if row.get("limited"):
+        return "LIMIT"
+    return "PASS" if row["passed"] else "FAIL"
 
 
 def plot_case(entry: dict[str, Any], path: Path) -> None:
@@ -140,6 +160,10 @@ def plot_case(entry: dict[str, Any], path: Path) -> None:
     if fc and fc.get("error_over_time") is not None and np.any(fc["error_over_time"] > 0):
         ax.semilogy(fc["time"], np.maximum(fc["error_over_time"], FLOOR), color="#8250df", lw=1.0,
                     ls=(0, (3, 1.5)), label="fmi crate vs FMPy")
+    me = entry.get("me_cvode")
+    if me and me.get("error_over_time") is not None:
+        ax.semilogy(me["time"], np.maximum(me["error_over_time"], FLOOR), color="#bf8700", lw=1.0,
+                    ls=(0, (5, 2)), label="ME CVode")
     ax.set_ylabel("|FMU − ref| / scale")
     ax.set_xlabel("time (s)")
     ax.grid(True, which="major", color="#e5e7eb")
@@ -156,21 +180,22 @@ def plot_case(entry: dict[str, Any], path: Path) -> None:
 def markdown_table(rows: list[dict[str, Any]]) -> str:
     lines = ["| FMU | case | importer | max error | tolerance | result |", "|---|---|---|---:|---:|---|"]
     for r in rows:
+        result = result_text(r)
         lines.append(f"| {r['fmu']} | {r['case']} | {r['importer']} | {_fmt(r['max_error'])} | "
-                     f"{_fmt(r['tolerance'])} | {'PASS' if r['passed'] else '**FAIL**'} |")
+                     f"{limit_text(r)} | {'**FAIL**' if result == 'FAIL' else result} |")
     return "\n".join(lines) + "\n"
 
 
 def _html_table(rows: list[dict[str, Any]]) -> str:
     out = ["<table><tr><th>FMU</th><th>case</th><th>importer</th><th>max error</th><th>tolerance</th><th>result</th></tr>"]
     for r in rows:
-        cls = "pass" if r["passed"] else "fail"
+        result = result_text(r)
         case = html.escape(r["case"])
         if r.get("anchor"):
             case = f'<a href="#{r["anchor"]}">{case}</a>'
         out.append(f"<tr><td>{html.escape(r['fmu'])}</td><td>{case}</td><td>{html.escape(r['importer'])}</td>"
-                   f"<td class=num>{_fmt(r['max_error'])}</td><td class=num>{_fmt(r['tolerance'])}</td>"
-                   f"<td class={cls}>{'PASS' if r['passed'] else 'FAIL'}</td></tr>")
+                   f"<td class=num>{_fmt(r['max_error'])}</td><td class=num>{html.escape(limit_text(r))}</td>"
+                   f"<td class={result.lower()}>{result}</td></tr>")
     out.append("</table>")
     return "\n".join(out)
 
@@ -180,7 +205,13 @@ LEGEND = (
     "the reference signal's range (or its magnitude when it is constant: a relative drift); under libcosim, "
     "max |libcosim − FMPy| / max |FMPy| at the same settings (libcosim passes no tolerance, so both use the "
     "FMU's DefaultExperiment tolerance); under the fmi crate (rust-fmi), max |fmi crate − FMPy| / max |FMPy|, "
-    "both at the case's tolerance. For a check: the number of problems found."
+    "both at the case's tolerance. In Model Exchange (FMPy ME CVode, FMPy ME Euler, fmi crate ME RK4) the "
+    "error against the reference as under FMPy: CVode at relative tolerance 1e-10 is held to the case's "
+    "tolerance; the fixed-step methods are run at h and h/2 and held to the case's tolerance or to their "
+    "order: the observed order log2(e(h)/e(h/2)), whose band is shown, says the whole error is the "
+    "method's truncation error. LIMIT: the importer's solver did not reach the case's tolerance (CVode "
+    "up to 1e-6; a fixed-step method outside its asymptotic range, or limited by what the FMU holds to its "
+    "own tolerance); the error reached is reported, not failed. For a check: the number of problems found."
 )
 
 
@@ -219,11 +250,26 @@ def write_report(directory: Path, rows: list[dict[str, Any]], cases: list[dict[s
     style = ("body{font-family:system-ui,sans-serif;max-width:72rem;margin:2rem auto;padding:0 1rem;color:#1b1f24}"
              "table{border-collapse:collapse;font-size:.9em}td,th{border:1px solid #d0d7de;padding:.2rem .5rem}"
              "th{background:#f6f8fa}td.num{text-align:right;font-variant-numeric:tabular-nums}"
-             ".pass{color:#1a7f37;font-weight:600}.fail{color:#cf222e;font-weight:600}"
+             ".pass{color:#1a7f37;font-weight:600}.fail{color:#cf222e;font-weight:600}.skip{color:#9a6700}"
              "img{max-width:100%;border:1px solid #d0d7de}.legend,.settings{color:#57606a;font-size:.92em}")
     (directory / "index.html").write_text(
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>mechfmu validate</title>"
         f"<style>{style}</style></head><body>\n" + "\n".join(body) + "\n</body></html>\n")
+
+
+def _me_cell(row: dict[str, Any] | None) -> str:
+    """A Model Exchange row in the README's table: the error, the observed order when the row
+    is judged by it, ✗ when it fails."""
+    if row is None:
+        return "-"
+    if row.get("skipped"):
+        return "SKIP"
+    cell = _fmt(row["max_error"])
+    if row.get("observed_order") is not None:
+        cell += f" (h {row['step'] * 1e3:g} ms, p {row['observed_order']:.2f})"
+    if row.get("limited"):
+        return cell + " (limit)"
+    return cell if row["passed"] else cell + " **✗**"
 
 
 def write_readme(directory: Path, rows: list[dict[str, Any]], cases: list[dict[str, Any]],
@@ -238,16 +284,20 @@ def write_readme(directory: Path, rows: list[dict[str, Any]], cases: list[dict[s
         d = per_case.setdefault((r["fmu"], r["case"]), {"fmu": r["fmu"], "case": r["case"], "passed": True})
         d[r["importer"]] = r["max_error"]
         d[r["importer"] + " tol"] = r["tolerance"]
+        d[r["importer"] + " row"] = r
         d["passed"] &= r["passed"]
     checks: dict[str, list[bool]] = {}
     for r in rows:
         if r["kind"] == "check":
             checks.setdefault(r["fmu"], []).append(r["passed"])
-    lines = ["| FMU | reference case | FMPy: max error | tolerance | libcosim vs FMPy | fmi crate vs FMPy | result |",
-             "|---|---|---:|---:|---:|---:|---|"]
+    lines = ["| FMU | reference case | FMPy: max error | tolerance | libcosim vs FMPy | fmi crate vs FMPy | "
+             "ME CVode | ME Euler | ME RK4 (fmi crate) | result |",
+             "|---|---|---:|---:|---:|---:|---:|---:|---:|---|"]
     for d in per_case.values():
+        me = " | ".join(_me_cell(d.get(f"{importer} row")) for importer in (CVODE, EULER, RK4))
         lines.append(f"| {d['fmu']} | {d['case']} | {_fmt(d.get('FMPy'))} | {_fmt(d.get('FMPy tol'))} | "
-                     f"{_fmt(d.get('libcosim'))} | {_fmt(d.get('fmi crate'))} | {'PASS' if d['passed'] else 'FAIL'} |")
+                     f"{_fmt(d.get('libcosim'))} | {_fmt(d.get('fmi crate'))} | {me} | "
+                     f"{'PASS' if d['passed'] else 'FAIL'} |")
     check_line = ", ".join(f"{f} {'PASS' if all(v) else 'FAIL'} ({len(v)} checks)" for f, v in checks.items())
     text = ("<!-- written by `cargo run --release -- validate --readme docs/validation` -->\n\n"
             + "\n".join(lines) + "\n\n"
@@ -255,6 +305,15 @@ def write_readme(directory: Path, rows: list[dict[str, Any]], cases: list[dict[s
             + "Max error: max over time and signals of |FMU − reference| / (range of the reference), or the relative "
             + "drift of an invariant; libcosim (fmi crate) vs FMPy: max |libcosim (fmi crate) − FMPy| / max |FMPy| "
             + "at the same settings. "
+            + "ME: the same cases in Model Exchange, against the reference: FMPy's CVode at relative tolerance "
+            + "1e-10, held to the case's tolerance; FMPy's Euler and the fmi crate's RK4 at a fixed step h and "
+            + "at h/2, held to the case's tolerance or to their order: p = log2(e(h)/e(h/2)) in "
+            + f"{band_text(METHODS[EULER].band)} for Euler, {band_text(METHODS[RK4].band)} for RK4 (whose "
+            + "conserved quantities drift at order 5), h being the output interval over 2, 4 or 8 for Euler, "
+            + "1 or 2 for RK4: the first at which the error neither falls faster than that nor is as large as "
+            + "the signal. (limit): the importer's solver does not reach the case's tolerance; the error it "
+            + "reaches is reported, not failed (CVode up to 1e-6; a fixed-step method that passes neither way). "
+            + "✗: a failure. "
             + f"FMPy {header['fmpy']}, {header['libcosim']}, {header.get('fmi_crate', '-')}.\n")
     path = directory / "validation.md"
     path.write_text(text)
