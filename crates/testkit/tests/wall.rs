@@ -207,3 +207,29 @@ fn model_exchange_refuses_null_arguments_by_name() {
     assert_eq!(me.enter_continuous_time_mode(), fmi2OK);
     assert!(me.derivatives().unwrap()[0] < 0.0);
 }
+
+/// Serialized bytes can be edited (the checksum is no secret): a state claiming values up to
+/// date that evaluate to a number no more is refused by fmi2SetFMUstate, and the instance
+/// stays as it was.
+#[test]
+fn a_forged_state_whose_values_do_not_hold_is_refused() {
+    use mechfmu::fmi2::fmu_state::FmuState;
+    let mut fmu = started();
+    let state = fmu.get_fmu_state().unwrap();
+    let bytes = fmu.serialize(state).unwrap();
+    let mut forged = FmuState::from_bytes::<Decay>(&bytes).unwrap();
+    // k y overflows: y_dot = -inf.
+    forged.sim.values[0] = f64::MAX;
+    forged.sim.values[1] = f64::MAX;
+    let handle = fmu.deserialize(&forged.to_bytes::<Decay>()).unwrap();
+    assert_eq!(fmu.set_fmu_state(handle), fmi2Error);
+    assert!(
+        fmu.logged("the state's values do not hold"),
+        "{:?}",
+        fmu.messages()
+    );
+    assert_eq!((fmu.get("k"), fmu.get("y")), (1.0, 1.0));
+    assert_eq!(fmu.do_step(0.0, 0.1), fmi2OK);
+    fmu.free_fmu_state(handle);
+    fmu.free_fmu_state(state);
+}

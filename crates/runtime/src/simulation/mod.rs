@@ -402,8 +402,27 @@ impl<M: Mechanism> Simulation<M> {
         }
     }
 
-    /// Restores a saved state; `Err` if it was not saved from this mechanism's layout.
+    /// Restores a saved state; `Err` (and nothing changed) if it was not saved from this
+    /// mechanism's layout, or if it claims values up to date that do not hold: parameters
+    /// the model refuses, or an evaluation that is not a number (serialized bytes can be
+    /// edited). A state saved before it was checked (dirty) is checked where it is used, as
+    /// the values it was saved with would have been.
     pub fn restore(&mut self, saved: &SavedState) -> Result<(), String> {
+        if saved.dirty {
+            return self.restore_unchecked(saved);
+        }
+        let before = self.clone();
+        self.restore_unchecked(saved)?;
+        self.dirty = true;
+        // The same values evaluated again: bit for bit what was saved, or a refusal.
+        if let Err(message) = self.update() {
+            *self = before;
+            return Err(format!("the state's values do not hold: {message}"));
+        }
+        Ok(())
+    }
+
+    fn restore_unchecked(&mut self, saved: &SavedState) -> Result<(), String> {
         self.held = None;
         let n = M::VARIABLES.len();
         if saved.values.len() != n + 1
