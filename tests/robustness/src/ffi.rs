@@ -112,7 +112,30 @@ pub type GetIntegerStatusFn = unsafe extern "C" fn(Component, StatusKind, *mut I
 pub type GetBooleanStatusFn = unsafe extern "C" fn(Component, StatusKind, *mut Boolean) -> Status;
 pub type GetStringStatusFn = unsafe extern "C" fn(Component, StatusKind, *mut CStr) -> Status;
 
-/// All 34 functions of the FMI 2.0 Co-Simulation API, resolved from one binary.
+/// What `fmi2NewDiscreteStates` reports (`fmi2EventInfo`; the header packs it with the
+/// default alignment of 8, which is `repr(C)`'s here).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EventInfo {
+    pub new_discrete_states_needed: Boolean,
+    pub terminate_simulation: Boolean,
+    pub nominals_of_continuous_states_changed: Boolean,
+    pub values_of_continuous_states_changed: Boolean,
+    pub next_event_time_defined: Boolean,
+    pub next_event_time: Real,
+}
+
+pub type NewDiscreteStatesFn = unsafe extern "C" fn(Component, *mut EventInfo) -> Status;
+pub type CompletedIntegratorStepFn =
+    unsafe extern "C" fn(Component, Boolean, *mut Boolean, *mut Boolean) -> Status;
+pub type SetTimeFn = unsafe extern "C" fn(Component, Real) -> Status;
+pub type SetContinuousStatesFn = unsafe extern "C" fn(Component, *const Real, usize) -> Status;
+/// fmi2GetDerivatives, fmi2GetEventIndicators, fmi2GetContinuousStates,
+/// fmi2GetNominalsOfContinuousStates: `(c, array, n)`.
+pub type GetRealArrayFn = unsafe extern "C" fn(Component, *mut Real, usize) -> Status;
+
+/// All 44 functions of the FMI 2.0 API (`fmi2Functions.h`: the common ones, Co-Simulation's,
+/// then Model Exchange's), resolved from one binary.
 #[derive(Clone, Copy)]
 pub struct Api {
     pub get_types_platform: GetTypesPlatformFn,
@@ -149,10 +172,22 @@ pub struct Api {
     pub get_integer_status: GetIntegerStatusFn,
     pub get_boolean_status: GetBooleanStatusFn,
     pub get_string_status: GetStringStatusFn,
+    pub enter_event_mode: ComponentFn,
+    pub new_discrete_states: NewDiscreteStatesFn,
+    pub enter_continuous_time_mode: ComponentFn,
+    pub completed_integrator_step: CompletedIntegratorStepFn,
+    pub set_time: SetTimeFn,
+    pub set_continuous_states: SetContinuousStatesFn,
+    pub get_derivatives: GetRealArrayFn,
+    pub get_event_indicators: GetRealArrayFn,
+    pub get_continuous_states: GetRealArrayFn,
+    pub get_nominals_of_continuous_states: GetRealArrayFn,
 }
 
-/// The names of the 34 functions, in the order of [`Api`]'s fields.
-pub const FUNCTION_NAMES: [&str; 34] = [
+/// The names of the 44 functions, in the order of [`Api`]'s fields (the 34 Co-Simulation
+/// ones first, as before Model Exchange, so their indices stay; `tests/exports.rs` checks
+/// the set against the header's).
+pub const FUNCTION_NAMES: [&str; 44] = [
     "fmi2GetTypesPlatform",
     "fmi2GetVersion",
     "fmi2SetDebugLogging",
@@ -187,6 +222,16 @@ pub const FUNCTION_NAMES: [&str; 34] = [
     "fmi2GetIntegerStatus",
     "fmi2GetBooleanStatus",
     "fmi2GetStringStatus",
+    "fmi2EnterEventMode",
+    "fmi2NewDiscreteStates",
+    "fmi2EnterContinuousTimeMode",
+    "fmi2CompletedIntegratorStep",
+    "fmi2SetTime",
+    "fmi2SetContinuousStates",
+    "fmi2GetDerivatives",
+    "fmi2GetEventIndicators",
+    "fmi2GetContinuousStates",
+    "fmi2GetNominalsOfContinuousStates",
 ];
 
 impl Api {
@@ -238,6 +283,16 @@ impl Api {
             get_integer_status: sym!("fmi2GetIntegerStatus"),
             get_boolean_status: sym!("fmi2GetBooleanStatus"),
             get_string_status: sym!("fmi2GetStringStatus"),
+            enter_event_mode: sym!("fmi2EnterEventMode"),
+            new_discrete_states: sym!("fmi2NewDiscreteStates"),
+            enter_continuous_time_mode: sym!("fmi2EnterContinuousTimeMode"),
+            completed_integrator_step: sym!("fmi2CompletedIntegratorStep"),
+            set_time: sym!("fmi2SetTime"),
+            set_continuous_states: sym!("fmi2SetContinuousStates"),
+            get_derivatives: sym!("fmi2GetDerivatives"),
+            get_event_indicators: sym!("fmi2GetEventIndicators"),
+            get_continuous_states: sym!("fmi2GetContinuousStates"),
+            get_nominals_of_continuous_states: sym!("fmi2GetNominalsOfContinuousStates"),
         })
     }
 }

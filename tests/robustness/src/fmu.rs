@@ -62,6 +62,15 @@ pub struct ModelDescription {
     pub log_categories: Vec<String>,
     pub experiment: Experiment,
     pub variables: Vec<Var>,
+    /// `<ModelExchange modelIdentifier>`, when the FMU declares Model Exchange.
+    pub model_exchange: Option<String>,
+    /// `<ModelExchange completedIntegratorStepNotNeeded>`.
+    pub completed_integrator_step_not_needed: bool,
+    /// `numberOfEventIndicators`.
+    pub number_of_event_indicators: usize,
+    /// `<ModelStructure><Derivatives>`: the derivatives' 0-based indices in
+    /// [`ModelDescription::variables`], in the order of the state vector.
+    pub derivatives: Vec<usize>,
 }
 
 impl ModelDescription {
@@ -83,7 +92,12 @@ impl ModelDescription {
                 tolerance: 1e-6,
             },
             variables: vec![],
+            model_exchange: None,
+            completed_integrator_step_not_needed: false,
+            number_of_event_indicators: 0,
+            derivatives: vec![],
         };
+        let mut in_derivatives = false;
         let mut simple_types: HashMap<String, (Option<String>, Option<String>)> = HashMap::new();
         let mut current_type: Option<String> = None;
         let mut current_var: Option<(HashMap<String, String>, Option<String>)> = None;
@@ -96,6 +110,7 @@ impl ModelDescription {
                 Event::End(e) => {
                     match e.name().as_ref() {
                         "SimpleType" => current_type = None,
+                        "Derivatives" => in_derivatives = false,
                         "ScalarVariable" => {
                             if let Some((attrs, _)) = current_var.take() {
                                 declared.push((attrs, HashMap::new()));
@@ -122,7 +137,25 @@ impl ModelDescription {
                 "fmiModelDescription" => {
                     md.model_name = attrs.get("modelName").cloned().unwrap_or_default();
                     md.guid = attrs.get("guid").cloned().unwrap_or_default();
+                    md.number_of_event_indicators = attrs
+                        .get("numberOfEventIndicators")
+                        .and_then(|v| v.parse().ok())
+                        .unwrap_or(0);
                 }
+                "ModelExchange" => {
+                    md.model_exchange = attrs.get("modelIdentifier").cloned();
+                    md.completed_integrator_step_not_needed = attrs
+                        .get("completedIntegratorStepNotNeeded")
+                        .is_some_and(|v| v == "true");
+                }
+                "Derivatives" => in_derivatives = !empty,
+                "Unknown" if in_derivatives => md.derivatives.push(
+                    attrs
+                        .get("index")
+                        .and_then(|i| i.parse::<usize>().ok())
+                        .and_then(|i| i.checked_sub(1))
+                        .ok_or("a <Derivatives><Unknown> without a valid index")?,
+                ),
                 "CoSimulation" => {
                     md.model_identifier = attrs.get("modelIdentifier").cloned().unwrap_or_default();
                     md.can_not_use_memory_management_functions = attrs
@@ -207,6 +240,29 @@ impl ModelDescription {
         if md.guid.is_empty() || md.model_identifier.is_empty() {
             return Err("modelDescription.xml without guid or CoSimulation modelIdentifier".into());
         }
+        if md
+            .model_exchange
+            .as_ref()
+            .is_some_and(|id| *id != md.model_identifier)
+        {
+            return Err(
+                "ModelExchange and CoSimulation name different binaries: this importer loads one"
+                    .into(),
+            );
+        }
+        for &d in &md.derivatives {
+            let ok = md
+                .variables
+                .get(d)
+                .and_then(|v| v.derivative)
+                .is_some_and(|s| s >= 1 && s <= md.variables.len());
+            if !ok {
+                return Err(format!(
+                    "<Derivatives> lists variable {} which is not the derivative of a variable",
+                    d + 1
+                ));
+            }
+        }
         Ok(md)
     }
 
@@ -219,15 +275,36 @@ impl ModelDescription {
         self.variables.iter().map(|v| v.vr).collect()
     }
 
-    /// The continuous states (the variables some derivative refers to).
+    /// The continuous states, in the order of the state vector (`<Derivatives>`; the order
+    /// of the variables if the FMU lists none).
     pub fn states(&self) -> Vec<&Var> {
-        self.variables
-            .iter()
+        self.derivative_vars()
+            .into_iter()
             .filter_map(|v| {
                 v.derivative
                     .and_then(|i| self.variables.get(i.checked_sub(1)?))
             })
             .collect()
+    }
+
+    /// The states' derivatives, in the order of the state vector.
+    pub fn derivative_vars(&self) -> Vec<&Var> {
+        if self.derivatives.is_empty() {
+            self.variables
+                .iter()
+                .filter(|v| v.derivative.is_some())
+                .collect()
+        } else {
+            self.derivatives
+                .iter()
+                .map(|&i| &self.variables[i])
+                .collect()
+        }
+    }
+
+    /// The number of continuous states (`nx`).
+    pub fn nx(&self) -> usize {
+        self.derivative_vars().len()
     }
 
     /// One past the largest value reference.
@@ -292,7 +369,7 @@ pub struct Fmu {
 
 impl Fmu {
     /// Unpacks `fmu` (modelDescription.xml and binaries/linux64/<id>.so) and dlopens the
-    /// binary, resolving all 34 functions.
+    /// binary, resolving all 44 functions.
     pub fn load(fmu: &Path) -> Result<Fmu, String> {
         let file = std::fs::File::open(fmu).map_err(|e| format!("{}: {e}", fmu.display()))?;
         let mut zip = zip::ZipArchive::new(file).map_err(|e| format!("{}: {e}", fmu.display()))?;

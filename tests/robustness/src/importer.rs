@@ -174,6 +174,8 @@ pub fn callbacks(sink: &Sink) -> CallbackFunctions {
 }
 
 /// A well-behaved importer's instance: instantiate with the right GUID, free on drop.
+/// [`Instance::new`] makes a Co-Simulation instance, [`Instance::new_me`] a Model Exchange
+/// one.
 pub struct Instance<'a> {
     pub fmu: &'a Fmu,
     pub c: Component,
@@ -189,6 +191,19 @@ unsafe impl Send for Instance<'_> {}
 
 impl<'a> Instance<'a> {
     pub fn new(fmu: &'a Fmu, name: &str) -> Result<Instance<'a>, Vec<Message>> {
+        Self::new_as(fmu, name, CO_SIMULATION)
+    }
+
+    /// A Model Exchange instance.
+    pub fn new_me(fmu: &'a Fmu, name: &str) -> Result<Instance<'a>, Vec<Message>> {
+        Self::new_as(fmu, name, MODEL_EXCHANGE)
+    }
+
+    pub fn new_as(
+        fmu: &'a Fmu,
+        name: &str,
+        fmu_type: FmuType,
+    ) -> Result<Instance<'a>, Vec<Message>> {
         let sink = Box::<Sink>::default();
         let callbacks = Box::new(callbacks(&sink));
         let name = CString::new(name).expect("instance name");
@@ -198,7 +213,7 @@ impl<'a> Instance<'a> {
         let c = unsafe {
             (fmu.api.instantiate)(
                 name.as_ptr(),
-                CO_SIMULATION,
+                fmu_type,
                 guid.as_ptr(),
                 resources.as_ptr(),
                 &*callbacks,
@@ -341,6 +356,92 @@ impl<'a> Instance<'a> {
     pub fn reset(&mut self) -> Status {
         // SAFETY: live instance.
         unsafe { (self.fmu.api.reset)(self.c) }
+    }
+
+    // Model Exchange.
+
+    pub fn enter_event_mode(&mut self) -> Status {
+        // SAFETY: live instance.
+        unsafe { (self.fmu.api.enter_event_mode)(self.c) }
+    }
+
+    pub fn enter_continuous_time_mode(&mut self) -> Status {
+        // SAFETY: live instance.
+        unsafe { (self.fmu.api.enter_continuous_time_mode)(self.c) }
+    }
+
+    pub fn new_discrete_states(&mut self) -> (Status, EventInfo) {
+        let mut info = EventInfo {
+            new_discrete_states_needed: -1,
+            terminate_simulation: -1,
+            nominals_of_continuous_states_changed: -1,
+            values_of_continuous_states_changed: -1,
+            next_event_time_defined: -1,
+            next_event_time: f64::NAN,
+        };
+        // SAFETY: live instance, valid out pointer.
+        let s = unsafe { (self.fmu.api.new_discrete_states)(self.c, &mut info) };
+        (s, info)
+    }
+
+    /// The event iteration of an importer: fmi2NewDiscreteStates until no new discrete
+    /// states are needed (at most `limit` times). The last status and event info.
+    pub fn event_iteration(&mut self, limit: usize) -> (Status, EventInfo) {
+        let mut last = self.new_discrete_states();
+        for _ in 1..limit {
+            if last.0 > WARNING || last.1.new_discrete_states_needed == 0 {
+                break;
+            }
+            last = self.new_discrete_states();
+        }
+        last
+    }
+
+    /// fmi2CompletedIntegratorStep: the status, enterEventMode, terminateSimulation.
+    pub fn completed_integrator_step(&mut self, no_set_prior: bool) -> (Status, bool, bool) {
+        let (mut event, mut terminate) = (-1, -1);
+        // SAFETY: live instance, valid out pointers.
+        let s = unsafe {
+            (self.fmu.api.completed_integrator_step)(
+                self.c,
+                no_set_prior as Boolean,
+                &mut event,
+                &mut terminate,
+            )
+        };
+        (s, event != 0, terminate != 0)
+    }
+
+    pub fn set_time(&mut self, t: f64) -> Status {
+        // SAFETY: live instance.
+        unsafe { (self.fmu.api.set_time)(self.c, t) }
+    }
+
+    pub fn set_continuous_states(&mut self, x: &[f64]) -> Status {
+        // SAFETY: an array of x.len() elements.
+        unsafe { (self.fmu.api.set_continuous_states)(self.c, x.as_ptr(), x.len()) }
+    }
+
+    /// `get` (one of the four array getters of Model Exchange) into `out`.
+    fn get_array(&mut self, get: GetRealArrayFn, out: &mut [f64]) -> Status {
+        // SAFETY: an array of out.len() elements.
+        unsafe { get(self.c, out.as_mut_ptr(), out.len()) }
+    }
+
+    pub fn get_continuous_states(&mut self, x: &mut [f64]) -> Status {
+        self.get_array(self.fmu.api.get_continuous_states, x)
+    }
+
+    pub fn get_derivatives(&mut self, dx: &mut [f64]) -> Status {
+        self.get_array(self.fmu.api.get_derivatives, dx)
+    }
+
+    pub fn get_event_indicators(&mut self, z: &mut [f64]) -> Status {
+        self.get_array(self.fmu.api.get_event_indicators, z)
+    }
+
+    pub fn get_nominals_of_continuous_states(&mut self, n: &mut [f64]) -> Status {
+        self.get_array(self.fmu.api.get_nominals_of_continuous_states, n)
     }
 }
 

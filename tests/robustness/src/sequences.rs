@@ -1,25 +1,46 @@
 //! Random FMI call sequences with hostile arguments, checked against an oracle.
 //!
-//! A sequence instantiates one or two instances and makes random calls of all 34
-//! functions: half of them chosen among those the standard allows in the instance's state
-//! (so sequences get deep: initialized, stepping, failed, restored), half among all,
+//! A sequence instantiates one or two instances, each for Model Exchange or Co-Simulation
+//! (when the FMU declares both), and makes random calls of all 44 functions: half of them
+//! chosen among those the standard allows in the instance's state and interface type (so
+//! sequences get deep: initialized, stepping or integrating, in event mode, failed,
+//! restored), half among all (so the other interface type's functions are called too),
 //! with arguments drawn from sane and hostile values (NULL instance and array pointers,
 //! foreign pointers to memory that is not an instance, value references out of range,
-//! NaN/±inf/huge values, bad step sizes and communication points, FMU states of this
-//! instance and of the other one, serialized bytes that are valid, corrupted, random, or
-//! corrupted with a repaired checksum).
+//! NaN/±inf/huge values, bad step sizes and communication points, huge or non-finite
+//! times, state and derivative arrays of the wrong length, FMU states of this instance and
+//! of the other one (of the other interface type too), serialized bytes that are valid,
+//! corrupted, random, or corrupted with a repaired checksum). A Model Exchange instance in
+//! continuous-time mode is also driven as an importer's integrator would: explicit Euler
+//! steps through fmi2GetContinuousStates, fmi2GetDerivatives, fmi2SetTime,
+//! fmi2SetContinuousStates, fmi2CompletedIntegratorStep and fmi2GetEventIndicators.
 //!
-//! The oracle keeps its own copy of the standard's state machine (section 4.2.4) and checks
-//! after every call:
+//! The oracle keeps its own copy of the standard's state machines (sections 3.2.3 and
+//! 4.2.4) and checks after every call:
 //! - the status is one the standard allows for the function (never fmi2Fatal/fmi2Pending,
-//!   fmi2Discard only from fmi2DoStep and the status getters);
-//! - a call the state table forbids returns fmi2Error and says "illegal call sequence";
+//!   fmi2Discard only from fmi2DoStep, the status getters, fmi2GetDerivatives and
+//!   fmi2GetEventIndicators);
+//! - a call the state table forbids returns fmi2Error and says "illegal call sequence"; a
+//!   function of the other interface type returns fmi2Error and names the interface type;
+//!   an FMU state saved in a state only the other interface type has (event mode,
+//!   continuous-time mode; step complete, step failed) is refused with fmi2Error;
 //! - every status other than fmi2OK comes with a logged message of that status (when the
 //!   importer gave a logger and has not switched that category off);
 //! - the logger is always called with "%s", a declared category and UTF-8 text, and no
 //!   message reports a caught panic ("internal error");
-//! - no NaN is returned after fmi2OK (values, derivatives, statuses), nothing is written
-//!   past the `nvr` elements of an output array;
+//! - no NaN is returned after fmi2OK (values, directional and output derivatives,
+//!   statuses), and nothing that is not finite from fmi2GetDerivatives,
+//!   fmi2GetEventIndicators, fmi2GetContinuousStates and
+//!   fmi2GetNominalsOfContinuousStates (nominals > 0); nothing is written past the
+//!   elements of an output array;
+//! - Model Exchange arrays: a wrong `nx`/`ni`, a NULL array or non-finite states given to
+//!   fmi2SetContinuousStates return fmi2Error; finite states of the right number are
+//!   accepted and fmi2GetContinuousStates returns them bit for bit; what
+//!   fmi2GetContinuousStates and fmi2GetDerivatives return is what fmi2GetReal returns
+//!   for the state and derivative variables; fmi2SetTime accepts a finite time and
+//!   refuses any other; fmi2SetReal in continuous-time mode accepts continuous inputs
+//!   only; fmi2NewDiscreteStates and fmi2CompletedIntegratorStep fill their fmi2Boolean
+//!   outputs with fmi2True/fmi2False (and refuse NULL pointers);
 //! - after fmi2DoStep returns fmi2OK the values are not NaN; after fmi2Discard,
 //!   fmi2Terminated is true and fmi2LastSuccessfulTime lies in the step;
 //! - every instance can be freed at the end (no state the instance cannot leave);
@@ -68,10 +89,67 @@ mod f {
     pub const GET_INTEGER_STATUS: usize = 31;
     pub const GET_BOOLEAN_STATUS: usize = 32;
     pub const GET_STRING_STATUS: usize = 33;
+    pub const ENTER_EVENT_MODE: usize = 34;
+    pub const NEW_DISCRETE_STATES: usize = 35;
+    pub const ENTER_CONTINUOUS_TIME_MODE: usize = 36;
+    pub const COMPLETED_INTEGRATOR_STEP: usize = 37;
+    pub const SET_TIME: usize = 38;
+    pub const SET_CONTINUOUS_STATES: usize = 39;
+    pub const GET_DERIVATIVES: usize = 40;
+    pub const GET_EVENT_INDICATORS: usize = 41;
+    pub const GET_CONTINUOUS_STATES: usize = 42;
+    pub const GET_NOMINALS: usize = 43;
+    /// How many there are.
+    pub const COUNT: usize = 44;
+
+    /// Whether `function` is one of Co-Simulation only.
+    pub fn co_simulation_only(function: usize) -> bool {
+        matches!(
+            function,
+            SET_INPUT_DERIVATIVES
+                | GET_OUTPUT_DERIVATIVES
+                | DO_STEP
+                | CANCEL_STEP
+                | GET_STATUS
+                | GET_REAL_STATUS
+                | GET_INTEGER_STATUS
+                | GET_BOOLEAN_STATUS
+                | GET_STRING_STATUS
+        )
+    }
+
+    /// Whether `function` is one of Model Exchange only.
+    pub fn model_exchange_only(function: usize) -> bool {
+        (ENTER_EVENT_MODE..COUNT).contains(&function)
+    }
 }
 
-/// The co-simulation states of the standard (section 4.2.4), in the order of the bits of
-/// the runtime's serialized state field.
+/// What an instance was instantiated as.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    ModelExchange,
+    CoSimulation,
+}
+
+impl Kind {
+    fn name(self) -> &'static str {
+        match self {
+            Kind::ModelExchange => "Model Exchange",
+            Kind::CoSimulation => "Co-Simulation",
+        }
+    }
+    /// The state initialization ends in.
+    fn initialized(self) -> St {
+        match self {
+            Kind::ModelExchange => St::EventMode,
+            Kind::CoSimulation => St::StepComplete,
+        }
+    }
+}
+
+/// The states of the standard's state machines (Co-Simulation, section 4.2.4, and Model
+/// Exchange, section 3.2.3), in the order of the bits of the runtime's serialized state
+/// field.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum St {
     Instantiated,
@@ -83,9 +161,11 @@ pub enum St {
     Terminated,
     Error,
     Fatal,
+    EventMode,
+    ContinuousTimeMode,
 }
 
-const ALL_STATES: [St; 9] = [
+const ALL_STATES: [St; 11] = [
     St::Instantiated,
     St::Init,
     St::StepComplete,
@@ -95,18 +175,54 @@ const ALL_STATES: [St; 9] = [
     St::Terminated,
     St::Error,
     St::Fatal,
+    St::EventMode,
+    St::ContinuousTimeMode,
 ];
 
-/// The standard's state table, written out here independently of the runtime's.
-pub fn allowed(function: usize, st: St) -> bool {
+impl St {
+    /// The interface type only whose machine has this state (`None`: both have it).
+    pub fn kind(self) -> Option<Kind> {
+        match self {
+            St::EventMode | St::ContinuousTimeMode => Some(Kind::ModelExchange),
+            St::StepComplete | St::StepInProgress | St::StepFailed | St::StepCanceled => {
+                Some(Kind::CoSimulation)
+            }
+            _ => None,
+        }
+    }
+}
+
+/// The standard's state tables, written out here independently of the runtime's: whether
+/// an instance of `kind` in state `st` may call `function`.
+pub fn allowed(function: usize, kind: Kind, st: St) -> bool {
     use St::*;
+    if (kind == Kind::ModelExchange && f::co_simulation_only(function))
+        || (kind == Kind::CoSimulation && f::model_exchange_only(function))
+    {
+        return false;
+    }
     let any_but_fatal = st != Fatal;
     let freeable = !matches!(st, StepInProgress | Fatal);
     let readable = matches!(
         st,
-        Init | StepComplete | StepFailed | StepCanceled | Terminated | Error
+        Init | EventMode
+            | ContinuousTimeMode
+            | StepComplete
+            | StepFailed
+            | StepCanceled
+            | Terminated
+            | Error
     );
-    let writable = matches!(st, Instantiated | Init | StepComplete);
+    let writable = matches!(
+        st,
+        Instantiated | Init | EventMode | ContinuousTimeMode | StepComplete
+    );
+    // Integer, Boolean and String variables are discrete: not in continuous-time mode.
+    let writable_discrete = writable && st != ContinuousTimeMode;
+    let me_states_readable = matches!(
+        st,
+        Init | EventMode | ContinuousTimeMode | Terminated | Error
+    );
     let status = matches!(
         st,
         StepComplete | StepInProgress | StepFailed | StepCanceled | Terminated
@@ -118,9 +234,13 @@ pub fn allowed(function: usize, st: St) -> bool {
         f::FREE_INSTANCE | f::RESET => freeable,
         f::SETUP_EXPERIMENT | f::ENTER_INIT => st == Instantiated,
         f::EXIT_INIT => st == Init,
-        f::TERMINATE => matches!(st, StepComplete | StepFailed | StepCanceled),
+        f::TERMINATE => matches!(
+            st,
+            EventMode | ContinuousTimeMode | StepComplete | StepFailed | StepCanceled
+        ),
         f::GET_REAL | f::GET_INTEGER | f::GET_BOOLEAN | f::GET_STRING => readable,
-        f::SET_REAL | f::SET_INTEGER | f::SET_BOOLEAN | f::SET_STRING => writable,
+        f::SET_REAL => writable,
+        f::SET_INTEGER | f::SET_BOOLEAN | f::SET_STRING => writable_discrete,
         f::GET_FMU_STATE
         | f::SET_FMU_STATE
         | f::FREE_FMU_STATE
@@ -142,17 +262,29 @@ pub fn allowed(function: usize, st: St) -> bool {
         | f::GET_INTEGER_STATUS
         | f::GET_BOOLEAN_STATUS
         | f::GET_STRING_STATUS => status,
+        f::ENTER_EVENT_MODE | f::SET_TIME => matches!(st, EventMode | ContinuousTimeMode),
+        f::NEW_DISCRETE_STATES | f::ENTER_CONTINUOUS_TIME_MODE => st == EventMode,
+        f::COMPLETED_INTEGRATOR_STEP | f::SET_CONTINUOUS_STATES => st == ContinuousTimeMode,
+        f::GET_EVENT_INDICATORS | f::GET_CONTINUOUS_STATES => me_states_readable,
+        f::GET_DERIVATIVES => matches!(st, EventMode | ContinuousTimeMode | Terminated | Error),
+        f::GET_NOMINALS => matches!(
+            st,
+            Instantiated | EventMode | ContinuousTimeMode | Terminated | Error
+        ),
         _ => false,
     }
 }
 
-/// Statuses a function may return here (a synchronous CS FMU).
+/// Statuses a function may return here (a synchronous CS FMU; in Model Exchange, a point
+/// outside the equations' domain is fmi2Discard from the functions that evaluate them).
 fn status_allowed(function: usize, s: Status) -> bool {
     match s {
         OK | WARNING | ERROR => true,
         DISCARD => matches!(
             function,
             f::DO_STEP
+                | f::GET_DERIVATIVES
+                | f::GET_EVENT_INDICATORS
                 | f::GET_STATUS
                 | f::GET_REAL_STATUS
                 | f::GET_INTEGER_STATUS
@@ -194,10 +326,48 @@ struct Inst {
     _name: CString,
     /// Messages can be checked (a logger and our environment were given).
     logs: bool,
+    kind: Kind,
     st: St,
     time: f64,
     stop: Option<f64>,
     categories: [bool; 5],
+    /// Model Exchange: the continuous states and derivatives last read (empty: unknown).
+    x: Vec<f64>,
+    dx: Vec<f64>,
+    /// The states last given to fmi2SetContinuousStates, while nothing else can have
+    /// changed them: fmi2GetContinuousStates must return them bit for bit.
+    x_set: Option<Vec<f64>>,
+    /// fmi2CompletedIntegratorStep asked for an event.
+    event_requested: bool,
+}
+
+impl Inst {
+    fn new(
+        c: Component,
+        sink: Box<Sink>,
+        callbacks: Box<CallbackFunctions>,
+        name: CString,
+        logs: bool,
+        kind: Kind,
+        categories: [bool; 5],
+    ) -> Inst {
+        Inst {
+            c,
+            sink,
+            _callbacks: callbacks,
+            _name: name,
+            logs,
+            kind,
+            st: St::Instantiated,
+            time: 0.0,
+            stop: None,
+            categories,
+            x: vec![],
+            dx: vec![],
+            x_set: None,
+            event_requested: false,
+        }
+    }
 }
 
 /// Counts over a run.
@@ -211,6 +381,9 @@ pub struct Stats {
     pub illegal_calls: u64,
     pub states_restored: u64,
     pub deserialized: u64,
+    pub me_instances: u64,
+    pub me_steps: u64,
+    pub events: u64,
 }
 
 impl Stats {
@@ -225,6 +398,9 @@ impl Stats {
         self.illegal_calls += o.illegal_calls;
         self.states_restored += o.states_restored;
         self.deserialized += o.deserialized;
+        self.me_instances += o.me_instances;
+        self.me_steps += o.me_steps;
+        self.events += o.events;
     }
 }
 
@@ -232,7 +408,7 @@ impl std::fmt::Display for Stats {
     fn fmt(&self, w: &mut std::fmt::Formatter) -> std::fmt::Result {
         write!(
             w,
-            "{} sequences, {} calls (OK {}, Warning {}, Discard {}, Error {}), {} steps OK, {} discarded, {} illegal calls refused, {} states restored, {} deserialized",
+            "{} sequences, {} calls (OK {}, Warning {}, Discard {}, Error {}), {} steps OK, {} discarded, {} illegal calls refused, {} states restored, {} deserialized, {} Model Exchange instances, {} integrator steps, {} event iterations",
             self.sequences,
             self.calls,
             self.statuses[0],
@@ -243,7 +419,10 @@ impl std::fmt::Display for Stats {
             self.steps_discarded,
             self.illegal_calls,
             self.states_restored,
-            self.deserialized
+            self.deserialized,
+            self.me_instances,
+            self.me_steps,
+            self.events
         )
     }
 }
@@ -272,6 +451,25 @@ pub struct Sequence<'a> {
     failure: Option<String>,
     vars: Vec<Var>,
     vr_end: u32,
+    /// The FMU declares Model Exchange.
+    me: bool,
+    /// Continuous states and event indicators, from the modelDescription.
+    nx: usize,
+    ni: usize,
+    /// Arguments for an importer's integrator step (set by [`Sequence::me_step`]): its
+    /// calls use these instead of hostile ones.
+    sane: bool,
+    /// The importer's integrator step size (Model Exchange).
+    h_me: f64,
+    /// The continuous states' start values (1 where none is declared).
+    x_start: Vec<f64>,
+    /// The value references of the states and of their derivatives, in the state vector's
+    /// order.
+    state_vrs: Vec<u32>,
+    derivative_vrs: Vec<u32>,
+    /// After the call: fmi2GetReal of these variables of this instance, if it succeeds,
+    /// returns these values (what fmi2GetContinuousStates or fmi2GetDerivatives returned).
+    same_as_variables: Option<(Component, Vec<u32>, Vec<f64>)>,
 }
 
 const SANE_NAMES: [&str; 4] = ["instance", "Oscillator", "x%s%n%d %p", "ünïcødé name"];
@@ -320,6 +518,20 @@ impl<'a> Sequence<'a> {
             failure: None,
             vars: fmu.md.variables.clone(),
             vr_end: fmu.md.vr_end(),
+            me: fmu.md.model_exchange.is_some(),
+            nx: fmu.md.nx(),
+            ni: fmu.md.number_of_event_indicators,
+            sane: false,
+            h_me: fmu.md.experiment.step / 4.0,
+            x_start: fmu
+                .md
+                .states()
+                .iter()
+                .map(|v| v.start.unwrap_or(1.0))
+                .collect(),
+            state_vrs: fmu.md.states().iter().map(|v| v.vr).collect(),
+            derivative_vrs: fmu.md.derivative_vars().iter().map(|v| v.vr).collect(),
+            same_as_variables: None,
         }
     }
 
@@ -418,7 +630,11 @@ impl<'a> Sequence<'a> {
         let mut name_null = false;
         let mut guid = self.fmu.md.guid.clone();
         let mut guid_null = false;
-        let mut fmu_type = CO_SIMULATION;
+        let mut fmu_type = if self.me && self.rng.chance(0.4) {
+            MODEL_EXCHANGE
+        } else {
+            CO_SIMULATION
+        };
         let mut callbacks_null = false;
         if hostile {
             expect_null = true;
@@ -426,7 +642,9 @@ impl<'a> Sequence<'a> {
                 0 => name_null = true,
                 1 => name_bytes = vec![],
                 2 => name_bytes = vec![b'a', 0xff, 0xfe],
-                3 => fmu_type = MODEL_EXCHANGE,
+                // Model Exchange is hostile only to an FMU that does not declare it.
+                3 if !self.me => fmu_type = MODEL_EXCHANGE,
+                3 => fmu_type = 2,
                 4 => fmu_type = *self.rng.pick(&[2, 7, u32::MAX]),
                 5 => guid_null = true,
                 6 => {
@@ -512,17 +730,21 @@ impl<'a> Sequence<'a> {
             ));
             return;
         }
-        self.insts.push(Inst {
+        let kind = if fmu_type == MODEL_EXCHANGE {
+            self.stats.me_instances += 1;
+            Kind::ModelExchange
+        } else {
+            Kind::CoSimulation
+        };
+        self.insts.push(Inst::new(
             c,
             sink,
-            _callbacks: cb,
-            _name: name,
+            cb,
+            name,
             logs,
-            st: St::Instantiated,
-            time: 0.0,
-            stop: None,
-            categories: [logging_on != 0, true, true, true, true],
-        });
+            kind,
+            [logging_on != 0, true, true, true, true],
+        ));
     }
 
     /// A well-formed instance with a logger (for cleaning up).
@@ -548,22 +770,24 @@ impl<'a> Sequence<'a> {
             self.fail("fmi2Instantiate with valid arguments failed".into());
             return;
         }
-        self.insts.push(Inst {
+        self.insts.push(Inst::new(
             c,
             sink,
-            _callbacks: cb,
-            _name: name,
-            logs: true,
-            st: St::Instantiated,
-            time: 0.0,
-            stop: None,
-            categories: [false, true, true, true, true],
-        });
+            cb,
+            name,
+            true,
+            Kind::CoSimulation,
+            [false, true, true, true, true],
+        ));
     }
 
     fn teardown(&mut self) {
         // Free every FMU state through a live instance, then the instances.
-        if !self.handles.is_empty() && !self.insts.iter().any(|i| allowed(f::FREE_FMU_STATE, i.st))
+        if !self.handles.is_empty()
+            && !self
+                .insts
+                .iter()
+                .any(|i| allowed(f::FREE_FMU_STATE, i.kind, i.st))
         {
             // FMU states outlive the instance that made them: free them through a new one.
             self.clean_instance();
@@ -572,7 +796,7 @@ impl<'a> Sequence<'a> {
             let Some(i) = self
                 .insts
                 .iter()
-                .position(|i| allowed(f::FREE_FMU_STATE, i.st))
+                .position(|i| allowed(f::FREE_FMU_STATE, i.kind, i.st))
             else {
                 self.fail(format!(
                     "cannot free an FMU state: every instance is in a state that forbids it ({:?})",
@@ -593,7 +817,7 @@ impl<'a> Sequence<'a> {
             }
         }
         while let Some(inst) = self.insts.pop() {
-            if !allowed(f::FREE_INSTANCE, inst.st) {
+            if !allowed(f::FREE_INSTANCE, inst.kind, inst.st) {
                 self.fail(format!(
                     "the instance is in state {:?}, from which fmi2FreeInstance is not allowed: it can never be freed (a leak)",
                     inst.st
@@ -706,6 +930,21 @@ impl<'a> Sequence<'a> {
                 St::StepComplete if self.rng.chance(0.15) => f::SET_REAL,
                 St::StepComplete if self.rng.chance(0.05) => f::GET_FMU_STATE,
                 St::StepComplete => f::DO_STEP,
+                St::EventMode if self.rng.chance(0.35) => f::NEW_DISCRETE_STATES,
+                St::EventMode if self.rng.chance(0.1) => f::SET_REAL,
+                St::EventMode if self.rng.chance(0.05) => f::GET_FMU_STATE,
+                St::EventMode => f::ENTER_CONTINUOUS_TIME_MODE,
+                St::ContinuousTimeMode
+                    if self.insts[i].event_requested || self.rng.chance(0.03) =>
+                {
+                    f::ENTER_EVENT_MODE
+                }
+                St::ContinuousTimeMode if self.rng.chance(0.05) => f::GET_FMU_STATE,
+                St::ContinuousTimeMode if self.rng.chance(0.05) => f::SET_REAL,
+                St::ContinuousTimeMode => {
+                    self.me_step(i);
+                    return;
+                }
                 _ if !self.handles.is_empty() && self.rng.chance(0.3) => f::SET_FMU_STATE,
                 _ => f::RESET,
             };
@@ -713,15 +952,17 @@ impl<'a> Sequence<'a> {
             return;
         }
         let function = if self.rng.chance(0.5) {
-            let st = self.insts[i].st;
-            let legal: Vec<usize> = (0..34)
-                .filter(|&g| g != f::INSTANTIATE && allowed(g, st))
+            let (kind, st) = (self.insts[i].kind, self.insts[i].st);
+            let legal: Vec<usize> = (0..f::COUNT)
+                .filter(|&g| g != f::INSTANTIATE && allowed(g, kind, st))
                 .flat_map(|g| {
                     // Weight the calls that move the simulation on.
                     let w = match g {
                         f::DO_STEP => 8,
                         f::GET_REAL | f::SET_REAL => 3,
                         f::EXIT_INIT | f::ENTER_INIT | f::SETUP_EXPERIMENT => 3,
+                        f::SET_TIME | f::SET_CONTINUOUS_STATES | f::GET_DERIVATIVES => 3,
+                        f::ENTER_CONTINUOUS_TIME_MODE => 3,
                         f::FREE_INSTANCE => 0,
                         _ => 1,
                     };
@@ -729,14 +970,43 @@ impl<'a> Sequence<'a> {
                 })
                 .collect();
             if legal.is_empty() {
-                self.rng.below(34)
+                self.rng.below(f::COUNT)
             } else {
                 *self.rng.pick(&legal)
             }
         } else {
-            self.rng.below(34)
+            self.rng.below(f::COUNT)
         };
         self.call(function);
+    }
+
+    /// One explicit Euler step of an importer's integrator on Model Exchange instance `i`
+    /// in continuous-time mode, each call checked as any other: the states and their
+    /// derivatives, the time and states moved on, the step completed, sometimes the event
+    /// indicators. Stops at the first call that does not succeed.
+    fn me_step(&mut self, i: usize) {
+        self.stats.me_steps += 1;
+        self.sane = true;
+        let (target, c) = (Target::Live(i), self.insts[i].c);
+        let mut calls = vec![
+            f::GET_CONTINUOUS_STATES,
+            f::GET_DERIVATIVES,
+            f::SET_TIME,
+            f::SET_CONTINUOUS_STATES,
+            f::COMPLETED_INTEGRATOR_STEP,
+        ];
+        if self.rng.chance(0.3) {
+            calls.push(f::GET_EVENT_INDICATORS);
+        }
+        for function in calls {
+            if self.failure.is_some() || self.insts[i].st != St::ContinuousTimeMode {
+                break;
+            }
+            if !matches!(self.call_on(function, target, c), Some(OK | WARNING)) {
+                break;
+            }
+        }
+        self.sane = false;
     }
 
     /// Makes one call of `function` with generated arguments and checks the result.
@@ -750,17 +1020,47 @@ impl<'a> Sequence<'a> {
             return;
         }
         let (target, c) = self.target();
+        self.call_on(function, target, c);
+    }
+
+    /// Makes one call of `function` on `target` with generated arguments and checks the
+    /// result; its status (`None` for fmi2FreeInstance).
+    fn call_on(&mut self, function: usize, target: Target, c: Component) -> Option<Status> {
         let before = match target {
-            Target::Live(i) => Some((self.insts[i].st, self.insts[i].sink.len())),
+            Target::Live(i) => {
+                let inst = &mut self.insts[i];
+                if matches!(
+                    function,
+                    f::SETUP_EXPERIMENT
+                        | f::ENTER_INIT
+                        | f::EXIT_INIT
+                        | f::RESET
+                        | f::SET_REAL
+                        | f::SET_FMU_STATE
+                        | f::NEW_DISCRETE_STATES
+                ) {
+                    // What may change the continuous states other than
+                    // fmi2SetContinuousStates.
+                    inst.x_set = None;
+                }
+                Some((inst.kind, inst.st, inst.sink.len()))
+            }
             _ => None,
         };
-        let legal = before.is_none_or(|(st, _)| allowed(function, st));
+        let legal = before.is_none_or(|(kind, st, _)| allowed(function, kind, st));
         let status = self.dispatch(function, target, c, legal);
-        let Some(status) = status else { return };
+        let status = status?;
         self.stats.calls += 1;
         self.stats.statuses[(status as usize).min(5)] += 1;
         let name = FUNCTION_NAMES[function];
         self.note(|| format!("  -> {}", status_name(status)));
+        if let (true, Target::Live(i), Some((_, _, n))) = (self.trace, target, before) {
+            if let Some(inst) = self.insts.get(i) {
+                for m in inst.sink.since(n) {
+                    println!("       [{}] {}", status_name(m.status), m.text);
+                }
+            }
+        }
         if !status_allowed(function, status) {
             self.fail(format!(
                 "{name} returned {} (not allowed)",
@@ -777,7 +1077,7 @@ impl<'a> Sequence<'a> {
                 }
             }
             Target::Live(i) => {
-                let (st_before, n_before) = before.expect("live");
+                let (kind, st_before, n_before) = before.expect("live");
                 let inst = &self.insts[i];
                 let new = inst.sink.since(n_before);
                 let violations = inst.sink.take_violations();
@@ -793,18 +1093,29 @@ impl<'a> Sequence<'a> {
                 }
                 if !legal {
                     self.stats.illegal_calls += 1;
+                    // A function of the other interface type: the message names its type.
+                    let foreign = if f::co_simulation_only(function) {
+                        Some(Kind::CoSimulation)
+                    } else if f::model_exchange_only(function) {
+                        Some(Kind::ModelExchange)
+                    } else {
+                        None
+                    }
+                    .filter(|&k| k != kind);
+                    let expected = foreign.map_or("illegal call sequence", Kind::name);
                     if status != ERROR {
                         self.fail(format!(
-                            "{name} in state {st_before:?} (not allowed by the standard) returned {}",
+                            "{name} in state {st_before:?} of a {} instance (not allowed by the standard) returned {}",
+                            kind.name(),
                             status_name(status)
                         ));
                     } else if logs
                         && cats[3]
                         && !new
                             .iter()
-                            .any(|m| m.status == ERROR && m.text.contains("illegal call sequence"))
+                            .any(|m| m.status == ERROR && m.text.contains(expected))
                     {
-                        self.fail(format!("{name} in state {st_before:?} refused without an 'illegal call sequence' message"));
+                        self.fail(format!("{name} in state {st_before:?} of a {} instance refused without a message saying '{expected}'", kind.name()));
                     }
                 }
                 if status != OK
@@ -828,6 +1139,24 @@ impl<'a> Sequence<'a> {
                 }
             }
         }
+        if let Some((c, vrs, got)) = self.same_as_variables.take() {
+            let mut values = vec![f64::NAN; vrs.len()];
+            // SAFETY: a live instance, arrays of vrs.len() elements.
+            let g =
+                unsafe { (self.fmu.api.get_real)(c, vrs.as_ptr(), vrs.len(), values.as_mut_ptr()) };
+            self.stats.calls += 1;
+            if g == OK
+                && values
+                    .iter()
+                    .zip(&got)
+                    .any(|(a, b)| a.to_bits() != b.to_bits())
+            {
+                self.fail(format!(
+                    "{name} returned {got:?}, but fmi2GetReal of those variables {vrs:?} returns {values:?}"
+                ));
+            }
+        }
+        Some(status)
     }
 
     /// The live instance (panics otherwise: only called for `Target::Live`).
@@ -985,13 +1314,21 @@ impl<'a> Sequence<'a> {
                 }
                 s
             }
-            f::ENTER_INIT | f::EXIT_INIT | f::TERMINATE | f::RESET | f::CANCEL_STEP => {
+            f::ENTER_INIT
+            | f::EXIT_INIT
+            | f::TERMINATE
+            | f::RESET
+            | f::CANCEL_STEP
+            | f::ENTER_EVENT_MODE
+            | f::ENTER_CONTINUOUS_TIME_MODE => {
                 self.note(|| format!("{name}({target:?})"));
                 let g = match function {
                     f::ENTER_INIT => api.enter_initialization_mode,
                     f::EXIT_INIT => api.exit_initialization_mode,
                     f::TERMINATE => api.terminate,
                     f::RESET => api.reset,
+                    f::ENTER_EVENT_MODE => api.enter_event_mode,
+                    f::ENTER_CONTINUOUS_TIME_MODE => api.enter_continuous_time_mode,
                     _ => api.cancel_step,
                 };
                 // SAFETY: NULL, foreign memory, or a live instance.
@@ -999,7 +1336,12 @@ impl<'a> Sequence<'a> {
                 if let (Some(inst), true) = (self.inst(target), legal) {
                     match (function, s) {
                         (f::ENTER_INIT, OK) => inst.st = St::Init,
-                        (f::EXIT_INIT, OK | WARNING) => inst.st = St::StepComplete,
+                        (f::EXIT_INIT, OK | WARNING) => inst.st = inst.kind.initialized(),
+                        (f::ENTER_EVENT_MODE, OK) => {
+                            inst.st = St::EventMode;
+                            inst.event_requested = false;
+                        }
+                        (f::ENTER_CONTINUOUS_TIME_MODE, OK) => inst.st = St::ContinuousTimeMode,
                         // A model failure at initialization: the Error state.
                         (f::EXIT_INIT, _) => inst.st = St::Error,
                         (f::TERMINATE, OK) => inst.st = St::Terminated,
@@ -1007,6 +1349,9 @@ impl<'a> Sequence<'a> {
                             inst.st = St::Instantiated;
                             inst.time = 0.0;
                             inst.stop = None;
+                            inst.x.clear();
+                            inst.dx.clear();
+                            inst.event_requested = false;
                         }
                         _ => {}
                     }
@@ -1104,7 +1449,23 @@ impl<'a> Sequence<'a> {
                 let xp = self.ptr_or_null(&values);
                 self.note(|| format!("{name}({target:?}, vr {vrs:?}, values {values:?})"));
                 // SAFETY: arrays of n elements (or NULL).
-                unsafe { (api.set_real)(c, vp, vrs.len(), xp) }
+                let s = unsafe { (api.set_real)(c, vp, vrs.len(), xp) };
+                if let (Target::Live(i), true, OK | WARNING) = (target, legal, s) {
+                    if self.insts[i].st == St::ContinuousTimeMode {
+                        let continuous_input = |vr: &u32| {
+                            self.vars.iter().any(|v| {
+                                v.vr == *vr && v.is("input") && v.variability == "continuous"
+                            })
+                        };
+                        if let Some(vr) = vrs.iter().find(|vr| !continuous_input(vr)) {
+                            self.fail(format!(
+                                "{name} in continuous-time mode returned {} for value reference {vr}, which is not a continuous input",
+                                status_name(s)
+                            ));
+                        }
+                    }
+                }
+                s
             }
             f::SET_INTEGER | f::SET_BOOLEAN | f::SET_STRING => {
                 let vrs = self.vrs();
@@ -1192,13 +1553,30 @@ impl<'a> Sequence<'a> {
                     f::SET_FMU_STATE => {
                         // SAFETY: a live state, NULL, or foreign memory.
                         let s = unsafe { (api.set_fmu_state)(c, h) };
-                        if let (Target::Live(i), true, OK, Some(k)) = (target, legal, s, k) {
+                        if let (Target::Live(i), true, Some(k)) = (target, legal, k) {
                             let snap = self.handles[k].snap;
-                            let inst = &mut self.insts[i];
-                            inst.st = snap.st;
-                            inst.time = snap.time;
-                            inst.stop = snap.stop;
-                            self.stats.states_restored += 1;
+                            let kind = self.insts[i].kind;
+                            let foreign = snap.st.kind().filter(|&other| other != kind);
+                            if let Some(other) = foreign {
+                                if s != ERROR {
+                                    self.fail(format!(
+                                        "{name} of a state saved in {:?} (a {} state) into a {} instance returned {}",
+                                        snap.st,
+                                        other.name(),
+                                        kind.name(),
+                                        status_name(s)
+                                    ));
+                                }
+                            } else if s == OK {
+                                let inst = &mut self.insts[i];
+                                inst.st = snap.st;
+                                inst.time = snap.time;
+                                inst.stop = snap.stop;
+                                inst.x.clear();
+                                inst.dx.clear();
+                                inst.event_requested = false;
+                                self.stats.states_restored += 1;
+                            }
                         }
                         s
                     }
@@ -1519,9 +1897,357 @@ impl<'a> Sequence<'a> {
                 }
                 s
             }
+            f::SET_TIME => {
+                let time = match target {
+                    Target::Live(i) => self.insts[i].time,
+                    _ => 0.0,
+                };
+                let t = if self.sane {
+                    time + self.h_me
+                } else {
+                    match self.rng.below(12) {
+                        0..=5 => time + self.rng.log_uniform(1e-6, 0.1),
+                        6 => time,
+                        // Backwards: after a rejected step, an importer goes back.
+                        7 => time - self.rng.unit(),
+                        8 => *self
+                            .rng
+                            .pick(&[1e308, -1e308, f64::MAX, f64::MIN, 1e15, -1e15]),
+                        9 => *self.rng.pick(&[5e-324, -0.0, 0.0, time * (1.0 + 1e-15)]),
+                        _ => {
+                            *self
+                                .rng
+                                .pick(&[f64::NAN, -f64::NAN, f64::INFINITY, f64::NEG_INFINITY])
+                        }
+                    }
+                };
+                self.note(|| format!("{name}({target:?}, time {t:e} (FMU at {time:e}))"));
+                // SAFETY: scalar arguments.
+                let s = unsafe { (api.set_time)(c, t) };
+                if let (Target::Live(i), true) = (target, legal) {
+                    if t.is_finite() != (s == OK) {
+                        self.fail(format!(
+                            "{name}(time {t:e}) returned {} (a finite time is accepted, no other)",
+                            status_name(s)
+                        ));
+                    }
+                    if s == OK {
+                        self.insts[i].time = t;
+                    }
+                }
+                s
+            }
+            f::SET_CONTINUOUS_STATES => {
+                let n = self.nx;
+                let len = self.array_len(n);
+                let cap = len.min(n + 8);
+                // From what the importer knows of the instance: an Euler step from the last
+                // states read, those states, or the start values.
+                let (x, dx) = match target {
+                    Target::Live(i) => (self.insts[i].x.clone(), self.insts[i].dx.clone()),
+                    _ => (vec![], vec![]),
+                };
+                let mut values: Vec<f64> = if x.len() == n && dx.len() == n {
+                    x.iter().zip(&dx).map(|(x, d)| x + self.h_me * d).collect()
+                } else if x.len() == n {
+                    x
+                } else {
+                    self.x_start.clone()
+                };
+                if !self.sane && self.rng.chance(0.2) {
+                    for v in values.iter_mut() {
+                        *v *= 1.0 + 0.1 * (self.rng.unit() - 0.5);
+                    }
+                }
+                values.resize(cap, 0.5);
+                if !self.sane && cap > 0 && self.rng.chance(0.25) {
+                    let k = self.rng.below(cap);
+                    values[k] = hostile_f64(&mut self.rng);
+                }
+                let null = !self.sane && self.rng.chance(0.04);
+                self.note(|| {
+                    format!(
+                        "{name}({target:?}, x {values:?}{}, nx {len})",
+                        if null { " at NULL" } else { "" }
+                    )
+                });
+                // SAFETY: `cap` readable elements (or NULL); a longer `len` is one the FMU
+                // must refuse before reading (nx is in its modelDescription).
+                let s = unsafe {
+                    (api.set_continuous_states)(
+                        c,
+                        if null {
+                            std::ptr::null()
+                        } else {
+                            values.as_ptr()
+                        },
+                        len,
+                    )
+                };
+                if let (Target::Live(i), true) = (target, legal) {
+                    let right = len == n && !(null && n > 0);
+                    let finite = values[..cap.min(len)].iter().all(|x| x.is_finite());
+                    if !right && s != ERROR {
+                        self.fail(format!(
+                            "{name} with nx = {len}{} (the FMU has {n} states) returned {}",
+                            if null { " and x = NULL" } else { "" },
+                            status_name(s)
+                        ));
+                    } else if right && !finite && s != ERROR {
+                        self.fail(format!(
+                            "{name} with non-finite states {values:?} returned {}",
+                            status_name(s)
+                        ));
+                    } else if right && finite && s != OK {
+                        self.fail(format!(
+                            "{name} refused finite states {values:?} ({})",
+                            status_name(s)
+                        ));
+                    }
+                    if s == OK {
+                        let inst = &mut self.insts[i];
+                        values.truncate(n);
+                        inst.x_set = Some(values.clone());
+                        inst.x = values;
+                        inst.dx.clear();
+                    }
+                }
+                s
+            }
+            f::GET_DERIVATIVES
+            | f::GET_EVENT_INDICATORS
+            | f::GET_CONTINUOUS_STATES
+            | f::GET_NOMINALS => {
+                let n = if function == f::GET_EVENT_INDICATORS {
+                    self.ni
+                } else {
+                    self.nx
+                };
+                let len = self.array_len(n);
+                let cap = len.min(n + 8);
+                let canary = -7.5e-77f64;
+                let mut out = vec![canary; cap + 4];
+                let null = !self.sane && self.rng.chance(0.04);
+                let g = match function {
+                    f::GET_DERIVATIVES => api.get_derivatives,
+                    f::GET_EVENT_INDICATORS => api.get_event_indicators,
+                    f::GET_CONTINUOUS_STATES => api.get_continuous_states,
+                    _ => api.get_nominals_of_continuous_states,
+                };
+                self.note(|| {
+                    format!(
+                        "{name}({target:?}, n {len}{})",
+                        if null { ", NULL array" } else { "" }
+                    )
+                });
+                // SAFETY: `cap` writable elements (or NULL); a longer `len` is one the FMU
+                // must refuse before writing.
+                let s = unsafe {
+                    g(
+                        c,
+                        if null {
+                            std::ptr::null_mut()
+                        } else {
+                            out.as_mut_ptr()
+                        },
+                        len,
+                    )
+                };
+                self.check_canaries(name, &out[cap.min(len)..], canary);
+                let right = len == n && !(null && n > 0);
+                if let (Target::Live(_), true, false, false) = (target, legal, right, s == ERROR) {
+                    self.fail(format!(
+                        "{name} with n = {len}{} (the FMU has {n}) returned {}",
+                        if null { " and a NULL array" } else { "" },
+                        status_name(s)
+                    ));
+                }
+                if matches!(s, OK | WARNING) && right && !null {
+                    let got = &out[..n];
+                    let bad = if function == f::GET_NOMINALS {
+                        got.iter().position(|x| !(x.is_finite() && *x > 0.0))
+                    } else {
+                        got.iter().position(|x| !x.is_finite())
+                    };
+                    if let Some(k) = bad {
+                        self.fail(format!(
+                            "{name} returned {} with element {k} = {} ({got:?})",
+                            status_name(s),
+                            got[k]
+                        ));
+                    }
+                    if let (Target::Live(i), true) = (target, legal) {
+                        let got = got.to_vec();
+                        match function {
+                            f::GET_CONTINUOUS_STATES => {
+                                if let Some(set) = &self.insts[i].x_set {
+                                    if set
+                                        .iter()
+                                        .zip(&got)
+                                        .any(|(a, b)| a.to_bits() != b.to_bits())
+                                    {
+                                        let set = set.clone();
+                                        self.fail(format!(
+                                            "{name} returned {got:?}, not the states {set:?} fmi2SetContinuousStates was given"
+                                        ));
+                                    }
+                                }
+                                self.insts[i].x = got.clone();
+                            }
+                            f::GET_DERIVATIVES => self.insts[i].dx = got.clone(),
+                            _ => {}
+                        }
+                        // The same numbers as the variables they are: checked once this
+                        // call's messages are (fmi2GetReal may log its own).
+                        let vrs = match function {
+                            f::GET_CONTINUOUS_STATES => self.state_vrs.clone(),
+                            f::GET_DERIVATIVES => self.derivative_vrs.clone(),
+                            _ => vec![],
+                        };
+                        if !vrs.is_empty() {
+                            self.same_as_variables = Some((c, vrs, got));
+                        }
+                    }
+                }
+                s
+            }
+            f::NEW_DISCRETE_STATES => {
+                let null = !self.sane && self.rng.chance(0.05);
+                let mut info = EventInfo {
+                    new_discrete_states_needed: -1,
+                    terminate_simulation: -1,
+                    nominals_of_continuous_states_changed: -1,
+                    values_of_continuous_states_changed: -1,
+                    next_event_time_defined: -1,
+                    next_event_time: f64::NAN,
+                };
+                self.note(|| {
+                    format!(
+                        "{name}({target:?}{})",
+                        if null { ", NULL eventInfo" } else { "" }
+                    )
+                });
+                // SAFETY: a valid out pointer (or NULL).
+                let s = unsafe {
+                    (api.new_discrete_states)(
+                        c,
+                        if null {
+                            std::ptr::null_mut()
+                        } else {
+                            &mut info
+                        },
+                    )
+                };
+                if let (Target::Live(_), true, true) = (target, legal, null) {
+                    if s != ERROR {
+                        self.fail(format!(
+                            "{name} with a NULL fmi2EventInfo returned {}",
+                            status_name(s)
+                        ));
+                    }
+                }
+                if matches!(s, OK | WARNING) && !null {
+                    let flags = [
+                        info.new_discrete_states_needed,
+                        info.terminate_simulation,
+                        info.nominals_of_continuous_states_changed,
+                        info.values_of_continuous_states_changed,
+                        info.next_event_time_defined,
+                    ];
+                    if flags.iter().any(|&b| b != 0 && b != 1)
+                        || (info.next_event_time_defined == 1 && !info.next_event_time.is_finite())
+                    {
+                        self.fail(format!("{name} returned {} with {info:?}", status_name(s)));
+                    }
+                    if let (Target::Live(i), true) = (target, legal) {
+                        self.stats.events += 1;
+                        let inst = &mut self.insts[i];
+                        inst.x.clear();
+                        inst.dx.clear();
+                    }
+                }
+                s
+            }
+            f::COMPLETED_INTEGRATOR_STEP => {
+                let no_prior: Boolean = if self.sane {
+                    1
+                } else {
+                    *self.rng.pick(&[0, 1, 2])
+                };
+                let null_event = !self.sane && self.rng.chance(0.04);
+                let null_terminate = !self.sane && self.rng.chance(0.04);
+                let (mut event, mut terminate): (Boolean, Boolean) = (-1, -1);
+                self.note(|| {
+                    format!(
+                        "{name}({target:?}, noSetFMUStatePriorToCurrentPoint {no_prior}{}{})",
+                        if null_event {
+                            ", NULL enterEventMode"
+                        } else {
+                            ""
+                        },
+                        if null_terminate {
+                            ", NULL terminateSimulation"
+                        } else {
+                            ""
+                        }
+                    )
+                });
+                // SAFETY: valid out pointers (or NULL).
+                let s = unsafe {
+                    (api.completed_integrator_step)(
+                        c,
+                        no_prior,
+                        if null_event {
+                            std::ptr::null_mut()
+                        } else {
+                            &mut event
+                        },
+                        if null_terminate {
+                            std::ptr::null_mut()
+                        } else {
+                            &mut terminate
+                        },
+                    )
+                };
+                let null = null_event || null_terminate;
+                if let (Target::Live(i), true) = (target, legal) {
+                    if null && s != ERROR {
+                        self.fail(format!(
+                            "{name} with a NULL out pointer returned {}",
+                            status_name(s)
+                        ));
+                    }
+                    if matches!(s, OK | WARNING) && !null {
+                        if ![event, terminate].iter().all(|&b| b == 0 || b == 1) {
+                            self.fail(format!(
+                                "{name} returned {} with enterEventMode = {event}, terminateSimulation = {terminate}",
+                                status_name(s)
+                            ));
+                        }
+                        self.insts[i].event_requested = event == 1;
+                    }
+                }
+                s
+            }
             _ => unreachable!("function {function}"),
         };
         Some(s)
+    }
+
+    /// A length for an array of `n` elements: mostly right, sometimes wrong, rarely absurd
+    /// (always right for an importer's integrator step).
+    fn array_len(&mut self, n: usize) -> usize {
+        if self.sane {
+            return n;
+        }
+        match self.rng.below(20) {
+            0..=14 => n,
+            15 => 0,
+            16 => n + 1 + self.rng.below(3),
+            17 => n.saturating_sub(1),
+            18 => n.wrapping_sub(1),
+            _ => *self.rng.pick(&[usize::MAX, 1 << 40, (1 << 24) + 1]),
+        }
     }
 
     fn check_canaries(&mut self, name: &str, tail: &[f64], canary: f64) {
@@ -1769,7 +2495,7 @@ pub fn mutate_semantically(rng: &mut Rng, b: &mut [u8]) {
         match rng.below(4) {
             0 => {
                 let bits: u16 = if rng.chance(0.8) {
-                    1 << rng.below(9)
+                    1 << rng.below(ALL_STATES.len())
                 } else {
                     rng.next_u64() as u16
                 };

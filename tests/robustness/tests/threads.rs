@@ -1,46 +1,75 @@
 //! Instances in threads, through the loaded binaries (conformance checks the same
-//! in-process through `Harness`): two FMU binaries loaded in one process, eight instances stepped in
-//! eight threads at once give results bit-identical to sequential runs.
+//! in-process through `Harness`): two FMU binaries loaded in one process, eight
+//! Co-Simulation instances stepped and four Model Exchange instances integrated (by the
+//! importer's fixed-step RK4 through fmi2SetTime, fmi2SetContinuousStates and
+//! fmi2GetDerivatives, with fmi2CompletedIntegratorStep, the event indicators and events)
+//! in twelve threads at once give results bit-identical to sequential runs.
 
 use mechfmu_robustness::fmu::{required_fmu_paths, Fmu};
-use mechfmu_robustness::scenarios::fingerprint;
+use mechfmu_robustness::scenarios::{fingerprint, me_fingerprint};
+
+/// Jobs 0..8 are Co-Simulation runs, 8..12 Model Exchange runs.
+const CS_JOBS: usize = 8;
+const JOBS: usize = 12;
 
 #[test]
-fn two_binaries_eight_threads_match_sequential_runs() {
+fn two_binaries_twelve_threads_match_sequential_runs() {
     let paths = required_fmu_paths();
     // Two different FMUs if there are two; else the same one unpacked twice (two images
     // of one library in one process).
     let a = Fmu::load(&paths[0]).unwrap();
     let b = Fmu::load(paths.get(1).unwrap_or(&paths[0])).unwrap();
     let fmus = [&a, &b];
+    for fmu in fmus {
+        assert!(
+            fmu.md.model_exchange.is_some(),
+            "{} does not declare Model Exchange",
+            fmu.name()
+        );
+    }
     let job = |i: usize| {
         let fmu = fmus[i % 2];
-        let tol = fmu.md.experiment.tolerance * 10f64.powi(-((i / 2) as i32));
-        fingerprint(fmu, tol, 20_000 + 1000 * (i / 2))
-            .unwrap_or_else(|e| panic!("{} (job {i}): {e}", fmu.name()))
+        if i < CS_JOBS {
+            let tol = fmu.md.experiment.tolerance * 10f64.powi(-((i / 2) as i32));
+            fingerprint(fmu, tol, 20_000 + 1000 * (i / 2))
+        } else {
+            // Different step sizes and lengths: h = step/2, step/4 over 4,000 and 8,000 steps.
+            let k = (i - CS_JOBS) / 2;
+            let h = fmu.md.experiment.step / (2 << k) as f64;
+            me_fingerprint(fmu, fmu.md.experiment.tolerance, 4_000 << k, h)
+        }
+        .unwrap_or_else(|e| panic!("{} (job {i}): {e}", fmu.name()))
     };
-    let sequential: Vec<Vec<u64>> = (0..8).map(job).collect();
+    let sequential: Vec<Vec<u64>> = (0..JOBS).map(job).collect();
     for round in 0..3 {
         let parallel: Vec<Vec<u64>> = std::thread::scope(|s| {
-            let handles: Vec<_> = (0..8).map(|i| s.spawn(move || job(i))).collect();
+            let handles: Vec<_> = (0..JOBS).map(|i| s.spawn(move || job(i))).collect();
             handles
                 .into_iter()
                 .map(|h| h.join().expect("a thread panicked"))
                 .collect()
         });
-        for i in 0..8 {
+        for i in 0..JOBS {
             assert!(
                 parallel[i] == sequential[i],
-                "round {round}: {} instance {i} in a thread differs from its sequential run",
-                fmus[i % 2].name()
+                "round {round}: {} {} instance {i} in a thread differs from its sequential run",
+                fmus[i % 2].name(),
+                if i < CS_JOBS {
+                    "Co-Simulation"
+                } else {
+                    "Model Exchange"
+                }
             );
         }
     }
-    // The runs differ from each other (tolerances, lengths), so equality means something.
+    // The runs differ from each other (tolerances, step sizes, lengths), so equality
+    // means something.
     assert_ne!(sequential[0], sequential[2]);
     assert_ne!(sequential[1], sequential[3]);
+    assert_ne!(sequential[8], sequential[10]);
+    assert_ne!(sequential[9], sequential[11]);
     println!(
-        "{} and {}: 8 threads × 3 rounds bit-identical to sequential runs",
+        "{} and {}: 8 Co-Simulation and 4 Model Exchange instances in 12 threads × 3 rounds bit-identical to sequential runs",
         a.name(),
         b.name()
     );

@@ -7,7 +7,7 @@
 //! robustness-driver cycles    --fmu fmus/Oscillator.fmu [--count 1000]
 //! robustness-driver long-run  --fmu fmus/Oscillator.fmu [--steps 1000000] [--h 1e-3]
 //! robustness-driver tour      --fmu fmus/Oscillator.fmu      (prints nothing unless it fails)
-//! robustness-driver dump-state --fmu fmus/Oscillator.fmu --out FILE [--steps 10]
+//! robustness-driver dump-state --fmu fmus/Oscillator.fmu --out FILE [--steps 10] [--me event|continuous]
 //! ```
 //! Exit status: 0 success, 1 a check failed (the failure on stderr), 2 bad usage.
 
@@ -67,8 +67,13 @@ fn main() -> ExitCode {
             let count = number("--count", 1000) as usize;
             match scenarios::cycles(&fmu, count) {
                 Ok(calls) => {
+                    let me = if fmu.md.model_exchange.is_some() {
+                        count.div_ceil(scenarios::ME_EVERY)
+                    } else {
+                        0
+                    };
                     println!(
-                        "{}: {count} instantiate/initialize/step/free cycles, {calls} FMI calls",
+                        "{}: {count} instantiate/initialize/step/free cycles ({me} with a Model Exchange run), {calls} FMI calls",
                         fmu.name()
                     );
                     ExitCode::SUCCESS
@@ -112,8 +117,18 @@ fn main() -> ExitCode {
         }
         "dump-state" => {
             // A serialized FMU state after `--steps` default steps: seeds for fuzz/corpus.
+            // `--me event` / `--me continuous`: of a Model Exchange instance in that mode.
             let out = value("--out").expect("--out FILE");
-            match scenarios::serialized_state(&fmu, number("--steps", 10) as usize) {
+            let how = match value("--me").as_deref() {
+                None => scenarios::Dump::CoSimulation,
+                Some("event") => scenarios::Dump::EventMode,
+                Some("continuous") => scenarios::Dump::ContinuousTimeMode,
+                Some(other) => {
+                    eprintln!("robustness-driver: --me {other}: event or continuous");
+                    return ExitCode::from(2);
+                }
+            };
+            match scenarios::serialized_state(&fmu, number("--steps", 10) as usize, how) {
                 Ok(bytes) => {
                     std::fs::write(&out, bytes).expect("write --out");
                     ExitCode::SUCCESS
