@@ -39,6 +39,11 @@ pub struct Args {
     /// Skip the FMPy and scipy figures.
     #[arg(long)]
     no_python: bool,
+    /// Only the Model Exchange figures: ns per derivative evaluation through the API
+    /// (fmi2SetTime + fmi2SetContinuousStates + fmi2GetDerivatives) next to the equations
+    /// alone (with --instructions, their instruction counts).
+    #[arg(long)]
+    me_only: bool,
     /// Also count instructions with valgrind (repeatable on a busy machine; slower).
     #[arg(long)]
     instructions: bool,
@@ -173,38 +178,64 @@ pub fn run(args: Args) -> Result<(), String> {
                 "{name}: the binary exports no mechfmu_counters/mechfmu_bench (built without the runtime's `bench` feature: drop --no-build): no split"
             ));
         }
-        let figures = b::measure(name, fmu_path, &binary, effort, &progress)?;
+        let figures = if args.me_only {
+            b::measure_model_exchange(name, fmu_path, &binary, effort, &progress)?
+        } else {
+            b::measure(name, fmu_path, &binary, effort, &progress)?
+        };
+        if figures.model_exchange.is_none() {
+            report.notes.push(format!(
+                "{name}: no Model Exchange figures (the FMU declares no ModelExchange or its binary lacks the functions)"
+            ));
+        }
         report.mechanisms.push(figures);
         loaded.push((so, xml, binary));
     }
-    progress("catch_unwind");
-    report.catch_unwind = Some(b::catch_unwind_cost(effort.runs));
+    if !args.me_only {
+        progress("catch_unwind");
+        report.catch_unwind = Some(b::catch_unwind_cost(effort.runs));
+    }
 
     if args.instructions {
         if instructions::available() {
             let exe =
                 std::env::current_exe().map_err(|e| format!("cannot find this program: {e}"))?;
             for (m, (so, xml, binary)) in report.mechanisms.iter_mut().zip(&loaded) {
-                progress(&format!("{}: instructions under valgrind", m.name));
-                let n = b::native::steps_per_run(binary, 1e-2, effort);
-                let evals = m
-                    .step(1e-2, 1e-6)
-                    .map_or(0, |s| (s.evals * n as f64).round() as u64);
-                m.instructions = Some(instructions::count(
-                    &exe,
-                    so,
-                    xml,
-                    1e-2,
-                    1e-6,
-                    effort,
-                    (n, evals),
-                )?);
+                if !args.me_only {
+                    progress(&format!("{}: instructions under valgrind", m.name));
+                    let n = b::native::steps_per_run(binary, 1e-2, effort);
+                    let evals = m
+                        .step(1e-2, 1e-6)
+                        .map_or(0, |s| (s.evals * n as f64).round() as u64);
+                    m.instructions = Some(instructions::count(
+                        &exe,
+                        so,
+                        xml,
+                        1e-2,
+                        1e-6,
+                        effort,
+                        (n, evals),
+                    )?);
+                }
+                if m.model_exchange.is_some() {
+                    progress(&format!(
+                        "{}: Model Exchange instructions under valgrind",
+                        m.name
+                    ));
+                    m.me_instructions =
+                        Some(instructions::count_model_exchange(&exe, so, xml, effort)?);
+                }
             }
         } else {
             report
                 .notes
                 .push("--instructions: valgrind is not installed".into());
         }
+    }
+
+    if args.me_only {
+        clear_progress();
+        return finish(&report, &root, &args.json);
     }
 
     // Work–precision of the Oscillator, natively.
@@ -330,8 +361,13 @@ pub fn run(args: Args) -> Result<(), String> {
     }
     clear_progress();
 
+    finish(&report, &root, &args.json)
+}
+
+/// Prints the table and writes the JSON and Markdown files.
+fn finish(report: &Report, root: &Path, json: &Path) -> Result<(), String> {
     print!("{}", report.table());
-    let json_path = root.join(&args.json);
+    let json_path = root.join(json);
     if let Some(dir) = json_path.parent() {
         std::fs::create_dir_all(dir)
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;

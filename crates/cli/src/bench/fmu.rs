@@ -33,6 +33,10 @@ pub struct Description {
     pub stop: f64,
     pub step: f64,
     pub tolerance: f64,
+    /// Whether the FMU declares Model Exchange (a `ModelExchange` element).
+    pub model_exchange: bool,
+    /// The number of continuous states (the `Unknown`s of `ModelStructure/Derivatives`).
+    pub states: usize,
 }
 
 impl Description {
@@ -46,13 +50,22 @@ impl Description {
             stop: 1.0,
             step: 1e-2,
             tolerance: 1e-6,
+            model_exchange: false,
+            states: 0,
         };
+        let mut in_derivatives = false;
         loop {
             let event = reader
                 .read_event()
                 .map_err(|e| format!("modelDescription.xml: {e}"))?;
             let e = match &event {
                 Event::Start(e) | Event::Empty(e) => e,
+                Event::End(e) => {
+                    if e.name().into_inner() == "Derivatives" {
+                        in_derivatives = false;
+                    }
+                    continue;
+                }
                 Event::Eof => break,
                 _ => continue,
             };
@@ -70,6 +83,9 @@ impl Description {
             match e.name().into_inner() {
                 "fmiModelDescription" => d.guid = attr("guid").unwrap_or_default(),
                 "CoSimulation" => d.model_identifier = attr("modelIdentifier").unwrap_or_default(),
+                "ModelExchange" => d.model_exchange = true,
+                "Derivatives" => in_derivatives = matches!(event, Event::Start(_)),
+                "Unknown" if in_derivatives => d.states += 1,
                 "DefaultExperiment" => {
                     d.start = number("startTime").unwrap_or(d.start);
                     d.stop = number("stopTime").unwrap_or(d.stop);
@@ -181,6 +197,13 @@ type SetReal = unsafe extern "C" fn(
 /// `fmi2DoStep`.
 pub type DoStep =
     unsafe extern "C" fn(fmi2Component, fmi2Real, fmi2Real, fmi2Boolean) -> fmi2Status;
+/// `fmi2SetTime`.
+pub type SetTime = unsafe extern "C" fn(fmi2Component, fmi2Real) -> fmi2Status;
+/// `fmi2SetContinuousStates`.
+pub type SetStates = unsafe extern "C" fn(fmi2Component, *const fmi2Real, usize) -> fmi2Status;
+/// `fmi2GetContinuousStates`, `fmi2GetDerivatives`.
+pub type GetStates = unsafe extern "C" fn(fmi2Component, *mut fmi2Real, usize) -> fmi2Status;
+type NewDiscreteStates = unsafe extern "C" fn(fmi2Component, *mut fmi2EventInfo) -> fmi2Status;
 type Counters = unsafe extern "C" fn(fmi2Component, *mut u64, usize) -> usize;
 type Bench = unsafe extern "C" fn(fmi2Component, u32, u64, fmi2Real) -> fmi2Status;
 
@@ -201,6 +224,19 @@ pub struct Functions {
     /// binaries built before they existed.
     counters: Option<Counters>,
     bench: Option<Bench>,
+    /// The Model Exchange functions the benchmark calls, if the binary exports them all.
+    pub me: Option<MeFunctions>,
+}
+
+/// The Model Exchange functions of [`Functions`].
+#[derive(Clone, Copy)]
+pub struct MeFunctions {
+    new_discrete_states: NewDiscreteStates,
+    enter_continuous_time_mode: Component,
+    pub set_time: SetTime,
+    pub set_continuous_states: SetStates,
+    pub get_continuous_states: GetStates,
+    pub get_derivatives: GetStates,
 }
 
 /// A loaded FMU binary and its description.
@@ -247,6 +283,16 @@ impl Binary {
             do_step: get!("fmi2DoStep"),
             counters: optional!("mechfmu_counters"),
             bench: optional!("mechfmu_bench"),
+            me: (|| {
+                Some(MeFunctions {
+                    new_discrete_states: optional!("fmi2NewDiscreteStates")?,
+                    enter_continuous_time_mode: optional!("fmi2EnterContinuousTimeMode")?,
+                    set_time: optional!("fmi2SetTime")?,
+                    set_continuous_states: optional!("fmi2SetContinuousStates")?,
+                    get_continuous_states: optional!("fmi2GetContinuousStates")?,
+                    get_derivatives: optional!("fmi2GetDerivatives")?,
+                })
+            })(),
         };
         Ok(Binary {
             path: so.to_path_buf(),
@@ -270,7 +316,23 @@ pub struct Instance<'a> {
 }
 
 impl<'a> Instance<'a> {
+    /// A Co-Simulation instance.
     pub fn new(binary: &'a Binary) -> Result<Instance<'a>, String> {
+        Self::instantiate(binary, fmi2CoSimulation)
+    }
+
+    /// A Model Exchange instance; `Err` if the binary has no Model Exchange functions.
+    pub fn model_exchange(binary: &'a Binary) -> Result<Instance<'a>, String> {
+        if binary.functions.me.is_none() {
+            return Err(format!(
+                "{} exports no Model Exchange functions",
+                binary.path.display()
+            ));
+        }
+        Self::instantiate(binary, fmi2ModelExchange)
+    }
+
+    fn instantiate(binary: &'a Binary, fmu_type: fmi2Type) -> Result<Instance<'a>, String> {
         let log = MessageLog::new();
         let d = &binary.description;
         let name = CString::new(d.model_identifier.as_str()).unwrap_or_default();
@@ -279,7 +341,7 @@ impl<'a> Instance<'a> {
         let component = unsafe {
             (binary.functions.instantiate)(
                 name.as_ptr(),
-                fmi2CoSimulation,
+                fmu_type,
                 guid.as_ptr(),
                 c"file:///tmp".as_ptr(),
                 log.callbacks(),
@@ -353,6 +415,47 @@ impl<'a> Instance<'a> {
                 "fmi2ExitInitializationMode",
             )
         }
+    }
+
+    /// For a Model Exchange instance after [`Instance::start`] (in event mode): the event
+    /// iteration (`fmi2NewDiscreteStates` until no new discrete states are needed), then
+    /// `fmi2EnterContinuousTimeMode`.
+    pub fn enter_continuous_time_mode(&mut self) -> Result<(), String> {
+        let f = self.me()?;
+        let mut info = fmi2EventInfo {
+            newDiscreteStatesNeeded: fmi2True,
+            ..fmi2EventInfo::default()
+        };
+        for _ in 0..100 {
+            if info.newDiscreteStatesNeeded == fmi2False {
+                break;
+            }
+            // SAFETY: a live component of this binary; `info` is writable.
+            let status = unsafe { (f.new_discrete_states)(self.component, &mut info) };
+            self.check(status, "fmi2NewDiscreteStates")?;
+            if info.terminateSimulation != fmi2False {
+                return Err("fmi2NewDiscreteStates: terminateSimulation at the start".into());
+            }
+        }
+        // SAFETY: a live component of this binary.
+        let status = unsafe { (f.enter_continuous_time_mode)(self.component) };
+        self.check(status, "fmi2EnterContinuousTimeMode")
+    }
+
+    /// The Model Exchange functions (for an instance of [`Instance::model_exchange`]).
+    pub fn me(&self) -> Result<MeFunctions, String> {
+        self.binary
+            .functions
+            .me
+            .ok_or_else(|| "the binary exports no Model Exchange functions".into())
+    }
+
+    /// `fmi2GetContinuousStates` into `x` (one value per state).
+    pub fn continuous_states(&mut self, x: &mut [f64]) -> Result<(), String> {
+        let f = self.me()?;
+        // SAFETY: a live component; `x` has `x.len()` writable values.
+        let status = unsafe { (f.get_continuous_states)(self.component, x.as_mut_ptr(), x.len()) };
+        self.check(status, "fmi2GetContinuousStates")
     }
 
     #[inline]

@@ -6,6 +6,7 @@
 //! `k = 3` and `k = 1` divided by the work done removes start-up and loading.
 
 use super::fmu::{Binary, Instance, Part};
+use super::model_exchange;
 use super::native::{self, Effort};
 use std::path::Path;
 use std::process::Command;
@@ -25,6 +26,13 @@ pub enum Probe {
     SimStep,
     /// 10 000 `fmi2GetReal` of all outputs.
     Get,
+    /// A Model Exchange walk through the API (`fmi2SetTime` + `fmi2SetContinuousStates` +
+    /// `fmi2GetDerivatives` per point; see [`super::model_exchange`]).
+    MeApi,
+    /// The same walk by the simulation's Model Exchange code (`Part::ModelExchange`).
+    MeSimulation,
+    /// The same points by the equations alone (`Part::Evaluate`).
+    MeEquations,
 }
 
 /// Calls of `fmi2GetReal` per `Get` repetition.
@@ -69,6 +77,32 @@ impl Counts {
             "beyond_rhs_per_step": self.split().beyond_rhs(),
             "runtime_plumbing_per_step": self.split().runtime(),
             "instructions_per_get_real_outputs": self.per_get_real,
+        })
+    }
+}
+
+/// Instructions per derivative evaluation of Model Exchange (see
+/// [`super::model_exchange::MeFigures`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct MeCounts {
+    pub api: f64,
+    pub simulation: f64,
+    pub equations: f64,
+}
+
+impl MeCounts {
+    pub fn overhead(&self) -> f64 {
+        self.api - self.equations
+    }
+
+    pub fn to_json(self) -> serde_json::Value {
+        serde_json::json!({
+            "api_per_evaluation": self.api,
+            "simulation_per_evaluation": self.simulation,
+            "equations_per_evaluation": self.equations,
+            "overhead_per_evaluation": self.overhead(),
+            "fmi_layer_per_evaluation": self.api - self.simulation,
+            "simulation_code_per_evaluation": self.simulation - self.equations,
         })
     }
 }
@@ -122,7 +156,51 @@ pub fn count(
     effort: Effort,
     work: (usize, u64),
 ) -> Result<Counts, String> {
-    let per = |probe: &str, repeat: usize| -> Result<u64, String> {
+    let diff = |probe: &str| difference(exe, so, xml, h, tol, effort, probe);
+    let (steps, _) = work;
+    Ok(Counts {
+        h,
+        tol,
+        per_step: diff("step")? / steps as f64,
+        rhs_per_step: diff("eval")? / steps as f64,
+        callback_per_step: diff("rhs")? / steps as f64,
+        integrate_per_step: diff("integrate")? / steps as f64,
+        sim_step_per_step: diff("sim-step")? / steps as f64,
+        per_get_real: diff("get")? / GET_CALLS as f64,
+    })
+}
+
+/// Instructions per derivative evaluation of Model Exchange (through the API, by the
+/// simulation's code, the equations alone), for one FMU binary: the walks of
+/// [`super::model_exchange`] of `effort.max_steps` evaluations, under valgrind.
+pub fn count_model_exchange(
+    exe: &Path,
+    so: &Path,
+    xml: &Path,
+    effort: Effort,
+) -> Result<MeCounts, String> {
+    let tol = Binary::load(so, xml)?.description.tolerance;
+    let n = model_exchange::points(effort.max_steps) as f64;
+    let diff = |probe: &str| difference(exe, so, xml, 1e-2, tol, effort, probe);
+    Ok(MeCounts {
+        api: diff("me-api")? / n,
+        simulation: diff("me-simulation")? / n,
+        equations: diff("me-equations")? / n,
+    })
+}
+
+/// Instructions of `probe` repeated 3 times minus once, over 2: one repetition's, without
+/// start-up and loading.
+fn difference(
+    exe: &Path,
+    so: &Path,
+    xml: &Path,
+    h: f64,
+    tol: f64,
+    effort: Effort,
+    probe: &str,
+) -> Result<f64, String> {
+    let per = |repeat: usize| -> Result<u64, String> {
         let args: Vec<String> = [
             "bench",
             "--probe",
@@ -145,22 +223,9 @@ pub fn count(
         .collect();
         instructions(exe, &args)
     };
-    let diff = |probe: &str| -> Result<f64, String> {
-        let one = per(probe, 1)?;
-        let three = per(probe, 3)?;
-        Ok(three.saturating_sub(one) as f64 / 2.0)
-    };
-    let (steps, _) = work;
-    Ok(Counts {
-        h,
-        tol,
-        per_step: diff("step")? / steps as f64,
-        rhs_per_step: diff("eval")? / steps as f64,
-        callback_per_step: diff("rhs")? / steps as f64,
-        integrate_per_step: diff("integrate")? / steps as f64,
-        sim_step_per_step: diff("sim-step")? / steps as f64,
-        per_get_real: diff("get")? / GET_CALLS as f64,
-    })
+    let one = per(1)?;
+    let three = per(3)?;
+    Ok(three.saturating_sub(one) as f64 / 2.0)
 }
 
 /// The probe itself (run under valgrind): `repeat` repetitions of `probe`.
@@ -174,6 +239,12 @@ pub fn probe(
     max_steps: usize,
 ) -> Result<(), String> {
     let binary = Binary::load(so, xml)?;
+    if matches!(
+        probe,
+        Probe::MeApi | Probe::MeSimulation | Probe::MeEquations
+    ) {
+        return probe_model_exchange(&binary, probe, tol, repeat, max_steps);
+    }
     let effort = Effort {
         runs: 1,
         max_steps,
@@ -213,6 +284,54 @@ pub fn probe(
             for _ in 0..repeat * GET_CALLS {
                 inst.get_real(&outputs, &mut out);
             }
+        }
+        Probe::MeApi | Probe::MeSimulation | Probe::MeEquations => {}
+    }
+    Ok(())
+}
+
+/// The Model Exchange probes: `repeat` walks from the initial point (after the same
+/// warm-up in every probe: one walk of the equations, which leaves the instance where it
+/// was).
+fn probe_model_exchange(
+    binary: &Binary,
+    probe: Probe,
+    tol: f64,
+    repeat: usize,
+    max_steps: usize,
+) -> Result<(), String> {
+    let d = &binary.description;
+    let n = model_exchange::points(max_steps);
+    let span = d.stop - d.start;
+    let mut inst = Instance::model_exchange(binary)?;
+    inst.start(tol, d.start, &[], false)?;
+    inst.enter_continuous_time_mode()?;
+    let mut x0 = vec![0.0; d.states];
+    inst.continuous_states(&mut x0)?;
+    let f = inst.me()?;
+    let (mut x, mut dx) = (x0.clone(), vec![0.0; d.states]);
+    let mut walk = |inst: &mut Instance| -> Result<(), String> {
+        x.copy_from_slice(&x0);
+        let status = model_exchange::api_walk(
+            &f,
+            inst.component,
+            d.start,
+            span / n as f64,
+            n,
+            &mut x,
+            &mut dx,
+        );
+        if status != mechfmu::fmi2::ffi::fmi2OK {
+            return Err(format!("the Model Exchange walk returned {status}"));
+        }
+        Ok(())
+    };
+    inst.bench(Part::Evaluate, n, span)?;
+    for _ in 0..repeat {
+        match probe {
+            Probe::MeApi => walk(&mut inst)?,
+            Probe::MeSimulation => inst.bench(Part::ModelExchange, n, span)?,
+            _ => inst.bench(Part::Evaluate, n, span)?,
         }
     }
     Ok(())

@@ -12,6 +12,9 @@
 //!   model's equations, copying, the solver's arithmetic, the step's checks and the FMI
 //!   layer; the plumbing is copying, checks and the FMI layer. Also ns per
 //!   `fmi2GetReal`/`fmi2SetReal` and per co-simulation cycle.
+//! - [`model_exchange`]: ns per derivative evaluation through Model Exchange
+//!   (`fmi2SetTime` + `fmi2SetContinuousStates` + `fmi2GetDerivatives`) next to the
+//!   model's equations alone at the same points, and the difference.
 //! - [`instructions`]: the same split in instructions counted by valgrind, repeatable on a
 //!   busy machine.
 //! - [`python`] (`scripts/bench_fmpy.py`): µs per step under FMPy's low-level loop, and
@@ -24,6 +27,7 @@ pub mod clock;
 pub mod command;
 pub mod fmu;
 pub mod instructions;
+pub mod model_exchange;
 pub mod native;
 pub mod precision;
 pub mod python;
@@ -65,7 +69,11 @@ pub struct Figures {
     pub default_tol: f64,
     /// ns per cycle set inputs + `fmi2DoStep` + get outputs at the default step/tolerance.
     pub cycle: Stat,
+    /// One derivative evaluation through Model Exchange (None: the FMU has none).
+    pub model_exchange: Option<model_exchange::MeFigures>,
     pub instructions: Option<instructions::Counts>,
+    /// Instructions per derivative evaluation of Model Exchange (valgrind).
+    pub me_instructions: Option<instructions::MeCounts>,
     /// µs per step of FMPy's low-level loop (same cycle), and of `simulate_fmu`.
     pub fmpy: Option<Stat>,
     pub simulate_fmu: Option<Stat>,
@@ -98,6 +106,7 @@ pub fn measure(
     let steps = native::step_figures(binary, &configurations, effort, &|what| {
         progress(&format!("{name}: {what}"))
     })?;
+    let me = model_exchange::figures(binary, effort, &|what| progress(&format!("{name}: {what}")))?;
     progress(&format!(
         "{name}: fmi2GetReal, fmi2SetReal, co-simulation cycle"
     ));
@@ -131,7 +140,43 @@ pub fn measure(
         default_h: d.step,
         default_tol: d.tolerance,
         cycle: native::cycle(binary, d.step, d.tolerance, effort)?,
+        model_exchange: me,
         instructions: None,
+        me_instructions: None,
+        fmpy: None,
+        simulate_fmu: None,
+    })
+}
+
+/// The Model Exchange figures of one loaded FMU alone (`mechfmu bench --me-only`): the
+/// other figures are left unmeasured (no runs).
+pub fn measure_model_exchange(
+    name: &str,
+    fmu: PathBuf,
+    binary: &fmu::Binary,
+    effort: Effort,
+    progress: &dyn Fn(&str),
+) -> Result<Figures, String> {
+    let d = &binary.description;
+    let me = model_exchange::figures(binary, effort, &|what| progress(&format!("{name}: {what}")))?;
+    let none = |n: usize| CallFigures {
+        n,
+        ns: Stat::of(&[]),
+    };
+    Ok(Figures {
+        name: name.to_string(),
+        fmu_bytes: std::fs::metadata(&fmu).map(|m| m.len()).unwrap_or(0),
+        fmu,
+        steps: Vec::new(),
+        get_outputs: none(0),
+        get_many: none(0),
+        set_inputs: None,
+        default_h: d.step,
+        default_tol: d.tolerance,
+        cycle: Stat::of(&[]),
+        model_exchange: me,
+        instructions: None,
+        me_instructions: None,
         fmpy: None,
         simulate_fmu: None,
     })

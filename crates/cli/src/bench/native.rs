@@ -270,7 +270,7 @@ pub fn step_figures(
 /// depth the parts and steps run at for a whole process (TwoMassOscillator's solver loop
 /// alone 30 ns slower in every configuration of one process). An importer's instance
 /// lands anywhere: taking turns over three of each, no one placement decides a median.
-const PLACEMENTS: usize = 3;
+pub const PLACEMENTS: usize = 3;
 
 /// The runs of one configuration: `fmi2DoStep` and the parts alone, interleaved.
 struct StepBench<'a> {
@@ -390,7 +390,7 @@ impl<'a> StepBench<'a> {
 /// Runs `f` `depth` frames of 1104 bytes further down the stack: a new offset both within
 /// the 4 KiB page and within the 64-byte cache line for the stack the timed code uses.
 #[inline(never)]
-fn deeper<R>(depth: usize, f: &mut dyn FnMut() -> R) -> R {
+pub fn deeper<R>(depth: usize, f: &mut dyn FnMut() -> R) -> R {
     if depth == 0 {
         return f();
     }

@@ -106,13 +106,15 @@ impl Report {
                     format!("{p:.0} ns (h {h:e}, tol {tol:e})")
                 })
             };
+            let stepped = !m.steps.is_empty();
             let runtime = worst(&|s| s.runtime());
             let inconsistent = m
                 .steps
                 .iter()
                 .map(|s| s.split())
                 .find(|p| !p.adds_up(NOISE_NS));
-            t.push(Target {
+            if stepped {
+                t.push(Target {
                 what: format!(
                     "{}: plumbing per fmi2DoStep (checks, lookup, guards, copying)",
                     m.name
@@ -131,22 +133,45 @@ impl Report {
                     runtime.map(|w| w.0 <= 25.0)
                 },
             });
-            let beyond = worst(&|s| s.beyond_rhs());
-            t.push(Target {
-                what: format!(
-                    "{}: all beyond the rhs, the solver's arithmetic included",
-                    m.name
-                ),
-                limit: "≤ 25 ns".into(),
-                value: show(beyond),
-                met: beyond.map(|w| w.0 <= 25.0),
-            });
-            t.push(Target {
-                what: format!("{}: fmi2GetReal of {} variables", m.name, m.get_many.n),
-                limit: "≤ 50 ns".into(),
-                value: format!("{:.1} ns", m.get_many.ns.median),
-                met: Some(m.get_many.ns.median <= 50.0),
-            });
+                let beyond = worst(&|s| s.beyond_rhs());
+                t.push(Target {
+                    what: format!(
+                        "{}: all beyond the rhs, the solver's arithmetic included",
+                        m.name
+                    ),
+                    limit: "≤ 25 ns".into(),
+                    value: show(beyond),
+                    met: beyond.map(|w| w.0 <= 25.0),
+                });
+            }
+            if let Some(me) = &m.model_exchange {
+                t.push(Target {
+                    what: format!(
+                        "{}: Model Exchange overhead per derivative evaluation",
+                        m.name
+                    ),
+                    limit: format!("≤ {:.0} ns", super::model_exchange::LIMIT_NS),
+                    value: if me.overhead().is_finite() {
+                        format!(
+                            "{:.1} ns ({:.1} − {:.1})",
+                            me.overhead(),
+                            me.api.median,
+                            me.equations.median
+                        )
+                    } else {
+                        "not measured (no mechfmu_bench)".into()
+                    },
+                    met: me.met(),
+                });
+            }
+            if m.get_many.ns.runs > 0 {
+                t.push(Target {
+                    what: format!("{}: fmi2GetReal of {} variables", m.name, m.get_many.n),
+                    limit: "≤ 50 ns".into(),
+                    value: format!("{:.1} ns", m.get_many.ns.median),
+                    met: Some(m.get_many.ns.median <= 50.0),
+                });
+            }
             if let Some(share) = m.fmu_share() {
                 t.push(Target {
                     what: format!("{}: FMU's share of a step under FMPy", m.name),
@@ -214,18 +239,20 @@ impl Report {
             "CPU time per call, median of {} runs (thread CPU time; min–max of the runs in brackets)\n",
             self.runs
         );
-        let _ = writeln!(o, "fmi2DoStep from a native loop (the .so through libloading), default experiment interval per run");
-        let _ = writeln!(
+        let stepped = self.mechanisms.iter().any(|m| !m.steps.is_empty());
+        if stepped {
+            let _ = writeln!(o, "fmi2DoStep from a native loop (the .so through libloading), default experiment interval per run");
+            let _ = writeln!(
             o,
             "{:<18} {:>6} {:>6} {:>8} {:>11} {:>5} {:>4} {:>4} {:>7} | {:>6} {:>5} {:>6} {:>5} {:>5} | {:>6} {:>7} | {:>5} {:>7}",
             "mechanism", "h", "tol", "ns/step", "(min–max)", "evals", "acc", "rej", "ns/eval",
             "rhs", "copy", "solver", "step", "fmi", ">rhs", "plumb.", "own", "overlap"
         );
-        for m in &self.mechanisms {
-            for s in &m.steps {
-                let p = s.split();
-                let iso = s.isolated();
-                let _ = writeln!(
+            for m in &self.mechanisms {
+                for s in &m.steps {
+                    let p = s.split();
+                    let iso = s.isolated();
+                    let _ = writeln!(
                     o,
                     "{:<18} {:>6} {:>6} {:>8.0} {:>11} {:>5.2} {:>4.2} {:>4.2} {:>7.1} | {:>6.0} {:>5.0} {:>6.0} {:>5.0} {:>5.0} | {:>6.0} {:>7.0} | {:>5.0} {:>7.0}",
                     m.name,
@@ -247,56 +274,143 @@ impl Report {
                     iso.plumbing,
                     iso.overlap_lost
                 );
+                }
             }
+            let _ = writeln!(o, "  evals/acc/rej: model evaluations, accepted and rejected solver steps per fmi2DoStep.");
+            let _ = writeln!(o, "  Split of ns/step, from the parts run alone in the FMU on the same trajectory (mechfmu_bench):");
+            let _ = writeln!(o, "  rhs = the model's equations (evaluate at every stage, outputs and any projection once per step);");
+            let _ = writeln!(o, "  ns/eval = one stage evaluation (the states into the named values, evaluate, the derivatives out of");
+            let _ = writeln!(o, "  them); copy = what the solver's callback adds to that (its slices in and out, its count); solver = Runge-Kutta");
+            let _ = writeln!(o, "  arithmetic and error control; step = Simulation::step's checks and bookkeeping; fmi = the C call,");
+            let _ = writeln!(o, "  instance/state checks, unwinding guard. >rhs = all but rhs; plumb. = copy + step + fmi.");
+            let _ = writeln!(o, "  own = the plumbing from fmi2DoStep and the solver timed again with every call isolated from the");
+            let _ = writeln!(o, "  next (lfence), its own instructions; overlap = plumb. - own: back to back, the solver's calls overlap");
+            let _ = writeln!(o, "  in the processor, and the instructions between them inside fmi2DoStep take up the room it needs.\n");
         }
-        let _ = writeln!(o, "  evals/acc/rej: model evaluations, accepted and rejected solver steps per fmi2DoStep.");
-        let _ = writeln!(o, "  Split of ns/step, from the parts run alone in the FMU on the same trajectory (mechfmu_bench):");
-        let _ = writeln!(o, "  rhs = the model's equations (evaluate at every stage, outputs and any projection once per step);");
-        let _ = writeln!(o, "  ns/eval = one stage evaluation (the states into the named values, evaluate, the derivatives out of");
-        let _ = writeln!(o, "  them); copy = what the solver's callback adds to that (its slices in and out, its count); solver = Runge-Kutta");
-        let _ = writeln!(o, "  arithmetic and error control; step = Simulation::step's checks and bookkeeping; fmi = the C call,");
-        let _ = writeln!(o, "  instance/state checks, unwinding guard. >rhs = all but rhs; plumb. = copy + step + fmi.");
-        let _ = writeln!(o, "  own = the plumbing from fmi2DoStep and the solver timed again with every call isolated from the");
-        let _ = writeln!(o, "  next (lfence), its own instructions; overlap = plumb. - own: back to back, the solver's calls overlap");
-        let _ = writeln!(o, "  in the processor, and the instructions between them inside fmi2DoStep take up the room it needs.\n");
 
-        let _ = writeln!(
-            o,
-            "Calls (native), and the same cycle under FMPy (default step and tolerance)"
-        );
-        let _ = writeln!(
-            o,
-            "{:<18} {:>12} {:>12} {:>12} {:>10} {:>11} {:>8} {:>13} {:>8}",
-            "mechanism",
-            "get outputs",
-            "get 10 vars",
-            "set inputs",
-            "cycle ns",
-            "FMPy µs",
-            "share",
-            "simulate_fmu",
-            ".fmu"
-        );
-        for m in &self.mechanisms {
-            let call = |c: &super::CallFigures| format!("{:.1} ({})", c.ns.median, c.n);
+        if self.mechanisms.iter().any(|m| m.model_exchange.is_some()) {
+            let runs = (self.mechanisms.iter())
+                .filter_map(|m| m.model_exchange.as_ref())
+                .map(|me| me.api.runs)
+                .max()
+                .unwrap_or(0);
             let _ = writeln!(
                 o,
-                "{:<18} {:>12} {:>12} {:>12} {:>10.0} {:>11} {:>8} {:>13} {:>5} KiB",
-                m.name,
-                call(&m.get_outputs),
-                call(&m.get_many),
-                m.set_inputs.as_ref().map_or("-".into(), call),
-                m.cycle.median,
-                m.fmpy.map_or("-".into(), |s| f(s.median, 2)),
-                m.fmu_share()
-                    .map_or("-".into(), |s| format!("{:.1} %", s * 100.0)),
-                m.simulate_fmu
-                    .map_or("-".into(), |s| format!("{} µs", f(s.median, 2))),
-                m.fmu_bytes.div_ceil(1024)
+                "Model Exchange: one derivative evaluation, ns (fmi2SetTime + fmi2SetContinuousStates + fmi2GetDerivatives), median of {runs} runs"
             );
+            let _ = writeln!(
+                o,
+                "{:<18} {:>7} {:>7} {:>11} {:>9} {:>11} {:>9} | {:>8} {:>5} {:>7} {:>7}",
+                "mechanism",
+                "points",
+                "ME API",
+                "(min–max)",
+                "equations",
+                "(min–max)",
+                "overhead",
+                "FMI",
+                "sim.",
+                "evals/pt",
+                ""
+            );
+            for m in &self.mechanisms {
+                let Some(me) = &m.model_exchange else {
+                    continue;
+                };
+                let mark = match me.met() {
+                    Some(true) => "",
+                    Some(false) => "FAIL",
+                    None => "-",
+                };
+                let _ = writeln!(
+                    o,
+                    "{:<18} {:>7} {:>7.1} {:>11} {:>9.1} {:>11} {:>9.1} | {:>8.1} {:>5.1} {:>7.2} {:>7}",
+                    m.name,
+                    me.evaluations,
+                    me.api.median,
+                    spread(&me.api),
+                    me.equations.median,
+                    spread(&me.equations),
+                    me.overhead(),
+                    me.fmi_layer(),
+                    me.simulation_code(),
+                    me.evals_per_point,
+                    mark
+                );
+            }
+            let _ = writeln!(o, "  ns per evaluation at a new point each (new time, new states: an explicit Euler walk of the default");
+            let _ = writeln!(o, "  experiment's interval, each point waiting for the last one's derivatives). ME API = the three exported");
+            let _ = writeln!(o, "  calls from a native loop; equations = the same points by the equations alone in the FMU (time and states");
+            let _ = writeln!(o, "  into the values, evaluate, derivatives out: Part::Evaluate); overhead = ME API - equations (limit {:.0} ns,", super::model_exchange::LIMIT_NS);
+            let _ = writeln!(o, "  FAIL above it), of which FMI = the FMI layer (ME API - the simulation's ME code alone, Part::ModelExchange)");
+            let _ = writeln!(o, "  and sim. = the simulation's ME code (flags, checks, copies). evals/pt: model evaluations per point (1: none reused).\n");
+            if self.mechanisms.iter().any(|m| m.me_instructions.is_some()) {
+                let _ = writeln!(
+                    o,
+                    "Instructions per Model Exchange derivative evaluation (valgrind, repeatable)"
+                );
+                let _ = writeln!(
+                    o,
+                    "{:<18} {:>7} {:>9} {:>9} | {:>6} {:>5}",
+                    "mechanism", "ME API", "equations", "overhead", "FMI", "sim."
+                );
+                for m in &self.mechanisms {
+                    if let Some(c) = &m.me_instructions {
+                        let _ = writeln!(
+                            o,
+                            "{:<18} {:>7.1} {:>9.1} {:>9.1} | {:>6.1} {:>5.1}",
+                            m.name,
+                            c.api,
+                            c.equations,
+                            c.overhead(),
+                            c.api - c.simulation,
+                            c.simulation - c.equations
+                        );
+                    }
+                }
+                let _ = writeln!(o);
+            }
         }
-        let _ = writeln!(o, "  get/set: ns per array call (number of variables); cycle: set inputs + fmi2DoStep + get outputs;");
-        let _ = writeln!(o, "  FMPy µs: the same cycle in FMPy's low-level loop (FMU2Slave); share = cycle / FMPy µs.\n");
+
+        if self.mechanisms.iter().any(|m| m.get_many.ns.runs > 0) {
+            let _ = writeln!(
+                o,
+                "Calls (native), and the same cycle under FMPy (default step and tolerance)"
+            );
+            let _ = writeln!(
+                o,
+                "{:<18} {:>12} {:>12} {:>12} {:>10} {:>11} {:>8} {:>13} {:>8}",
+                "mechanism",
+                "get outputs",
+                "get 10 vars",
+                "set inputs",
+                "cycle ns",
+                "FMPy µs",
+                "share",
+                "simulate_fmu",
+                ".fmu"
+            );
+            for m in &self.mechanisms {
+                let call = |c: &super::CallFigures| format!("{:.1} ({})", c.ns.median, c.n);
+                let _ = writeln!(
+                    o,
+                    "{:<18} {:>12} {:>12} {:>12} {:>10.0} {:>11} {:>8} {:>13} {:>5} KiB",
+                    m.name,
+                    call(&m.get_outputs),
+                    call(&m.get_many),
+                    m.set_inputs.as_ref().map_or("-".into(), call),
+                    m.cycle.median,
+                    m.fmpy.map_or("-".into(), |s| f(s.median, 2)),
+                    m.fmu_share()
+                        .map_or("-".into(), |s| format!("{:.1} %", s * 100.0)),
+                    m.simulate_fmu
+                        .map_or("-".into(), |s| format!("{} µs", f(s.median, 2))),
+                    m.fmu_bytes.div_ceil(1024)
+                );
+            }
+            let _ = writeln!(o, "  get/set: ns per array call (number of variables); cycle: set inputs + fmi2DoStep + get outputs;");
+            let _ = writeln!(o, "  FMPy µs: the same cycle in FMPy's low-level loop (FMU2Slave); share = cycle / FMPy µs.\n");
+        }
 
         if self.mechanisms.iter().any(|m| m.instructions.is_some()) {
             let _ = writeln!(
@@ -433,23 +547,25 @@ impl Report {
             "`mechfmu bench`: CPU time (thread CPU clock), medians of {} runs, on the 2-core build machine.\n",
             self.runs
         );
-        let _ = writeln!(
-            o,
-            "**fmi2DoStep from a native loop**, ns per step and where they go:\n"
-        );
-        let _ = writeln!(
+        let stepped = self.mechanisms.iter().any(|m| !m.steps.is_empty());
+        if stepped {
+            let _ = writeln!(
+                o,
+                "**fmi2DoStep from a native loop**, ns per step and where they go:\n"
+            );
+            let _ = writeln!(
             o,
             "| mechanism | h | tol | ns/step | evals/step | rhs | copy | solver | step | FMI | plumbing (copy+step+FMI) | own (isolated) | overlap lost |"
         );
-        let _ = writeln!(
-            o,
-            "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
-        );
-        for m in &self.mechanisms {
-            for s in &m.steps {
-                let p = s.split();
-                let iso = s.isolated();
-                let _ = writeln!(
+            let _ = writeln!(
+                o,
+                "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+            );
+            for m in &self.mechanisms {
+                for s in &m.steps {
+                    let p = s.split();
+                    let iso = s.isolated();
+                    let _ = writeln!(
                     o,
                     "| {} | {} | {} | {:.0} | {:.2} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} |",
                     m.name,
@@ -466,28 +582,56 @@ impl Report {
                     iso.plumbing,
                     iso.overlap_lost
                 );
+                }
             }
         }
-        let _ = writeln!(o, "\n**Calls and FMPy** (default step and tolerance):\n");
-        let _ = writeln!(
+        if self.mechanisms.iter().any(|m| m.model_exchange.is_some()) {
+            let _ = writeln!(
+                o,
+                "\n**Model Exchange**, ns per derivative evaluation (`fmi2SetTime` + `fmi2SetContinuousStates` + `fmi2GetDerivatives`) at a new point each, next to the equations alone at the same points:\n"
+            );
+            let _ = writeln!(
+                o,
+                "| mechanism | ME API (ns/eval) | equations alone (ns/eval) | ME overhead (ns/eval) | of which FMI layer | of which simulation's ME code |"
+            );
+            let _ = writeln!(o, "|---|---:|---:|---:|---:|---:|");
+            for m in &self.mechanisms {
+                if let Some(me) = &m.model_exchange {
+                    let _ = writeln!(
+                        o,
+                        "| {} | {} | {} | {} | {} | {} |",
+                        m.name,
+                        f(me.api.median, 1),
+                        f(me.equations.median, 1),
+                        f(me.overhead(), 1),
+                        f(me.fmi_layer(), 1),
+                        f(me.simulation_code(), 1)
+                    );
+                }
+            }
+        }
+        if self.mechanisms.iter().any(|m| m.get_many.ns.runs > 0) {
+            let _ = writeln!(o, "\n**Calls and FMPy** (default step and tolerance):\n");
+            let _ = writeln!(
             o,
             "| mechanism | fmi2GetReal outputs (ns) | fmi2GetReal 10 vars (ns) | cycle (ns) | FMPy low-level loop (µs/step) | FMU share | .fmu (KiB) |"
         );
-        let _ = writeln!(o, "|---|---:|---:|---:|---:|---:|---:|");
-        for m in &self.mechanisms {
-            let _ = writeln!(
-                o,
-                "| {} | {:.1} ({}) | {:.1} | {:.0} | {} | {} | {} |",
-                m.name,
-                m.get_outputs.ns.median,
-                m.get_outputs.n,
-                m.get_many.ns.median,
-                m.cycle.median,
-                m.fmpy.map_or("-".into(), |s| f(s.median, 2)),
-                m.fmu_share()
-                    .map_or("-".into(), |s| format!("{:.1} %", s * 100.0)),
-                m.fmu_bytes.div_ceil(1024)
-            );
+            let _ = writeln!(o, "|---|---:|---:|---:|---:|---:|---:|");
+            for m in &self.mechanisms {
+                let _ = writeln!(
+                    o,
+                    "| {} | {:.1} ({}) | {:.1} | {:.0} | {} | {} | {} |",
+                    m.name,
+                    m.get_outputs.ns.median,
+                    m.get_outputs.n,
+                    m.get_many.ns.median,
+                    m.cycle.median,
+                    m.fmpy.map_or("-".into(), |s| f(s.median, 2)),
+                    m.fmu_share()
+                        .map_or("-".into(), |s| format!("{:.1} %", s * 100.0)),
+                    m.fmu_bytes.div_ceil(1024)
+                );
+            }
         }
         if !self.precision.is_empty() {
             let scipy = self.scipy();
@@ -570,6 +714,8 @@ impl Report {
                     "get_real_many": call(&m.get_many),
                     "set_real_inputs": m.set_inputs.as_ref().map(call),
                     "cycle": { "h": m.default_h, "tol": m.default_tol, "ns": m.cycle.to_json() },
+                    "model_exchange": m.model_exchange.as_ref().map(|me| me.to_json()),
+                    "model_exchange_instructions": m.me_instructions.map(|c| c.to_json()),
                     "instructions": m.instructions.map(|c| c.to_json()),
                     "fmpy_low_level_us_per_step": m.fmpy.map(|s| s.to_json()),
                     "fmpy_simulate_fmu_us_per_step": m.simulate_fmu.map(|s| s.to_json()),

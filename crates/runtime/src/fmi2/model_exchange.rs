@@ -26,6 +26,7 @@ fn boolean(b: bool) -> fmi2Boolean {
 }
 
 /// `n` (named `what`) is the number the FMU has, `expected`.
+#[inline(always)]
 fn check_count(
     what: &str,
     n: usize,
@@ -35,9 +36,13 @@ fn check_count(
     if n == expected {
         return Ok(());
     }
-    Err(error(format!(
-        "{what} = {n}, but the FMU has {expected} {of}"
-    )))
+    Err(count_mismatch(what, n, expected, of))
+}
+
+#[cold]
+#[inline(never)]
+fn count_mismatch(what: &str, n: usize, expected: usize, of: &str) -> super::wall::Failure {
+    error(format!("{what} = {n}, but the FMU has {expected} {of}"))
 }
 
 pub fn enter_event_mode<M: Mechanism>(inst: &mut Instance<M>) -> Outcome {

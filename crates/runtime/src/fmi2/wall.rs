@@ -119,11 +119,7 @@ pub unsafe fn guarded<M: Mechanism>(
         }
         match body(inst) {
             Ok(status) => status,
-            Err(Failure { status, message }) => {
-                inst.logger
-                    .log(status, &format!("{}: {message}", function.name));
-                status
-            }
+            Err(failure) => failed(&inst.logger, function, failure),
         }
     }));
     result.unwrap_or_else(|payload| {
@@ -148,6 +144,15 @@ pub unsafe fn guarded<M: Mechanism>(
         }));
         fmi2Error
     })
+}
+
+/// Logs a failed call; its status. Cold: off the path of every successful call.
+#[cold]
+#[inline(never)]
+fn failed(logger: &super::logger::Logger, function: &Function, failure: Failure) -> fmi2Status {
+    let Failure { status, message } = failure;
+    logger.log(status, &format!("{}: {message}", function.name));
+    status
 }
 
 /// `body` under `catch_unwind`, for the calls with no instance to log to: a panic gives
@@ -188,15 +193,13 @@ pub unsafe fn free_component<M: Mechanism>(c: fmi2Component, function: &Function
 /// # Safety
 /// When `ptr` is non-NULL, aligned and `n` plausible, `ptr` points to `n` readable
 /// elements (the importer's promise in every FMI function taking an array and its length).
+#[inline(always)]
 pub unsafe fn slice<'a, T>(ptr: *const T, n: usize, what: &str) -> Result<&'a [T], Failure> {
     if n == 0 {
         return Ok(&[]);
     }
-    if ptr.is_null() {
-        return Err(error(format!("{what} is NULL but its length is {n}")));
-    }
-    if n > MAX_ARRAY || !ptr.is_aligned() {
-        return Err(error(format!("{what} has an implausible length {n}")));
+    if ptr.is_null() || n > MAX_ARRAY || !ptr.is_aligned() {
+        return Err(bad_array(ptr.is_null(), n, what));
     }
     // SAFETY: the caller's promise; NULL, misalignment and absurd lengths are refused.
     Ok(unsafe { std::slice::from_raw_parts(ptr, n) })
@@ -206,18 +209,27 @@ pub unsafe fn slice<'a, T>(ptr: *const T, n: usize, what: &str) -> Result<&'a [T
 ///
 /// # Safety
 /// As for [`slice`], with the elements writable and not aliased by another argument.
+#[inline(always)]
 pub unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize, what: &str) -> Result<&'a mut [T], Failure> {
     if n == 0 {
         return Ok(&mut []);
     }
-    if ptr.is_null() {
-        return Err(error(format!("{what} is NULL but its length is {n}")));
-    }
-    if n > MAX_ARRAY || !ptr.is_aligned() {
-        return Err(error(format!("{what} has an implausible length {n}")));
+    if ptr.is_null() || n > MAX_ARRAY || !ptr.is_aligned() {
+        return Err(bad_array(ptr.is_null(), n, what));
     }
     // SAFETY: the caller's promise; NULL, misalignment and absurd lengths are refused.
     Ok(unsafe { std::slice::from_raw_parts_mut(ptr, n) })
+}
+
+/// Why an importer's array was refused.
+#[cold]
+#[inline(never)]
+fn bad_array(null: bool, n: usize, what: &str) -> Failure {
+    if null {
+        error(format!("{what} is NULL but its length is {n}"))
+    } else {
+        error(format!("{what} has an implausible length {n}"))
+    }
 }
 
 /// An importer's output argument (a single value), refusing NULL and misalignment.

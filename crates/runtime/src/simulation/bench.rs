@@ -40,6 +40,16 @@ pub enum Part {
     /// and take up the room that overlap needs. Timing both loops isolated tells the
     /// plumbing's own execution from the overlap it costs.
     IntegrateIsolated = 5,
+    /// One derivative evaluation of Model Exchange without the FMI layer: the simulation's
+    /// own code behind `fmi2SetTime`, `fmi2SetContinuousStates` and `fmi2GetDerivatives`
+    /// (`Simulation::set_time`, `Simulation::set_states`, `Simulation::derivatives`), on
+    /// [`Part::Evaluate`]'s walk: the same points (time and states bit for bit), each
+    /// evaluation waiting for the previous one's derivatives. Its difference to
+    /// [`Part::Evaluate`] is what the simulation's Model Exchange code adds to the
+    /// equations (flags, checks, copies); the exported calls' difference to it is the FMI
+    /// layer's (C calls, instance and state checks, unwinding guards, argument checks).
+    /// Codes from 16 are the Model Exchange parts, after the communication step's.
+    ModelExchange = 16,
 }
 
 /// Whether [`isolate`] is a barrier on this processor (`lfence` on x86_64); elsewhere it
@@ -66,6 +76,7 @@ impl Part {
             Part::Integrate,
             Part::Point,
             Part::IntegrateIsolated,
+            Part::ModelExchange,
         ]
         .into_iter()
         .find(|&part| part as u32 == code)
@@ -96,14 +107,15 @@ impl<M: Mechanism> Simulation<M> {
 
     /// Repeats `part` `n` times on a copy of this simulation (which is left as it was).
     /// `h` is the communication step of [`Part::Step`] and [`Part::Integrate`]; for
-    /// [`Part::Evaluate`] and [`Part::Rhs`] it is the time span the `n` evaluations are
-    /// spread over (that of the steps they stand for: time-dependent terms such as
-    /// `sin(ω t)` cost what they cost there), and the time moves at every repetition so
-    /// that no evaluation can be folded into another. Both walk the trajectory with explicit
-    /// Euler steps of that span over `n`, so each evaluation depends on the last: timed
-    /// alone, unchained evaluations overlap in the processor and would hide the latency
-    /// that a solver's stages pay. Returns a checksum (for
-    /// `black_box`), or `Err` if a step fails.
+    /// [`Part::Evaluate`], [`Part::Rhs`] and [`Part::ModelExchange`] it is the time span
+    /// the `n` evaluations are spread over (that of the steps they stand for:
+    /// time-dependent terms such as `sin(ω t)` cost what they cost there), and the time
+    /// moves at every repetition so that no evaluation can be folded into another. They
+    /// walk the trajectory with explicit Euler steps of that span over `n`, so each
+    /// evaluation depends on the last: timed alone, unchained evaluations overlap in the
+    /// processor and would hide the latency that a solver's stages pay. Evaluation `i`
+    /// (from 0) is at time `t0 + (i + 1) h / n`. Returns a checksum (for `black_box`), or
+    /// `Err` if a step fails.
     pub fn bench(&self, part: Part, n: u64, h: f64) -> Result<f64, String> {
         let mut sim = self.clone();
         sim.update()?;
@@ -185,6 +197,21 @@ impl<M: Mechanism> Simulation<M> {
                 }
                 sum = y.as_slice().first().copied().unwrap_or(0.0);
             }
+            Part::ModelExchange => {
+                // `Part::Evaluate`'s walk through the Model Exchange calls' code. On the
+                // clone: `set_time` and `set_states` move its point, not the instance's.
+                let mut y = sim.state_vector();
+                let mut dydt = M::State::ZERO;
+                for i in 0..n {
+                    sim.set_time(t0 + (i + 1) as f64 * dt)?;
+                    sim.set_states(std::hint::black_box(y.as_slice()))?;
+                    sim.derivatives(dydt.as_mut_slice())?;
+                    for (y, &f) in y.as_mut_slice().iter_mut().zip(dydt.as_slice()) {
+                        *y += dt * f;
+                    }
+                }
+                sum = y.as_slice().first().copied().unwrap_or(0.0);
+            }
             Part::Point => {
                 let mut values = sim.values.clone();
                 for i in 0..n {
@@ -203,5 +230,81 @@ impl<M: Mechanism> Simulation<M> {
             }
         }
         Ok(sum)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Part;
+    use crate::model::Declaration;
+    use crate::model::{Experiment, Layout, Mechanism, Scalar, Variable};
+    use crate::simulation::Simulation;
+
+    crate::mechanism! {
+        /// A driven oscillator: its derivatives depend on the time and on both states.
+        pub struct Driven / DrivenValues {
+            /// Stiffness
+            k: Variable::parameter("N/m", 30.0).min(0.0),
+            /// Position
+            x: Variable::state("m", 0.5, "v"),
+            /// Velocity
+            v: Variable::state("m/s", 0.0, "a"),
+            /// Acceleration
+            a: Variable::output("m/s2"),
+        }
+    }
+
+    impl Mechanism for Driven {
+        const EXPERIMENT: Experiment = Experiment {
+            start: 0.0,
+            stop: 10.0,
+            step: 0.01,
+            tolerance: 1e-6,
+        };
+
+        fn evaluate<S: Scalar>(v: &mut DrivenValues<S>) {
+            v.a = v.time.sin() - v.k * v.x - crate::model::lit::<S>(0.1) * v.v;
+        }
+    }
+
+    fn started() -> Simulation<Driven> {
+        let mut sim = Simulation::<Driven>::new(Layout::new(Driven::VARIABLES).unwrap());
+        sim.setup(None, 0.0).unwrap();
+        sim.update().unwrap();
+        sim
+    }
+
+    /// `mechfmu bench` compares the Model Exchange calls with the equations alone at the
+    /// same points: `Part::Evaluate`, `Part::ModelExchange` and an importer's walk through
+    /// the calls (`t0 + (i + 1) h / n`, `x + dt dx`) end on the same state bit for bit.
+    #[test]
+    fn the_model_exchange_walks_visit_the_points_of_part_evaluate() {
+        let sim = started();
+        let (n, span) = (1000, 2.0);
+        let evaluate = sim.bench(Part::Evaluate, n, span).unwrap();
+        let me = sim.bench(Part::ModelExchange, n, span).unwrap();
+        assert_eq!(evaluate.to_bits(), me.to_bits());
+        // The importer's walk, on the simulation itself.
+        let mut sim = started();
+        let (t0, dt) = (sim.time(), span / n as f64);
+        let mut x = [0.0; 2];
+        sim.states(&mut x);
+        let mut dx = [0.0; 2];
+        for i in 0..n {
+            sim.set_time(t0 + (i + 1) as f64 * dt).unwrap();
+            sim.set_states(&x).unwrap();
+            sim.derivatives(&mut dx).unwrap();
+            for (x, d) in x.iter_mut().zip(dx) {
+                *x += dt * d;
+            }
+        }
+        assert_eq!(x[0].to_bits(), evaluate.to_bits());
+        // Every point was new: one evaluation each.
+        assert_eq!(
+            sim.counters().evaluations - started().counters().evaluations,
+            n
+        );
+        assert_ne!(x[0], 0.5, "the walk moved");
+        assert_eq!(Part::from_code(16), Some(Part::ModelExchange));
     }
 }

@@ -19,9 +19,10 @@ impl<M: Mechanism> Simulation<M> {
     }
 
     /// `fmi2SetTime`: the point moves to time `t`.
+    #[inline(always)]
     pub fn set_time(&mut self, t: f64) -> Result<(), String> {
         if !t.is_finite() {
-            return Err(format!("time = {t} is not a finite number"));
+            return Err(non_finite_time(t));
         }
         if self.values.time().to_bits() != t.to_bits() {
             self.values.set_time(t);
@@ -33,25 +34,24 @@ impl<M: Mechanism> Simulation<M> {
     /// `fmi2SetContinuousStates`: `x` holds one value per state, in the states' order. All or
     /// nothing: a value that is not finite is refused before any is set. The same states
     /// again (an importer often sets the point it evaluated last) keep the evaluation.
+    #[inline(always)]
     pub fn set_states(&mut self, x: &[f64]) -> Result<(), String> {
         debug_assert_eq!(x.len(), M::STATES.len());
+        // Into a vector of the states' constant length: the loops below unroll into one
+        // check, one comparison and one store per state, at known places.
+        let states: M::State = super::fixed_size(x);
         // `v - v` is +0.0 for a finite `v` and NaN otherwise (see `first_non_finite`).
         #[allow(clippy::eq_op)]
-        let nonfinite_bits = x.iter().fold(0, |any, &v| any | (v - v).to_bits());
+        let nonfinite_bits = (states.as_slice().iter()).fold(0, |any, &v| any | (v - v).to_bits());
         if nonfinite_bits != 0 {
-            let i = x.iter().position(|v| !v.is_finite()).unwrap_or(0);
-            return Err(format!(
-                "x[{i}] (`{}`) = {} is not a finite number",
-                M::VARIABLES[M::STATES[i]].name,
-                x[i]
-            ));
+            return Err(non_finite_state::<M>(x));
         }
-        let mut changed = false;
-        for (&vr, &v) in M::STATES.iter().zip(x) {
-            changed |= self.values.get(vr).map(f64::to_bits) != Some(v.to_bits());
+        let mut changed = 0;
+        for (&vr, &v) in M::STATES.iter().zip(states.as_slice()) {
+            changed |= self.values.get(vr).map_or(u64::MAX, f64::to_bits) ^ v.to_bits();
             self.values.set(vr, v);
         }
-        if changed {
+        if changed != 0 {
             self.moved();
         }
         Ok(())
@@ -67,12 +67,22 @@ impl<M: Mechanism> Simulation<M> {
     /// `fmi2GetDerivatives`: the states' derivatives at the current point. `Err` when one is
     /// not a number (the point is outside the equations' domain: the importer's solver
     /// should try a smaller step).
+    #[inline(always)]
     pub fn derivatives(&mut self, dx: &mut [f64]) -> Result<(), String> {
         self.evaluate_derivatives()?;
-        for (d, &vr) in dx.iter_mut().zip(M::DERIVATIVES) {
-            *d = self.values.get(vr).unwrap_or(f64::NAN);
+        // Straight from the values into `dx`, checked for finiteness as they pass.
+        let mut nonfinite_bits = 0;
+        for (d, &vr) in dx[..M::State::DIM].iter_mut().zip(M::DERIVATIVES) {
+            let v = self.values.get(vr).unwrap_or(f64::NAN);
+            *d = v;
+            #[allow(clippy::eq_op)]
+            let bits = (v - v).to_bits();
+            nonfinite_bits |= bits;
         }
-        self.all_finite(dx, M::DERIVATIVES, "the derivative")
+        if nonfinite_bits != 0 {
+            return Err(self.outside_the_domain(dx, M::DERIVATIVES, "the derivative"));
+        }
+        Ok(())
     }
 
     /// `fmi2GetEventIndicators`: the indicators at the current point (as `derivatives`).
@@ -175,12 +185,36 @@ impl<M: Mechanism> Simulation<M> {
         if nonfinite_bits == 0 {
             return Ok(());
         }
+        Err(self.outside_the_domain(values, references, what))
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn outside_the_domain(&self, values: &[f64], references: &[usize], what: &str) -> String {
         let i = values.iter().position(|v| !v.is_finite()).unwrap_or(0);
-        Err(format!(
+        format!(
             "{what} `{}` is {} at t = {}: the point is outside the equations' domain",
             M::VARIABLES[references[i]].name,
             values[i],
             self.time()
-        ))
+        )
     }
+}
+
+/// The message for the first state of `x` that is not finite.
+#[cold]
+#[inline(never)]
+fn non_finite_state<M: Mechanism>(x: &[f64]) -> String {
+    let i = x.iter().position(|v| !v.is_finite()).unwrap_or(0);
+    format!(
+        "x[{i}] (`{}`) = {} is not a finite number",
+        M::VARIABLES[M::STATES[i]].name,
+        x[i]
+    )
+}
+
+#[cold]
+#[inline(never)]
+fn non_finite_time(t: f64) -> String {
+    format!("time = {t} is not a finite number")
 }

@@ -508,6 +508,7 @@ fn the_isolated_solver_loop_integrates_what_the_back_to_back_one_does() {
         Part::Step,
         Part::Integrate,
         Part::Point,
+        Part::ModelExchange,
     ] {
         assert_eq!(Part::from_code(part as u32), Some(part));
     }
