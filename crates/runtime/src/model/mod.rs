@@ -16,7 +16,7 @@ pub use layout::{
 };
 pub use scalar::{cos, lit, sin, sin_cos, Scalar};
 #[doc(hidden)]
-pub use values::Fields;
+pub use values::{copy_one_by_one, get_one_by_one, Fields};
 pub use variable::{Causality, Initial, SetPhase, Variability, Variable};
 
 /// The FMU's `DefaultExperiment`, and the tolerance used when the importer gives none.

@@ -77,3 +77,28 @@ pub fn set<S: Scalar, V: Fields<S>>(values: &mut V, vr: usize, value: S) -> bool
         false
     }
 }
+
+/// The values of `vrs` into `to`, each by an 8-byte load of its own (volatile: the compiler
+/// neither merges nor vectorizes them). Values stored one by one just before (by another
+/// call) are then forwarded from the stores, where a wider load across two of them would
+/// wait for them to reach the cache.
+#[doc(hidden)]
+#[inline(always)]
+pub fn get_one_by_one<V: Fields<f64>>(values: &V, vrs: &[usize], to: &mut [f64]) {
+    let fields = fields(values);
+    for (t, &vr) in to.iter_mut().zip(vrs) {
+        // SAFETY: a reference to an initialized f64 of the values (bounds-checked index).
+        *t = unsafe { std::ptr::read_volatile(&fields[vr + 1]) };
+    }
+}
+
+/// `from` into `to`, one 8-byte load per value, as [`get_one_by_one`]: for arrays an
+/// importer has just written one value at a time.
+#[doc(hidden)]
+#[inline(always)]
+pub fn copy_one_by_one(from: &[f64], to: &mut [f64]) {
+    for (t, f) in to.iter_mut().zip(from) {
+        // SAFETY: a reference to an initialized f64.
+        *t = unsafe { std::ptr::read_volatile(f) };
+    }
+}

@@ -4,7 +4,7 @@
 //! points, the drift off the manifold its projection restores.
 
 use super::Simulation;
-use crate::model::{Mechanism, Monitor, ValueSet};
+use crate::model::{copy_one_by_one, get_one_by_one, Mechanism, Monitor, ValueSet};
 use crate::solver::StateVector;
 
 impl<M: Mechanism> Simulation<M> {
@@ -39,7 +39,9 @@ impl<M: Mechanism> Simulation<M> {
         debug_assert_eq!(x.len(), M::STATES.len());
         // Into a vector of the states' constant length: the loops below unroll into one
         // check, one comparison and one store per state, at known places.
-        let states: M::State = super::fixed_size(x);
+        // One load per state, as the importer stored them (see `copy_one_by_one`).
+        let mut states = M::State::ZERO;
+        copy_one_by_one(x, states.as_mut_slice());
         // `v - v` is +0.0 for a finite `v` and NaN otherwise (see `first_non_finite`).
         #[allow(clippy::eq_op)]
         let nonfinite_bits = (states.as_slice().iter()).fold(0, |any, &v| any | (v - v).to_bits());
@@ -170,6 +172,14 @@ impl<M: Mechanism> Simulation<M> {
             return self.update();
         }
         if self.stale && !self.derivatives_current {
+            // The states read back one by one (forwarded from `set_states`' stores) and
+            // stored again right before `evaluate`: the compiler then hands them to the
+            // equations in registers, where the equations' own loads (wider, across the
+            // stores of another call) could not be forwarded.
+            let mut states = M::State::ZERO;
+            get_one_by_one(&self.values, M::STATES, states.as_mut_slice());
+            let t = self.values.time();
+            super::store_point::<M>(&mut self.values, t, &states);
             M::evaluate(&mut self.values);
             self.counters.evaluations += 1;
             self.derivatives_current = true;
