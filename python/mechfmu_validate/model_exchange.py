@@ -2,9 +2,8 @@
 
 In Model Exchange the importer's solver integrates, so a row measures that solver as much as
 the FMU. A row is PASS, FAIL, or LIMIT: the importer's solver did not reach the case's
-limit, and the error it reached is reported, not failed (the issue's "meeting the same
-error limits as CS or reporting the achieved error per case"). What fails is what the FMU
-can be blamed for.
+limit, and the error it reached is reported, not failed. What fails is what the FMU can be
+blamed for.
 
 * ``FMPy ME CVode``: FMPy's CVode (BDF) at relative tolerance 1e-10, against the case's
   reference and held to the case's own limits, as the Co-Simulation rows are, down to
