@@ -52,35 +52,22 @@ impl Capabilities {
     pub(crate) fn model_exchange_attributes(
         &self,
         needs_completed_integrator_step: bool,
-    ) -> [(&'static str, String); 7] {
-        let b = |x: bool| x.to_string();
-        [
-            ("needsExecutionTool", b(self.needs_execution_tool)),
+    ) -> Vec<(&'static str, String)> {
+        let mut attributes = vec![
+            ("needsExecutionTool", self.needs_execution_tool.to_string()),
             (
                 "completedIntegratorStepNotNeeded",
-                b(!needs_completed_integrator_step),
+                (!needs_completed_integrator_step).to_string(),
             ),
-            (
-                "canBeInstantiatedOnlyOncePerProcess",
-                b(self.can_be_instantiated_only_once_per_process),
-            ),
-            (
-                "canNotUseMemoryManagementFunctions",
-                b(self.can_not_use_memory_management_functions),
-            ),
-            ("canGetAndSetFMUstate", b(self.can_get_and_set_fmu_state)),
-            ("canSerializeFMUstate", b(self.can_serialize_fmu_state)),
-            (
-                "providesDirectionalDerivative",
-                b(self.provides_directional_derivative),
-            ),
-        ]
+        ];
+        attributes.extend(self.shared_tail());
+        attributes
     }
 
     /// The attributes of `<CoSimulation>` after `modelIdentifier`, in the schema's order.
-    pub(crate) fn attributes(&self) -> [(&'static str, String); 10] {
+    pub(crate) fn attributes(&self) -> Vec<(&'static str, String)> {
         let b = |x: bool| x.to_string();
-        [
+        let mut attributes = vec![
             ("needsExecutionTool", b(self.needs_execution_tool)),
             (
                 "canHandleVariableCommunicationStepSize",
@@ -92,6 +79,15 @@ impl Capabilities {
                 self.max_output_derivative_order.to_string(),
             ),
             ("canRunAsynchronuously", b(self.can_run_asynchronuously)),
+        ];
+        attributes.extend(self.shared_tail());
+        attributes
+    }
+
+    /// The attributes both elements end with, in the schema's order.
+    fn shared_tail(&self) -> [(&'static str, String); 5] {
+        let b = |x: bool| x.to_string();
+        [
             (
                 "canBeInstantiatedOnlyOncePerProcess",
                 b(self.can_be_instantiated_only_once_per_process),
