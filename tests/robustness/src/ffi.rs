@@ -184,9 +184,9 @@ pub struct Api {
     pub get_nominals_of_continuous_states: GetRealArrayFn,
 }
 
-/// The names of the 44 functions, in the order of [`Api`]'s fields (the 34 Co-Simulation
-/// ones first, as before Model Exchange, so their indices stay; `tests/exports.rs` checks
-/// the set against the header's).
+/// The names of the 44 functions, in the order of [`Api`]'s fields (the common and
+/// Co-Simulation ones, then Model Exchange's; `tests/exports.rs` checks the set against the
+/// header's).
 pub const FUNCTION_NAMES: [&str; 44] = [
     "fmi2GetTypesPlatform",
     "fmi2GetVersion",
