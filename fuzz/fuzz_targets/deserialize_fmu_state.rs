@@ -12,8 +12,9 @@
 
 use libfuzzer_sys::fuzz_target;
 use mechfmu::fmi2::ffi::*;
-use mechfmu::fmi2::fmu_state::{reseal, FmuState};
-use mechfmu::fmi2::state::Interface;
+use mechfmu::fmi::fmu_state::{reseal, FmuState};
+use mechfmu::fmi::Version;
+use mechfmu::fmi::machine::Interface;
 use mechfmu::model::Declaration;
 use mechfmu_testkit::harness::Harness;
 use mechfmu_testkit::model_exchange::ModelExchange;
@@ -115,7 +116,7 @@ fuzz_target!(|data: &[u8]| {
         no_internal_error(&fmu.messages());
         return;
     };
-    let parsed = FmuState::from_bytes::<Oscillator>(&bytes).expect("accepted by the FMI function");
+    let parsed = FmuState::from_bytes::<Oscillator>(&bytes, Version::Fmi2).expect("accepted by the FMI function");
     let time = *parsed.sim.values.last().unwrap();
     let status = fmu.set_fmu_state(state);
     assert!(

@@ -4,13 +4,14 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use mechfmu::fmi2::fmu_state::{reseal, FmuState};
+use mechfmu::fmi::fmu_state::{reseal, FmuState};
+use mechfmu::fmi::Version;
 use oscillator::Oscillator;
 
 fn check(bytes: &[u8]) {
-    if let Ok(state) = FmuState::from_bytes::<Oscillator>(bytes) {
+    if let Ok(state) = FmuState::from_bytes::<Oscillator>(bytes, Version::Fmi2) {
         let again = state.to_bytes::<Oscillator>();
-        let reread = FmuState::from_bytes::<Oscillator>(&again)
+        let reread = FmuState::from_bytes::<Oscillator>(&again, Version::Fmi2)
             .unwrap_or_else(|e| panic!("a state it accepted does not re-read: {e}"));
         assert_eq!(
             reread.to_bytes::<Oscillator>(),

@@ -1,6 +1,7 @@
 //! `mechfmu build` and `mechfmu list`: compile mechanism crates and package their FMUs.
 
 use super::workspace::{cargo, mechanism_crates, MechanismCrate};
+use crate::package::Version;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{BufRead, BufReader, IsTerminal};
 use std::path::{Path, PathBuf};
@@ -55,17 +56,23 @@ pub(crate) fn build(
     let built = built_libraries(names, manifest_path, &flavor)?;
     std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     for (c, library) in &built {
-        let path = package_fmu(&c.model, library, out, c.manifest.parent())?;
-        let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
-        println!(
-            "{:<20} {} ({} KiB)",
-            c.model,
-            path.display(),
-            size.div_ceil(1024)
-        );
+        for version in [Version::Fmi2, Version::Fmi3] {
+            let path = package_fmu(&c.model, library, out, c.manifest.parent(), version)?;
+            let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
+            println!(
+                "{:<20} {:<8} {} ({} KiB)",
+                c.model,
+                match version {
+                    Version::Fmi2 => "FMI 2.0",
+                    Version::Fmi3 => "FMI 3.0",
+                },
+                path.display(),
+                size.div_ceil(1024)
+            );
+        }
     }
     println!(
-        "built {} FMU{} in {:.1} s",
+        "built {} mechanism{} as FMI 2.0 and FMI 3.0 FMUs in {:.1} s",
         built.len(),
         if built.len() == 1 { "" } else { "s" },
         started.elapsed().as_secs_f64()
@@ -203,31 +210,36 @@ fn spinner(message: &str) -> Option<ProgressBar> {
     Some(p)
 }
 
-/// Packages one built library: asks the binary for its own modelDescription, so the XML
-/// and the binary can never disagree, and for its documentation; adds the reference
-/// results of the default experiment found in `<crate_dir>/reference/` (see [`crate::extras`]).
+/// Packages one built library as an FMU of `version` (in [`Version::folder`] of `out`):
+/// asks the binary for its own modelDescription of that version, so the XML and the binary
+/// can never disagree, and for its documentation; adds the reference results of the
+/// default experiment found in `<crate_dir>/reference/` (see [`crate::extras`]).
 pub fn package_fmu(
     model: &str,
     library: &Path,
     out: &Path,
     crate_dir: Option<&Path>,
+    version: Version,
 ) -> Result<PathBuf, String> {
-    let xml = model_description_of(library)?;
+    let xml = crate::extras::exported_text(
+        library,
+        version.model_description_symbol(),
+        "modelDescription",
+    )?;
     let binary =
         std::fs::read(library).map_err(|e| format!("cannot read {}: {e}", library.display()))?;
-    let path = out.join(format!("{model}.fmu"));
+    let folder = version.folder(out);
+    std::fs::create_dir_all(&folder)
+        .map_err(|e| format!("cannot create {}: {e}", folder.display()))?;
+    let path = folder.join(format!("{model}.fmu"));
     let contents = crate::package::Contents {
         model_identifier: model,
         model_description: &xml,
+        platform: version.platform(),
         binary: &binary,
-        extra: crate::extras::extra_files(model, library, crate_dir)?,
+        extra: crate::extras::extra_files(model, library, crate_dir, version, &xml)?,
     };
     crate::package::write_fmu(&path, &contents)
         .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     Ok(path)
-}
-
-/// The modelDescription.xml a built FMU binary carries.
-pub fn model_description_of(library: &Path) -> Result<String, String> {
-    crate::extras::exported_text(library, "mechfmu_model_description", "modelDescription")
 }

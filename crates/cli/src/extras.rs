@@ -3,26 +3,40 @@
 //! the documented extras of `export_fmu!`), and the reference results of its default
 //! experiment committed beside its crate.
 
+use crate::package::Version;
 use std::path::Path;
 
 /// Where reference results go inside the archive (the FMI layered standard's folder).
 pub const REFERENCE_DIR: &str = "extra/org.fmi-standard.fmi-ls-ref";
 
-/// The files `mechfmu build` adds to the archive of `model` built into `library` from the
-/// crate in `crate_dir`: `documentation/index.html` (rendered by the binary) and, when the
-/// crate has them, `reference/<model>_ref.csv`, `_in.csv` and `_ref.opt` under
-/// [`REFERENCE_DIR`]. Sorted by archive path.
+/// The files `mechfmu build` adds to the archive of version `version` of `model` built
+/// into `library` from the crate in `crate_dir`: `documentation/index.html` (rendered by
+/// the binary for that version) and, when the crate has them, `reference/<model>_ref.csv`,
+/// `_in.csv` and `_ref.opt` under [`REFERENCE_DIR`] (in an FMI 3.0 FMU, the columns of
+/// scalars that are array elements there named as the elements, from its model
+/// description `xml`). Sorted by archive path.
 pub fn extra_files(
     model: &str,
     library: &Path,
     crate_dir: Option<&Path>,
+    version: Version,
+    xml: &str,
 ) -> Result<Vec<(String, Vec<u8>)>, String> {
     let mut files = vec![(
         "documentation/index.html".to_string(),
-        documentation_of(library)?.into_bytes(),
+        exported_text(library, version.documentation_symbol(), "documentation")?.into_bytes(),
     )];
     if let Some(dir) = crate_dir {
-        files.extend(reference_files(model, &dir.join("reference"))?);
+        let mut references = reference_files(model, &dir.join("reference"))?;
+        if version == Version::Fmi3 {
+            let names = crate::fmi3_names::element_names(xml)?;
+            for (path, bytes) in &mut references {
+                if path.ends_with(".csv") {
+                    *bytes = crate::fmi3_names::rename_columns(bytes, &names);
+                }
+            }
+        }
+        files.extend(references);
     }
     files.sort_by(|a, b| a.0.cmp(&b.0));
     Ok(files)
@@ -50,12 +64,6 @@ pub fn reference_files(model: &str, dir: &Path) -> Result<Vec<(String, Vec<u8>)>
         ));
     }
     Ok(files)
-}
-
-/// The `documentation/index.html` a built FMU binary renders of itself
-/// (`mechfmu_documentation`, exported by `export_fmu!`).
-pub fn documentation_of(library: &Path) -> Result<String, String> {
-    exported_text(library, "mechfmu_documentation", "documentation")
 }
 
 /// The text a built FMU binary renders of itself through one of the documented extras of

@@ -6,6 +6,7 @@
 mod bench;
 mod build;
 mod extras;
+mod fmi3_names;
 mod interface;
 mod new;
 mod package;

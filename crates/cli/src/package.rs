@@ -10,14 +10,57 @@ use zip::{CompressionMethod, DateTime, ZipWriter};
 pub struct Contents<'a> {
     pub model_identifier: &'a str,
     pub model_description: &'a str,
-    /// The shared library for `binaries/linux64/`.
+    /// The folder under `binaries/` of this machine's binary ([`Version::platform`]).
+    pub platform: &'a str,
+    /// The shared library for `binaries/<platform>/`.
     pub binary: &'a [u8],
     /// Extra files (path inside the archive, bytes), e.g. `documentation/index.html`.
     pub extra: Vec<(String, Vec<u8>)>,
 }
 
-/// The FMI platform folder of the binaries this machine builds.
-pub const PLATFORM: &str = "linux64";
+/// The FMI version of an archive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Version {
+    Fmi2,
+    Fmi3,
+}
+
+impl Version {
+    /// The folder under `binaries/` of the binaries this machine builds: FMI 2.0's
+    /// platform name, FMI 3.0's platform tuple.
+    pub fn platform(self) -> &'static str {
+        match self {
+            Version::Fmi2 => "linux64",
+            Version::Fmi3 => "x86_64-linux",
+        }
+    }
+
+    /// Where the FMUs of this version go, under the build's output folder: FMI 2.0's in
+    /// it, FMI 3.0's in its `fmi3/` (the same file names, so an importer's instance names
+    /// do not depend on the version).
+    pub fn folder(self, out: &Path) -> std::path::PathBuf {
+        match self {
+            Version::Fmi2 => out.to_path_buf(),
+            Version::Fmi3 => out.join("fmi3"),
+        }
+    }
+
+    /// The exported extra that gives the binary's documentation page of this version.
+    pub fn documentation_symbol(self) -> &'static str {
+        match self {
+            Version::Fmi2 => "mechfmu_documentation",
+            Version::Fmi3 => "mechfmu_documentation_fmi3",
+        }
+    }
+
+    /// The exported extra that gives the binary's model description of this version.
+    pub fn model_description_symbol(self) -> &'static str {
+        match self {
+            Version::Fmi2 => "mechfmu_model_description",
+            Version::Fmi3 => "mechfmu_model_description_fmi3",
+        }
+    }
+}
 
 /// Writes the archive to `path` (through a temporary file, so a failed write never leaves
 /// a truncated FMU behind).
@@ -42,7 +85,10 @@ fn write_archive<W: Write + Seek>(writer: W, contents: &Contents) -> std::io::Re
             contents.model_description.as_bytes(),
         ),
         (
-            format!("binaries/{PLATFORM}/{}.so", contents.model_identifier),
+            format!(
+                "binaries/{}/{}.so",
+                contents.platform, contents.model_identifier
+            ),
             contents.binary,
         ),
     ];
@@ -85,6 +131,7 @@ mod tests {
         let contents = Contents {
             model_identifier: "Test",
             model_description: xml,
+            platform: Version::Fmi2.platform(),
             binary: b"\x7fELF binary",
             extra: vec![("documentation/index.html".into(), b"<html/>".to_vec())],
         };

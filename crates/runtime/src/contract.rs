@@ -1,7 +1,8 @@
 //! What the model description and the binary of an FMU must agree on, and the one place
 //! each is defined: the capabilities the FMU declares (and the runtime implements), the log
-//! categories, and the GUID that ties a `modelDescription.xml` to its binary. The XML
-//! writer, the GUID and the FMI layer all read them from here.
+//! categories, and the GUID that ties a `modelDescription.xml` to its binary (FMI 3.0: the
+//! instantiation token). The XML writers, the GUID and the FMI layers all read them from
+//! here.
 //!
 //! The GUID is derived from the declaration: the same declaration always gives the same
 //! GUID, and any change an importer could see gives another.
@@ -118,6 +119,128 @@ pub const CAPABILITIES: Capabilities = Capabilities {
     ..Capabilities::NONE
 };
 
+/// The capability flags of FMI 3.0's `<ModelExchange>` and `<CoSimulation>` that the runtime
+/// decides, for every FMU; [`FMI3_CAPABILITIES`] is the one place they are set. Two more
+/// flags are the mechanism's: [`needs_completed_integrator_step`] and
+/// [`might_return_early_from_do_step`]. Flags not here are written nowhere and so take the
+/// schema's default `false` (FMI 3.0, section 2.4.2): no execution tool, many instances per
+/// process, no per-element dependencies, no `fmi3EvaluateDiscreteStates`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Fmi3Capabilities {
+    pub can_get_and_set_fmu_state: bool,
+    /// Requires `can_get_and_set_fmu_state`.
+    pub can_serialize_fmu_state: bool,
+    /// `fmi3GetDirectionalDerivative`.
+    pub provides_directional_derivatives: bool,
+    /// `fmi3GetAdjointDerivative`.
+    pub provides_adjoint_derivatives: bool,
+    pub can_handle_variable_communication_step_size: bool,
+    /// `fmi3GetOutputDerivatives` up to this order.
+    pub max_output_derivative_order: u32,
+    /// Intermediate Update Mode (the `intermediateUpdate` callback) in Co-Simulation.
+    pub provides_intermediate_update: bool,
+    /// Requires `provides_intermediate_update`.
+    pub can_return_early_after_intermediate_update: bool,
+    /// Co-Simulation's Event Mode, when the importer asks for it at instantiation.
+    pub has_event_mode: bool,
+}
+
+impl Fmi3Capabilities {
+    /// The attributes of `<ModelExchange>` after `modelIdentifier`, in the schema's order
+    /// (`fmi3InterfaceType`'s, then `fmi3ModelExchange`'s).
+    pub(crate) fn model_exchange_attributes(
+        &self,
+        needs_completed_integrator_step: bool,
+    ) -> Vec<(&'static str, String)> {
+        let mut attributes = self.shared_head();
+        attributes.push((
+            "needsCompletedIntegratorStep",
+            needs_completed_integrator_step.to_string(),
+        ));
+        attributes
+    }
+
+    /// The attributes of `<CoSimulation>` after `modelIdentifier`, in the schema's order
+    /// (`fmi3InterfaceType`'s, then `fmi3CoSimulation`'s).
+    pub(crate) fn co_simulation_attributes(
+        &self,
+        might_return_early_from_do_step: bool,
+    ) -> Vec<(&'static str, String)> {
+        let b = |x: bool| x.to_string();
+        let mut attributes = self.shared_head();
+        attributes.extend([
+            (
+                "canHandleVariableCommunicationStepSize",
+                b(self.can_handle_variable_communication_step_size),
+            ),
+            (
+                "maxOutputDerivativeOrder",
+                self.max_output_derivative_order.to_string(),
+            ),
+            (
+                "providesIntermediateUpdate",
+                b(self.provides_intermediate_update),
+            ),
+            (
+                "mightReturnEarlyFromDoStep",
+                b(might_return_early_from_do_step),
+            ),
+            (
+                "canReturnEarlyAfterIntermediateUpdate",
+                b(self.can_return_early_after_intermediate_update),
+            ),
+            ("hasEventMode", b(self.has_event_mode)),
+        ]);
+        attributes
+    }
+
+    /// The attributes of `fmi3InterfaceType` both elements start with, spelled as the schema
+    /// spells them (`canGetAndSetFMUState`, `providesDirectionalDerivatives`).
+    fn shared_head(&self) -> Vec<(&'static str, String)> {
+        let b = |x: bool| x.to_string();
+        vec![
+            ("canGetAndSetFMUState", b(self.can_get_and_set_fmu_state)),
+            ("canSerializeFMUState", b(self.can_serialize_fmu_state)),
+            (
+                "providesDirectionalDerivatives",
+                b(self.provides_directional_derivatives),
+            ),
+            (
+                "providesAdjointDerivatives",
+                b(self.provides_adjoint_derivatives),
+            ),
+        ]
+    }
+}
+
+/// The FMI 3.0 capabilities every mechanism's FMU declares: what the runtime implements
+/// (FMU state and its serialization, exact directional and adjoint derivatives, first
+/// output derivatives, variable communication steps, Co-Simulation's Event Mode); no
+/// Intermediate Update Mode.
+pub const FMI3_CAPABILITIES: Fmi3Capabilities = Fmi3Capabilities {
+    can_get_and_set_fmu_state: true,
+    can_serialize_fmu_state: true,
+    provides_directional_derivatives: true,
+    provides_adjoint_derivatives: true,
+    can_handle_variable_communication_step_size: true,
+    max_output_derivative_order: 1,
+    provides_intermediate_update: false,
+    can_return_early_after_intermediate_update: false,
+    has_event_mode: true,
+};
+
+/// Whether Model Exchange needs `fmi2CompletedIntegratorStep` / `fmi3CompletedIntegratorStep`:
+/// when the mechanism's monitor or projection runs there.
+pub fn needs_completed_integrator_step<M: Mechanism>() -> bool {
+    M::MONITORED || M::PROJECTED
+}
+
+/// Whether FMI 3.0's `fmi3DoStep` may return early: at the events of the mechanism's event
+/// indicators, where its monitor's verdict changes.
+pub fn might_return_early_from_do_step<M: Mechanism>() -> bool {
+    !M::EVENT_INDICATORS.is_empty()
+}
+
 /// The log categories declared in every modelDescription, with their descriptions.
 pub const LOG_CATEGORIES: [(&str, &str); 6] = [
     (
@@ -137,9 +260,22 @@ pub const LOG_CATEGORIES: [(&str, &str); 6] = [
     ("logAll", "All of the above"),
 ];
 
+/// [`LOG_CATEGORIES`] with the statuses named as FMI 3.0 names them (`fmi3Warning`, ...):
+/// the same categories, for the FMI 3.0 model description.
+pub fn fmi3_log_categories() -> Vec<(&'static str, String)> {
+    LOG_CATEGORIES
+        .iter()
+        .map(|&(name, description)| (name, description.replace("fmi2", "fmi3")))
+        .collect()
+}
+
 /// Bump when the modelDescription generator changes what it writes from the same
 /// declaration, so binaries and XML of different generator versions never match.
 const GENERATOR_VERSION: &str = "mechfmu-md-3";
+
+/// The same for what only the FMI 3.0 model description writes (the arrays, the
+/// independent variable, the FMI 3.0 model structure).
+const FMI3_GENERATOR_VERSION: &str = "mechfmu-md3-1";
 
 /// 64-bit FNV-1a over a stream of fields (each prefixed by its length, so field boundaries
 /// count).
@@ -164,7 +300,11 @@ impl Fnv {
 }
 
 fn hash<M: Mechanism>(seed: u64) -> u64 {
-    let mut h = Fnv::new(seed);
+    declaration_hash::<M>(Fnv::new(seed)).0
+}
+
+/// The stream of everything FMI 2.0's model description is written from.
+fn declaration_hash<M: Mechanism>(mut h: Fnv) -> Fnv {
     h.bytes(GENERATOR_VERSION.as_bytes());
     h.bytes(M::NAME.as_bytes());
     h.bytes(M::DESCRIPTION.as_bytes());
@@ -190,12 +330,41 @@ fn hash<M: Mechanism>(seed: u64) -> u64 {
         h.bytes(&[v.positive as u8]);
         h.bytes(v.derivative.unwrap_or("").as_bytes());
     }
+    h
+}
+
+/// The stream of everything FMI 3.0's model description is written from: FMI 2.0's, the
+/// FMI 3.0 capabilities and the arrays.
+fn fmi3_hash<M: Mechanism>(seed: u64) -> u64 {
+    let mut h = declaration_hash::<M>(Fnv::new(seed));
+    h.bytes(FMI3_GENERATOR_VERSION.as_bytes());
+    h.bytes(format!("{:?}", FMI3_CAPABILITIES).as_bytes());
+    for array in M::ARRAYS {
+        h.bytes(array.name.as_bytes());
+        h.bytes(array.description.as_bytes());
+        for &d in array.dimensions {
+            h.bytes(&(d as u64).to_le_bytes());
+        }
+        for element in array.elements {
+            h.bytes(element.as_bytes());
+        }
+    }
     h.0
 }
 
 /// The GUID, formatted as `{xxxxxxxx-xxxx-xxxx-xxxx-xxxxxxxxxxxx}`.
 pub fn guid<M: Mechanism>() -> String {
-    let (a, b) = (hash::<M>(1), hash::<M>(2));
+    braced_uuid(hash::<M>(1), hash::<M>(2))
+}
+
+/// FMI 3.0's `instantiationToken`, as [`guid`] but over what FMI 3.0's model description
+/// is written from (arrays too), so it differs from the GUID: an FMI 2.0 model description
+/// never matches an FMI 3.0 binary call, nor the other way round.
+pub fn instantiation_token<M: Mechanism>() -> String {
+    braced_uuid(fmi3_hash::<M>(3), fmi3_hash::<M>(4))
+}
+
+fn braced_uuid(a: u64, b: u64) -> String {
     format!(
         "{{{:08x}-{:04x}-{:04x}-{:04x}-{:012x}}}",
         a >> 32,
@@ -204,4 +373,37 @@ pub fn guid<M: Mechanism>() -> String {
         b >> 48,
         b & 0xffff_ffff_ffff
     )
+}
+
+/// An FMI version: of an FMU, of the instance an importer made.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Version {
+    Fmi2,
+    Fmi3,
+}
+
+impl Version {
+    /// What ties its model description to the binary: FMI 2.0's GUID, FMI 3.0's
+    /// instantiation token.
+    pub fn token<M: Mechanism>(self) -> String {
+        match self {
+            Version::Fmi2 => guid::<M>(),
+            Version::Fmi3 => instantiation_token::<M>(),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Version::Fmi2 => "FMI 2.0",
+            Version::Fmi3 => "FMI 3.0",
+        }
+    }
+
+    /// The prefix of its functions' names.
+    pub fn prefix(self) -> &'static str {
+        match self {
+            Version::Fmi2 => "fmi2",
+            Version::Fmi3 => "fmi3",
+        }
+    }
 }

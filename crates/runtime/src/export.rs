@@ -1,10 +1,13 @@
 //! What a mechanism crate's binary exports: [`export_fmu!`](crate::export_fmu) puts the
-//! FMI 2.0 functions (the rows of [`fmi2_functions!`](crate::fmi2_functions)) into the
-//! crate under their C names, beside three documented extras that the `mechfmu` command
-//! reads from the binaries it builds:
+//! FMI 2.0 and FMI 3.0 functions (the rows of [`fmi2_functions!`](crate::fmi2_functions)
+//! and [`fmi3_functions!`](crate::fmi3_functions)) into the crate under their C names
+//! (one binary serves an FMU of either version), beside documented extras that the
+//! `mechfmu` command reads from the binaries it builds:
 //!
-//! - `mechfmu_model_description`: the binary's own `modelDescription.xml` (`mechfmu build`);
-//! - `mechfmu_documentation`: its `documentation/index.html` (`mechfmu build`);
+//! - `mechfmu_model_description`, `mechfmu_model_description_fmi3`: the binary's own
+//!   `modelDescription.xml` of each version (`mechfmu build`);
+//! - `mechfmu_documentation`, `mechfmu_documentation_fmi3`: its `documentation/index.html`
+//!   of each version (`mechfmu build`);
 //! - `mechfmu_interface`: its interface page in Markdown
 //!   ([`docs::interface`](crate::docs::interface()), `mechfmu docs`).
 //!
@@ -13,9 +16,10 @@
 
 use std::panic::catch_unwind;
 
-/// Exports a mechanism as an FMU: the 44 FMI 2.0 functions (Model Exchange and
-/// Co-Simulation) under their C names, plus the extras of [`export`](crate::export). Checks
-/// the mechanism's event indicators at compile time.
+/// Exports a mechanism as an FMU: the 44 FMI 2.0 functions and the 75 FMI 3.0 functions
+/// (Model Exchange and Co-Simulation) under their C names, plus the extras of
+/// [`export`](crate::export). Checks the mechanism's event indicators and arrays at
+/// compile time.
 ///
 /// ```ignore
 /// mechfmu::export_fmu!(Oscillator);
@@ -27,6 +31,10 @@ macro_rules! export_fmu {
             <$mechanism as $crate::model::Declaration>::VARIABLES,
             <$mechanism as $crate::model::Mechanism>::EVENT_INDICATORS,
         );
+        const _: () = $crate::model::check_arrays(
+            <$mechanism as $crate::model::Declaration>::VARIABLES,
+            <$mechanism as $crate::model::Mechanism>::ARRAYS,
+        );
 
         /// The C functions of this FMU.
         #[allow(non_snake_case, clippy::missing_safety_doc)]
@@ -34,7 +42,7 @@ macro_rules! export_fmu {
             use super::*;
             use $crate::fmi2::ffi::*;
 
-            $crate::fmi2_functions!(fmi2_exported_functions!($mechanism));
+            $crate::fmi2_functions!(exported_functions!($mechanism, fmi2));
 
             /// Not FMI: the modelDescription.xml of this binary, through a buffer (see
             /// [`write_text`]($crate::export::write_text)). Used by `mechfmu build`.
@@ -84,26 +92,69 @@ macro_rules! export_fmu {
                 }
             }
 
+            /// Not FMI: the FMI 3.0 modelDescription.xml of this binary, as
+            /// `mechfmu_model_description`. Used by `mechfmu build`.
+            #[no_mangle]
+            pub unsafe extern "C" fn mechfmu_model_description_fmi3(
+                buffer: *mut u8,
+                capacity: usize,
+            ) -> usize {
+                // SAFETY: the caller's buffer, as `write_text` asks.
+                unsafe {
+                    $crate::export::write_text(
+                        $crate::xml::fmi3::model_description::<$mechanism>,
+                        buffer,
+                        capacity,
+                    )
+                }
+            }
+
+            /// Not FMI: the documentation/index.html of this binary's FMI 3.0 FMU, as
+            /// `mechfmu_documentation`. Used by `mechfmu build`.
+            #[no_mangle]
+            pub unsafe extern "C" fn mechfmu_documentation_fmi3(
+                buffer: *mut u8,
+                capacity: usize,
+            ) -> usize {
+                // SAFETY: the caller's buffer, as `write_text` asks.
+                unsafe {
+                    $crate::export::write_text(
+                        $crate::docs::documentation_fmi3::<$mechanism>,
+                        buffer,
+                        capacity,
+                    )
+                }
+            }
+
             $crate::bench_exports!($mechanism);
+        }
+
+        /// The FMI 3.0 C functions of this FMU.
+        #[allow(non_snake_case, clippy::missing_safety_doc)]
+        pub mod fmi3_exports {
+            use super::*;
+            use $crate::fmi3::ffi::*;
+
+            $crate::fmi3_functions!(exported_functions!($mechanism, fmi3));
         }
     };
 }
 
-/// Expands the table of FMI 2.0 functions into unmangled symbols, each forwarding to its
-/// generic function in [`fmi2::functions`](crate::fmi2::functions).
+/// Expands a table of FMI functions (of layer `fmi2` or `fmi3`) into unmangled symbols,
+/// each forwarding to its generic function in the layer's `functions` module.
 #[doc(hidden)]
 #[macro_export]
-macro_rules! fmi2_exported_functions {
-    (($mechanism:ty) $(
+macro_rules! exported_functions {
+    (($mechanism:ty, $layer:ident) $(
         $([before_export: $($before:ident)::+])?
         $name:ident($($param:ident: $type:ty),* $(,)?) -> $ret:ty = $body:expr;
     )*) => {
         $(
             #[no_mangle]
             pub unsafe extern "C" fn $name($($param: $type),*) -> $ret {
-                $( $crate::fmi2::$($before)::+(); )?
+                $( $crate::fmi::$($before)::+(); )?
                 // SAFETY: the importer's arguments, forwarded as received.
-                unsafe { $crate::fmi2::functions::$name::<$mechanism>($($param),*) }
+                unsafe { $crate::$layer::functions::$name::<$mechanism>($($param),*) }
             }
         )*
     };

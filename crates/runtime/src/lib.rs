@@ -13,7 +13,10 @@
 //! - [`contract`]: what the model description and the binary agree on (capabilities, log
 //!   categories, GUID);
 //! - [`xml`]: the generated modelDescription.xml;
-//! - [`fmi2`]: the FMI 2.0 Co-Simulation layer (C types, state machine, the wall, the calls);
+//! - [`fmi`]: what both FMI layers share: the instance, its states, FMU states, the
+//!   importer's logger, the C boundary (the wall);
+//! - [`fmi2`], [`fmi3`]: the FMI 2.0 and FMI 3.0 layers, Model Exchange and Co-Simulation
+//!   (C types, state tables, the calls);
 //! - [`docs`]: the documentation page every FMU carries;
 //! - [`export`]: what a mechanism crate's binary exports ([`export_fmu!`]).
 //!
@@ -23,7 +26,9 @@
 pub mod contract;
 pub mod docs;
 pub mod export;
+pub mod fmi;
 pub mod fmi2;
+pub mod fmi3;
 pub mod modal;
 pub mod model;
 pub mod simulation;

@@ -4,9 +4,11 @@
 use mechfmu::model::Mechanism;
 use std::path::Path;
 
-/// Asserts `modelDescription/<Name>.xml` of the repository holding the mechanism crate at
-/// `crate_dir` (two folders up, as `fmus/<name>/`) is what `M`'s declaration generates;
-/// `package` names the crate in the regeneration command.
+/// Asserts the model descriptions `M`'s declaration generates are those committed in the
+/// repository holding the mechanism crate at `crate_dir` (two folders up, as
+/// `fmus/<name>/`): FMI 2.0's at `modelDescription/<Name>.xml`, FMI 3.0's at
+/// `modelDescription/fmi3/<Name>.xml`. `package` names the crate in the regeneration
+/// command, which writes both.
 ///
 /// ```ignore
 /// #[test]
@@ -18,10 +20,13 @@ use std::path::Path;
 /// }
 /// ```
 pub fn model_description<M: Mechanism>(crate_dir: &str, package: &str) {
-    let xml = mechfmu::xml::model_description::<M>().unwrap_or_else(|e| panic!("{e}"));
-    let path = Path::new(crate_dir).join(format!("../../modelDescription/{}.xml", M::NAME));
     let hint = format!("MECHFMU_BLESS=1 cargo test -p {package} model_description");
-    assert_current(&path, &xml, &hint);
+    let folder = Path::new(crate_dir).join("../../modelDescription");
+    let file = format!("{}.xml", M::NAME);
+    let fmi2 = mechfmu::xml::model_description::<M>().unwrap_or_else(|e| panic!("{e}"));
+    let fmi3 = mechfmu::xml::fmi3::model_description::<M>().unwrap_or_else(|e| panic!("{e}"));
+    assert_current(&folder.join(&file), &fmi2, &hint);
+    assert_current(&folder.join("fmi3").join(&file), &fmi3, &hint);
 }
 
 /// Asserts `docs/mechanisms/<Name>.md` of the repository holding the mechanism crate at

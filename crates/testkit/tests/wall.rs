@@ -213,11 +213,11 @@ fn model_exchange_refuses_null_arguments_by_name() {
 /// stays as it was.
 #[test]
 fn a_forged_state_whose_values_do_not_hold_is_refused() {
-    use mechfmu::fmi2::fmu_state::FmuState;
+    use mechfmu::fmi::fmu_state::FmuState;
     let mut fmu = started();
     let state = fmu.get_fmu_state().unwrap();
     let bytes = fmu.serialize(state).unwrap();
-    let mut forged = FmuState::from_bytes::<Decay>(&bytes).unwrap();
+    let mut forged = FmuState::from_bytes::<Decay>(&bytes, mechfmu::fmi::Version::Fmi2).unwrap();
     // k y overflows: y_dot = -inf.
     forged.sim.values[0] = f64::MAX;
     forged.sim.values[1] = f64::MAX;

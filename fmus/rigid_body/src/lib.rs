@@ -56,7 +56,7 @@
 
 #![forbid(unsafe_code)]
 
-use mechfmu::model::{lit, Experiment, Mechanism, Scalar, Variable};
+use mechfmu::model::{lit, Array, Experiment, Mechanism, Scalar, Variable};
 use mechfmu::nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
 /// Relative tolerance of the triangle inequality `I_1 + I_2 ≥ I_3` of the body's own
@@ -279,6 +279,66 @@ impl Mechanism for RigidBody {
         - A tensor that is not a physical body (not positive definite, or violating
           `I_1 + I_2 ≥ I_3`) is refused at initialization with a message.
     ";
+
+    /// The vectors and tensors of the notes as FMI 3.0 arrays (FMI 2.0 has their scalars).
+    const ARRAYS: &'static [Array] = &[
+        Array::new(
+            "I_C",
+            "Inertia tensor about C, body axes (symmetric, row-major)",
+            &[3, 3],
+            &[
+                "I_xx", "I_xy", "I_xz", "I_xy", "I_yy", "I_yz", "I_xz", "I_yz", "I_zz",
+            ],
+        ),
+        Array::new(
+            "r_C",
+            "Position of the centre of mass C from the pivot B, body axes",
+            &[3],
+            &["r_Cx", "r_Cy", "r_Cz"],
+        ),
+        Array::new(
+            "tau",
+            "Applied torque about B, body axes",
+            &[3],
+            &["tau_x", "tau_y", "tau_z"],
+        ),
+        Array::new(
+            "w",
+            "Angular velocity, body axes",
+            &[3],
+            &["w_x", "w_y", "w_z"],
+        ),
+        Array::new(
+            "q",
+            "Orientation quaternion body to ground (w, x, y, z)",
+            &[4],
+            &["q_w", "q_x", "q_y", "q_z"],
+        ),
+        Array::new(
+            "H",
+            "Angular momentum about B, ground axes",
+            &[3],
+            &["H_X", "H_Y", "H_Z"],
+        ),
+        Array::new(
+            "w_dot",
+            "Angular acceleration, body axes",
+            &[3],
+            &["w_x_dot", "w_y_dot", "w_z_dot"],
+        ),
+        Array::new(
+            "q_dot",
+            "Rate of the orientation quaternion",
+            &[4],
+            &["q_w_dot", "q_x_dot", "q_y_dot", "q_z_dot"],
+        ),
+        Array::new(
+            "I_principal",
+            "Principal moments of inertia about C, ascending",
+            &[3],
+            &["I_1", "I_2", "I_3"],
+        ),
+    ];
 
     const PROJECTED: bool = true;
 

@@ -22,7 +22,7 @@
 
 #![forbid(unsafe_code)]
 
-use mechfmu::model::{Experiment, Mechanism, Scalar, Variable};
+use mechfmu::model::{Array, Experiment, Mechanism, Scalar, Variable};
 use mechfmu::nalgebra::Matrix2;
 
 mechfmu::mechanism! {
@@ -77,6 +77,24 @@ mechfmu::mechanism! {
         mode2_x1: Variable::calculated("1"),
         /// Mode 2 shape, x2 component
         mode2_x2: Variable::calculated("1"),
+        /// Mass matrix, element (1,1): m1
+        M_11: Variable::calculated("kg").fixed(),
+        /// Mass matrix, elements (1,2) and (2,1): 0
+        M_12: Variable::calculated("kg").fixed(),
+        /// Mass matrix, element (2,2): m2
+        M_22: Variable::calculated("kg").fixed(),
+        /// Stiffness matrix, element (1,1): k1 + k3
+        K_11: Variable::calculated("N/m"),
+        /// Stiffness matrix, elements (1,2) and (2,1): -k3
+        K_12: Variable::calculated("N/m"),
+        /// Stiffness matrix, element (2,2): k2 + k3
+        K_22: Variable::calculated("N/m"),
+        /// Damping matrix, element (1,1): c1 + c3
+        C_11: Variable::calculated("N.s/m"),
+        /// Damping matrix, elements (1,2) and (2,1): -c3
+        C_12: Variable::calculated("N.s/m"),
+        /// Damping matrix, element (2,2): c2 + c3
+        C_22: Variable::calculated("N.s/m"),
     }
 }
 
@@ -112,9 +130,41 @@ impl Mechanism for TwoMassOscillator {
         eigen-solver.
     ";
 
+    /// The matrices of `M ẍ + C ẋ + K x = F` and the modes as FMI 3.0 arrays (FMI 2.0 has
+    /// their scalars).
+    const ARRAYS: &'static [Array] = &[
+        Array::new(
+            "M",
+            "Mass matrix",
+            &[2, 2],
+            &["M_11", "M_12", "M_12", "M_22"],
+        ),
+        Array::new(
+            "K",
+            "Stiffness matrix",
+            &[2, 2],
+            &["K_11", "K_12", "K_12", "K_22"],
+        ),
+        Array::new(
+            "C",
+            "Damping matrix",
+            &[2, 2],
+            &["C_11", "C_12", "C_12", "C_22"],
+        ),
+        Array::new(
+            "modes",
+            "Undamped mode shapes, column j is mode j (its component of largest magnitude is +1)",
+            &[2, 2],
+            &["mode1_x1", "mode2_x1", "mode1_x2", "mode2_x2"],
+        ),
+    ];
+
     fn calculate(v: &mut TwoMassOscillatorValues<f64>) -> Result<(), String> {
-        let mass = Matrix2::new(v.m1, 0.0, 0.0, v.m2);
-        let stiffness = Matrix2::new(v.k1 + v.k3, -v.k3, -v.k3, v.k2 + v.k3);
+        (v.M_11, v.M_12, v.M_22) = (v.m1, 0.0, v.m2);
+        (v.K_11, v.K_12, v.K_22) = (v.k1 + v.k3, -v.k3, v.k2 + v.k3);
+        (v.C_11, v.C_12, v.C_22) = (v.c1 + v.c3, -v.c3, v.c2 + v.c3);
+        let mass = Matrix2::new(v.M_11, v.M_12, v.M_12, v.M_22);
+        let stiffness = Matrix2::new(v.K_11, v.K_12, v.K_12, v.K_22);
         let [first, second] = mechfmu::modal::undamped_modes(&mass, &stiffness)?;
         v.omega_n1 = first.omega;
         v.omega_n2 = second.omega;

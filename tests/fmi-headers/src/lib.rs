@@ -1,7 +1,9 @@
-//! Checks, at compile time, that the 44 functions `mechfmu::export_fmu!` exports have
+//! Checks, at compile time, that the 44 FMI 2.0 functions `mechfmu::export_fmu!` exports have
 //! exactly the signatures of the official FMI 2.0 headers (`fmi2FunctionTypes.h`, as bindgen reads
 //! them in `fmi-sys`). Building this crate is the test; the shipped FMUs do not depend on
 //! it (nor on libclang).
+
+pub mod fmi3;
 
 use fmi_sys::fmi2 as header;
 use oscillator::fmi2_exports as exports;

@@ -1,6 +1,7 @@
 //! A shipped FMU's binary exports the 44 functions of FMI 2.0 (`fmi2Functions.h`: the
-//! common ones, Model Exchange's and Co-Simulation's) and the documented extras the README
-//! lists, nothing else (no benchmark entry points, no Rust symbols).
+//! common ones, Model Exchange's and Co-Simulation's), the 75 of FMI 3.0
+//! (`fmi3Functions.h`: one binary serves the FMU of either version) and the documented
+//! extras the README lists, nothing else (no benchmark entry points, no Rust symbols).
 
 use mechfmu_robustness::ffi::FUNCTION_NAMES;
 use mechfmu_robustness::fmu::{required_fmu_paths, Fmu};
@@ -59,11 +60,93 @@ const HEADER_FUNCTIONS: [&str; 44] = [
     "fmi2GetStringStatus",
 ];
 
+/// The `#define fmi3X fmi3FullName(fmi3X)` lines of the official `fmi3Functions.h` (FMI
+/// 3.0.x), in the header's order.
+const HEADER_FUNCTIONS_FMI3: [&str; 75] = [
+    "fmi3GetVersion",
+    "fmi3SetDebugLogging",
+    "fmi3InstantiateModelExchange",
+    "fmi3InstantiateCoSimulation",
+    "fmi3InstantiateScheduledExecution",
+    "fmi3FreeInstance",
+    "fmi3EnterInitializationMode",
+    "fmi3ExitInitializationMode",
+    "fmi3EnterEventMode",
+    "fmi3Terminate",
+    "fmi3Reset",
+    "fmi3GetFloat32",
+    "fmi3GetFloat64",
+    "fmi3GetInt8",
+    "fmi3GetUInt8",
+    "fmi3GetInt16",
+    "fmi3GetUInt16",
+    "fmi3GetInt32",
+    "fmi3GetUInt32",
+    "fmi3GetInt64",
+    "fmi3GetUInt64",
+    "fmi3GetBoolean",
+    "fmi3GetString",
+    "fmi3GetBinary",
+    "fmi3GetClock",
+    "fmi3SetFloat32",
+    "fmi3SetFloat64",
+    "fmi3SetInt8",
+    "fmi3SetUInt8",
+    "fmi3SetInt16",
+    "fmi3SetUInt16",
+    "fmi3SetInt32",
+    "fmi3SetUInt32",
+    "fmi3SetInt64",
+    "fmi3SetUInt64",
+    "fmi3SetBoolean",
+    "fmi3SetString",
+    "fmi3SetBinary",
+    "fmi3SetClock",
+    "fmi3GetNumberOfVariableDependencies",
+    "fmi3GetVariableDependencies",
+    "fmi3GetFMUState",
+    "fmi3SetFMUState",
+    "fmi3FreeFMUState",
+    "fmi3SerializedFMUStateSize",
+    "fmi3SerializeFMUState",
+    "fmi3DeserializeFMUState",
+    "fmi3GetDirectionalDerivative",
+    "fmi3GetAdjointDerivative",
+    "fmi3EnterConfigurationMode",
+    "fmi3ExitConfigurationMode",
+    "fmi3GetIntervalDecimal",
+    "fmi3GetIntervalFraction",
+    "fmi3GetShiftDecimal",
+    "fmi3GetShiftFraction",
+    "fmi3SetIntervalDecimal",
+    "fmi3SetIntervalFraction",
+    "fmi3SetShiftDecimal",
+    "fmi3SetShiftFraction",
+    "fmi3EvaluateDiscreteStates",
+    "fmi3UpdateDiscreteStates",
+    "fmi3EnterContinuousTimeMode",
+    "fmi3CompletedIntegratorStep",
+    "fmi3SetTime",
+    "fmi3SetContinuousStates",
+    "fmi3GetContinuousStateDerivatives",
+    "fmi3GetEventIndicators",
+    "fmi3GetContinuousStates",
+    "fmi3GetNominalsOfContinuousStates",
+    "fmi3GetNumberOfEventIndicators",
+    "fmi3GetNumberOfContinuousStates",
+    "fmi3EnterStepMode",
+    "fmi3GetOutputDerivatives",
+    "fmi3DoStep",
+    "fmi3ActivateModelPartition",
+];
+
 /// What the README lists besides the FMI functions.
-const DOCUMENTED_EXTRAS: [&str; 3] = [
+const DOCUMENTED_EXTRAS: [&str; 5] = [
     "mechfmu_documentation",
+    "mechfmu_documentation_fmi3",
     "mechfmu_interface",
     "mechfmu_model_description",
+    "mechfmu_model_description_fmi3",
 ];
 
 #[test]
@@ -83,10 +166,11 @@ fn the_importer_resolves_exactly_the_header_functions() {
 fn a_shipped_binary_exports_the_fmi_functions_and_the_documented_extras_only() {
     let expected: BTreeSet<&str> = HEADER_FUNCTIONS
         .iter()
+        .chain(&HEADER_FUNCTIONS_FMI3)
         .chain(&DOCUMENTED_EXTRAS)
         .copied()
         .collect();
-    assert_eq!(expected.len(), 47);
+    assert_eq!(expected.len(), 44 + 75 + 5);
     for path in required_fmu_paths() {
         let fmu = Fmu::load(&path).unwrap();
         let out = Command::new("nm")
@@ -110,6 +194,40 @@ fn a_shipped_binary_exports_the_fmi_functions_and_the_documented_extras_only() {
             missing.is_empty() && extra.is_empty(),
             "{}: exported symbols: missing {missing:?}, not expected {extra:?}",
             fmu.name()
+        );
+    }
+}
+
+/// The bytes of `name` in the zip archive at `path`.
+fn archived(path: &std::path::Path, name: &str) -> Vec<u8> {
+    use std::io::Read;
+    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut zip = zip::ZipArchive::new(file).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut entry = zip
+        .by_name(name)
+        .unwrap_or_else(|e| panic!("{}: no {name}: {e}", path.display()));
+    let mut bytes = Vec::new();
+    entry.read_to_end(&mut bytes).unwrap();
+    bytes
+}
+
+#[test]
+fn the_fmi3_fmu_carries_the_same_binary_under_its_platform_tuple() {
+    for path in required_fmu_paths() {
+        let fmu = Fmu::load(&path).unwrap();
+        let id = fmu.name().to_string();
+        let fmi3 = path
+            .parent()
+            .expect("in a folder")
+            .join("fmi3")
+            .join(path.file_name().expect("a file"));
+        let binary2 = archived(&path, &format!("binaries/linux64/{id}.so"));
+        let binary3 = archived(&fmi3, &format!("binaries/x86_64-linux/{id}.so"));
+        assert!(binary2 == binary3, "{id}: the FMI 3.0 FMU's binary differs");
+        let xml = String::from_utf8(archived(&fmi3, "modelDescription.xml")).unwrap();
+        assert!(
+            xml.contains("fmiVersion=\"3.0\""),
+            "{id}: the FMI 3.0 FMU's model description is not FMI 3.0"
         );
     }
 }

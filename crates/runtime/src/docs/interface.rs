@@ -4,7 +4,8 @@
 //! values, bounds) and the same notes, without the plot and the capabilities.
 
 use super::notes::dedent;
-use super::{num, shown_initial, shown_min};
+use super::num;
+use super::tables::{shown_initial, shown_min};
 use crate::model::{Mechanism, Variable};
 use std::fmt::Write as _;
 

@@ -105,3 +105,27 @@ fn write_documentation_follows_the_buffer_protocol() {
     );
     assert!(small.iter().all(|&b| b == 0xff));
 }
+
+#[test]
+fn the_fmi3_page_shows_fmi3s_variables_calls_and_token() {
+    let html = super::documentation_fmi3::<Spring>().unwrap();
+    assert_eq!(html, super::documentation_fmi3::<Spring>().unwrap());
+    assert!(html.contains("<title>Spring: FMI 3.0 FMU</title>"));
+    let token = crate::contract::instantiation_token::<Spring>();
+    assert!(html.contains(&format!("instantiation token <code>{token}</code>")));
+    // The independent variable first, with the value reference after the last variable's.
+    let time = format!(
+        "<tr><td><code>time</code></td><td class=\"num\">{}</td>",
+        <Spring as crate::model::Declaration>::VARIABLES.len()
+    );
+    assert!(html.contains(&time));
+    assert!(
+        html.contains("fmi3CompletedIntegratorStep")
+            || html.contains("needsCompletedIntegratorStep")
+    );
+    assert!(html.contains("binaries/x86_64-linux/Spring.so"));
+    assert!(
+        !html.contains("fmi2"),
+        "an FMI 2.0 name on the FMI 3.0 page"
+    );
+}

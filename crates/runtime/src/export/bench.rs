@@ -2,8 +2,9 @@
 //! counters, and the parts of a step run alone in the FMU's own compiled code. Not FMI
 //! functions; they log nothing.
 
+use crate::fmi::wall::{guarded_or, instance, slice_mut};
+use crate::fmi::Version;
 use crate::fmi2::ffi::*;
-use crate::fmi2::wall::{guarded_or, instance, slice_mut};
 use crate::model::Mechanism;
 use crate::simulation::Part;
 
@@ -20,7 +21,7 @@ pub const COUNTERS: usize = 4;
 pub unsafe fn counters<M: Mechanism>(c: fmi2Component, out: *mut u64, n: usize) -> usize {
     guarded_or(0, || {
         // SAFETY: the caller's promise.
-        let Some(inst) = (unsafe { instance::<M>(c) }) else {
+        let Some(inst) = (unsafe { instance::<M>(c, Version::Fmi2) }) else {
             return 0;
         };
         let k = inst.sim.counters();
@@ -43,7 +44,7 @@ pub unsafe fn counters<M: Mechanism>(c: fmi2Component, out: *mut u64, n: usize) 
 pub unsafe fn bench<M: Mechanism>(c: fmi2Component, part: u32, n: u64, h: f64) -> fmi2Status {
     guarded_or(fmi2Error, || {
         // SAFETY: the caller's promise.
-        let Some(inst) = (unsafe { instance::<M>(c) }) else {
+        let Some(inst) = (unsafe { instance::<M>(c, Version::Fmi2) }) else {
             return fmi2Error;
         };
         let Some(part) = Part::from_code(part) else {

@@ -12,9 +12,13 @@
 
 use super::api;
 use super::ffi::*;
-use super::model_exchange as me;
+use super::instantiate;
 use super::state::*;
-use super::wall::{self, fmu_state, guarded, out, slice, slice_mut, strings, Buffer, StateSlot};
+use crate::fmi::model_exchange as me;
+use crate::fmi::wall::{
+    self, fmu_state, guarded, out, slice, slice_mut, strings, Buffer, StateSlot,
+};
+use crate::fmi::{common, Version};
 use crate::model::Mechanism;
 
 /// The table of FMI 2.0 functions. `$emit` receives every row as
@@ -27,57 +31,57 @@ macro_rules! fmi2_functions {
         fmi2GetTypesPlatform() -> fmi2String = api::get_types_platform();
         fmi2GetVersion() -> fmi2String = api::get_version();
         fmi2SetDebugLogging(c: fmi2Component, loggingOn: fmi2Boolean, nCategories: usize, categories: *const fmi2String) -> fmi2Status
-            = guarded::<M>(c, &SET_DEBUG_LOGGING, |inst| api::set_debug_logging(inst, loggingOn, &strings(categories, nCategories, "categories[]", "a category")?));
-        [before_export: api::silence_panic_messages]
+            = guarded::<M>(c, &SET_DEBUG_LOGGING, |inst| common::set_debug_logging(inst, loggingOn != 0, &strings(categories, nCategories, "categories[]", "a category")?));
+        [before_export: common::silence_panic_messages]
         fmi2Instantiate(instanceName: fmi2String, fmuType: fmi2Type, fmuGUID: fmi2String, fmuResourceLocation: fmi2String, functions: *const fmi2CallbackFunctions, visible: fmi2Boolean, loggingOn: fmi2Boolean) -> fmi2Component
-            = wall::instantiate::<M>(instanceName, fmuType, fmuGUID, functions, loggingOn);
+            = instantiate::instantiate::<M>(instanceName, fmuType, fmuGUID, functions, loggingOn);
         fmi2FreeInstance(c: fmi2Component) -> ()
             = wall::free_component::<M>(c, &FREE_INSTANCE);
         fmi2SetupExperiment(c: fmi2Component, toleranceDefined: fmi2Boolean, tolerance: fmi2Real, startTime: fmi2Real, stopTimeDefined: fmi2Boolean, stopTime: fmi2Real) -> fmi2Status
             = guarded::<M>(c, &SETUP_EXPERIMENT, |inst| api::setup_experiment(inst, toleranceDefined, tolerance, startTime, stopTimeDefined, stopTime));
         fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status
-            = guarded::<M>(c, &ENTER_INITIALIZATION_MODE, api::enter_initialization_mode);
+            = guarded::<M>(c, &ENTER_INITIALIZATION_MODE, common::enter_initialization_mode);
         fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status
-            = guarded::<M>(c, &EXIT_INITIALIZATION_MODE, api::exit_initialization_mode);
-        fmi2Terminate(c: fmi2Component) -> fmi2Status = guarded::<M>(c, &TERMINATE, api::terminate);
-        fmi2Reset(c: fmi2Component) -> fmi2Status = guarded::<M>(c, &RESET, api::reset);
+            = guarded::<M>(c, &EXIT_INITIALIZATION_MODE, common::exit_initialization_mode);
+        fmi2Terminate(c: fmi2Component) -> fmi2Status = guarded::<M>(c, &TERMINATE, common::terminate);
+        fmi2Reset(c: fmi2Component) -> fmi2Status = guarded::<M>(c, &RESET, common::reset);
         fmi2GetReal(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *mut fmi2Real) -> fmi2Status
-            = guarded::<M>(c, &GET_REAL, |inst| api::get_real(inst, slice(vr, nvr, "vr[]")?, slice_mut(value, nvr, "value[]")?));
+            = guarded::<M>(c, &GET_REAL, |inst| common::get_real(inst, slice(vr, nvr, "vr[]")?, slice_mut(value, nvr, "value[]")?));
         fmi2GetInteger(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *mut fmi2Integer) -> fmi2Status
-            = guarded::<M>(c, &GET_INTEGER, |_| { let vr = slice(vr, nvr, "vr[]")?; slice_mut(value, nvr, "value[]")?; api::no_variables(GET_INTEGER.name, vr, "Integer") });
+            = guarded::<M>(c, &GET_INTEGER, |_| { let vr = slice(vr, nvr, "vr[]")?; slice_mut(value, nvr, "value[]")?; common::no_variables(GET_INTEGER.name, vr, "Integer") });
         fmi2GetBoolean(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *mut fmi2Boolean) -> fmi2Status
-            = guarded::<M>(c, &GET_BOOLEAN, |_| { let vr = slice(vr, nvr, "vr[]")?; slice_mut(value, nvr, "value[]")?; api::no_variables(GET_BOOLEAN.name, vr, "Boolean") });
+            = guarded::<M>(c, &GET_BOOLEAN, |_| { let vr = slice(vr, nvr, "vr[]")?; slice_mut(value, nvr, "value[]")?; common::no_variables(GET_BOOLEAN.name, vr, "Boolean") });
         fmi2GetString(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *mut fmi2String) -> fmi2Status
-            = guarded::<M>(c, &GET_STRING, |_| { let vr = slice(vr, nvr, "vr[]")?; slice_mut(value, nvr, "value[]")?; api::no_variables(GET_STRING.name, vr, "String") });
+            = guarded::<M>(c, &GET_STRING, |_| { let vr = slice(vr, nvr, "vr[]")?; slice_mut(value, nvr, "value[]")?; common::no_variables(GET_STRING.name, vr, "String") });
         fmi2SetReal(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *const fmi2Real) -> fmi2Status
-            = guarded::<M>(c, &SET_REAL, |inst| api::set_real(inst, slice(vr, nvr, "vr[]")?, slice(value, nvr, "value[]")?));
+            = guarded::<M>(c, &SET_REAL, |inst| common::set_real(inst, slice(vr, nvr, "vr[]")?, slice(value, nvr, "value[]")?));
         fmi2SetInteger(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *const fmi2Integer) -> fmi2Status
-            = guarded::<M>(c, &SET_INTEGER, |_| { let vr = slice(vr, nvr, "vr[]")?; slice(value, nvr, "value[]")?; api::no_variables(SET_INTEGER.name, vr, "Integer") });
+            = guarded::<M>(c, &SET_INTEGER, |_| { let vr = slice(vr, nvr, "vr[]")?; slice(value, nvr, "value[]")?; common::no_variables(SET_INTEGER.name, vr, "Integer") });
         fmi2SetBoolean(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *const fmi2Boolean) -> fmi2Status
-            = guarded::<M>(c, &SET_BOOLEAN, |_| { let vr = slice(vr, nvr, "vr[]")?; slice(value, nvr, "value[]")?; api::no_variables(SET_BOOLEAN.name, vr, "Boolean") });
+            = guarded::<M>(c, &SET_BOOLEAN, |_| { let vr = slice(vr, nvr, "vr[]")?; slice(value, nvr, "value[]")?; common::no_variables(SET_BOOLEAN.name, vr, "Boolean") });
         fmi2SetString(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *const fmi2String) -> fmi2Status
-            = guarded::<M>(c, &SET_STRING, |_| { let vr = slice(vr, nvr, "vr[]")?; slice(value, nvr, "value[]")?; api::no_variables(SET_STRING.name, vr, "String") });
+            = guarded::<M>(c, &SET_STRING, |_| { let vr = slice(vr, nvr, "vr[]")?; slice(value, nvr, "value[]")?; common::no_variables(SET_STRING.name, vr, "String") });
         fmi2GetFMUstate(c: fmi2Component, FMUstate: *mut fmi2FMUstate) -> fmi2Status
-            = guarded::<M>(c, &GET_FMU_STATE, |inst| api::get_fmu_state(inst, StateSlot::new(FMUstate)));
+            = guarded::<M>(c, &GET_FMU_STATE, |inst| common::get_fmu_state(inst, StateSlot::new(FMUstate)));
         fmi2SetFMUstate(c: fmi2Component, FMUstate: fmi2FMUstate) -> fmi2Status
-            = guarded::<M>(c, &SET_FMU_STATE, |inst| api::set_fmu_state(inst, fmu_state(FMUstate)?));
+            = guarded::<M>(c, &SET_FMU_STATE, |inst| common::set_fmu_state(inst, fmu_state(FMUstate)?));
         fmi2FreeFMUstate(c: fmi2Component, FMUstate: *mut fmi2FMUstate) -> fmi2Status
             = guarded::<M>(c, &FREE_FMU_STATE, |_| StateSlot::new(FMUstate).free());
         fmi2SerializedFMUstateSize(c: fmi2Component, FMUstate: fmi2FMUstate, size: *mut usize) -> fmi2Status
-            = guarded::<M>(c, &SERIALIZED_FMU_STATE_SIZE, |_| api::serialized_fmu_state_size::<M>(fmu_state(FMUstate)?, out(size, "size")?));
+            = guarded::<M>(c, &SERIALIZED_FMU_STATE_SIZE, |_| common::serialized_fmu_state_size::<M>(fmu_state(FMUstate)?, out(size, "size")?));
         fmi2SerializeFMUstate(c: fmi2Component, FMUstate: fmi2FMUstate, serializedState: *mut fmi2Byte, size: usize) -> fmi2Status
-            = guarded::<M>(c, &SERIALIZE_FMU_STATE, |_| api::serialize_fmu_state::<M>(fmu_state(FMUstate)?, Buffer::new(serializedState as *mut u8, size)));
+            = guarded::<M>(c, &SERIALIZE_FMU_STATE, |_| common::serialize_fmu_state::<M>(fmu_state(FMUstate)?, Buffer::new(serializedState as *mut u8, size)));
         fmi2DeSerializeFMUstate(c: fmi2Component, serializedState: *const fmi2Byte, size: usize, FMUstate: *mut fmi2FMUstate) -> fmi2Status
-            = guarded::<M>(c, &DESERIALIZE_FMU_STATE, |_| api::deserialize_fmu_state::<M>(slice(serializedState as *const u8, size, "serializedState[]")?, StateSlot::new(FMUstate)));
+            = guarded::<M>(c, &DESERIALIZE_FMU_STATE, |_| common::deserialize_fmu_state::<M>(Version::Fmi2, slice(serializedState as *const u8, size, "serializedState[]")?, StateSlot::new(FMUstate)));
         fmi2GetDirectionalDerivative(c: fmi2Component, vUnknown_ref: *const fmi2ValueReference, nUnknown: usize, vKnown_ref: *const fmi2ValueReference, nKnown: usize, dvKnown: *const fmi2Real, dvUnknown: *mut fmi2Real) -> fmi2Status
-            = guarded::<M>(c, &GET_DIRECTIONAL_DERIVATIVE, |inst| api::get_directional_derivative(inst, slice(vUnknown_ref, nUnknown, "vUnknown_ref[]")?, slice(vKnown_ref, nKnown, "vKnown_ref[]")?, slice(dvKnown, nKnown, "dvKnown[]")?, slice_mut(dvUnknown, nUnknown, "dvUnknown[]")?));
+            = guarded::<M>(c, &GET_DIRECTIONAL_DERIVATIVE, |inst| common::directional_derivative(inst, slice(vUnknown_ref, nUnknown, "vUnknown_ref[]")?, slice(vKnown_ref, nKnown, "vKnown_ref[]")?, slice(dvKnown, nKnown, "dvKnown[]")?, slice_mut(dvUnknown, nUnknown, "dvUnknown[]")?));
         fmi2EnterEventMode(c: fmi2Component) -> fmi2Status = guarded::<M>(c, &ENTER_EVENT_MODE, me::enter_event_mode);
         fmi2NewDiscreteStates(c: fmi2Component, fmi2eventInfo: *mut fmi2EventInfo) -> fmi2Status
-            = guarded::<M>(c, &NEW_DISCRETE_STATES, |inst| me::new_discrete_states(inst, out(fmi2eventInfo, "fmi2eventInfo")?));
+            = guarded::<M>(c, &NEW_DISCRETE_STATES, |inst| api::new_discrete_states(inst, out(fmi2eventInfo, "fmi2eventInfo")?));
         fmi2EnterContinuousTimeMode(c: fmi2Component) -> fmi2Status
             = guarded::<M>(c, &ENTER_CONTINUOUS_TIME_MODE, me::enter_continuous_time_mode);
         fmi2CompletedIntegratorStep(c: fmi2Component, noSetFMUStatePriorToCurrentPoint: fmi2Boolean, enterEventMode: *mut fmi2Boolean, terminateSimulation: *mut fmi2Boolean) -> fmi2Status
-            = guarded::<M>(c, &COMPLETED_INTEGRATOR_STEP, |inst| me::completed_integrator_step(inst, out(enterEventMode, "enterEventMode")?, out(terminateSimulation, "terminateSimulation")?));
+            = guarded::<M>(c, &COMPLETED_INTEGRATOR_STEP, |inst| api::completed_integrator_step(inst, out(enterEventMode, "enterEventMode")?, out(terminateSimulation, "terminateSimulation")?));
         fmi2SetTime(c: fmi2Component, time: fmi2Real) -> fmi2Status
             = guarded::<M>(c, &SET_TIME, |inst| me::set_time(inst, time));
         fmi2SetContinuousStates(c: fmi2Component, x: *const fmi2Real, nx: usize) -> fmi2Status
@@ -110,24 +114,4 @@ macro_rules! fmi2_functions {
     }};
 }
 
-/// Expands the table into generic `extern "C"` functions, one per row.
-#[doc(hidden)]
-#[macro_export]
-macro_rules! fmi2_generic_functions {
-    (() $(
-        $([before_export: $before:path])?
-        $name:ident($($param:ident: $type:ty),* $(,)?) -> $ret:ty = $body:expr;
-    )*) => {
-        $(
-            #[allow(unused_variables, unused_unsafe)]
-            pub unsafe extern "C" fn $name<M: Mechanism>($($param: $type),*) -> $ret {
-                // SAFETY: the arguments are the importer's, valid as the standard promises
-                // them; each conversion of `wall` checks what can be checked and states the
-                // rest as its safety contract.
-                unsafe { $body }
-            }
-        )*
-    };
-}
-
-fmi2_functions!(fmi2_generic_functions!());
+fmi2_functions!(fmi_generic_functions!());

@@ -1,17 +1,14 @@
 //! The FMI 2.0 layer, Model Exchange and Co-Simulation. It mirrors the standard and knows
-//! nothing of any mechanism: `ffi` (the C types), `state` (the state machines' table),
-//! `logger`, `instance`, `fmu_state` (FMU states and their portable bytes), `wall` (the C
-//! boundary: checked conversions, `catch_unwind`, failures to statuses), `api` (what each
-//! call does, in safe Rust; `model_exchange` for the calls of Model Exchange) and
-//! `functions` (the table of C signatures, one row per function).
+//! nothing of any mechanism: `ffi` (the C types), `state` (the state machines' table, one
+//! row per function), `instantiate` (`fmi2Instantiate` at the C boundary), `api` (what
+//! each call does, in safe Rust) and
+//! `functions` (the table of C signatures, one row per function), over what it shares
+//! with FMI 3.0 in [`fmi`](crate::fmi) (the instance, FMU states, the logger, the wall,
+//! the Model Exchange calls).
 //! [`export_fmu!`](crate::export_fmu) exports them.
 
 pub mod api;
 pub mod ffi;
-pub mod fmu_state;
 pub mod functions;
-pub mod instance;
-pub mod logger;
-pub mod model_exchange;
+pub mod instantiate;
 pub mod state;
-pub mod wall;

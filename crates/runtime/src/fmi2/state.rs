@@ -1,147 +1,20 @@
-//! The state machines of an instance: FMI 2.0.5, section 3.2.3 (Model Exchange) and section
-//! 4.2.4 (Co-Simulation), the tables of which function may be called in which state.
-//!
-//! Both machines share the states before initialization ends and after it (Instantiated,
-//! InitializationMode, Terminated, Error, Fatal); the states between are Model Exchange's
-//! (EventMode, ContinuousTimeMode) or Co-Simulation's (StepComplete, ...), never both. So
-//! one mask per function serves both tables, and a function of one interface type only
-//! says so ([`Function::interface`]): an instance of the other type is refused it in every
-//! state.
+//! The state machines of FMI 2.0: section 3.2.3 (Model Exchange) and section 4.2.4
+//! (Co-Simulation) of FMI 2.0.5, the tables of which function may be called in which
+//! state, one row per function (see [`machine`](crate::fmi::machine)).
 
-/// A state of either state machine.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[repr(u16)]
-pub enum ModelState {
-    Instantiated = 1 << 0,
-    InitializationMode = 1 << 1,
-    StepComplete = 1 << 2,
-    StepInProgress = 1 << 3,
-    StepFailed = 1 << 4,
-    StepCanceled = 1 << 5,
-    Terminated = 1 << 6,
-    Error = 1 << 7,
-    Fatal = 1 << 8,
-    EventMode = 1 << 9,
-    ContinuousTimeMode = 1 << 10,
-}
-
-impl ModelState {
-    pub fn name(self) -> &'static str {
-        match self {
-            ModelState::Instantiated => "instantiated",
-            ModelState::InitializationMode => "in initialization mode",
-            ModelState::StepComplete => "step complete",
-            ModelState::StepInProgress => "step in progress",
-            ModelState::StepFailed => "step failed",
-            ModelState::StepCanceled => "step canceled",
-            ModelState::Terminated => "terminated",
-            ModelState::Error => "in the error state",
-            ModelState::Fatal => "in the fatal state",
-            ModelState::EventMode => "in event mode",
-            ModelState::ContinuousTimeMode => "in continuous-time mode",
-        }
-    }
-
-    /// The interface type whose own state this is (`None`: a state both machines have).
-    pub fn interface(self) -> Option<Interface> {
-        match self {
-            S::EventMode | S::ContinuousTimeMode => Some(Interface::ModelExchange),
-            S::StepComplete | S::StepInProgress | S::StepFailed | S::StepCanceled => {
-                Some(Interface::CoSimulation)
-            }
-            _ => None,
-        }
-    }
-}
-
-/// What an instance was instantiated as (`fmuType`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Interface {
-    ModelExchange,
-    CoSimulation,
-}
-
-impl Interface {
-    pub fn name(self) -> &'static str {
-        match self {
-            Interface::ModelExchange => "Model Exchange",
-            Interface::CoSimulation => "Co-Simulation",
-        }
-    }
-
-    /// The state an instance goes to when its initialization ends.
-    pub fn initialized(self) -> ModelState {
-        match self {
-            Interface::ModelExchange => ModelState::EventMode,
-            Interface::CoSimulation => ModelState::StepComplete,
-        }
-    }
-}
-
-/// The set of states in which a function may be called.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct StateMask(u16);
-
+use crate::fmi::machine::{self, mask};
+pub use crate::fmi::machine::{Function, Interface, ModelState, StateMask};
+use crate::fmi::Version::Fmi2;
 use ModelState as S;
 
-const fn mask(states: &[ModelState]) -> StateMask {
-    let mut bits = 0;
-    let mut i = 0;
-    while i < states.len() {
-        bits |= states[i] as u16;
-        i += 1;
-    }
-    StateMask(bits)
-}
-
-impl StateMask {
-    pub fn contains(self, state: ModelState) -> bool {
-        self.0 & state as u16 != 0
-    }
-}
-
-/// One FMI function: its name (for messages), the states it may be called in, and the
-/// interface type it belongs to (`None`: both).
-#[derive(Clone, Copy, Debug)]
-pub struct Function {
-    pub name: &'static str,
-    pub allowed: StateMask,
-    pub interface: Option<Interface>,
-}
-
-impl Function {
-    /// Whether an instance of `interface` in `state` may call it.
-    #[inline(always)]
-    pub fn allows(&self, interface: Interface, state: ModelState) -> bool {
-        self.allowed.contains(state) && self.interface.is_none_or(|i| i == interface)
-    }
-}
-
-/// A function of both interface types.
 const fn f(name: &'static str, allowed: StateMask) -> Function {
-    Function {
-        name,
-        allowed,
-        interface: None,
-    }
+    machine::f(Fmi2, name, allowed)
 }
-
-/// A function of Model Exchange only.
 const fn me(name: &'static str, allowed: StateMask) -> Function {
-    Function {
-        name,
-        allowed,
-        interface: Some(Interface::ModelExchange),
-    }
+    machine::me(Fmi2, name, allowed)
 }
-
-/// A function of Co-Simulation only.
 const fn cs(name: &'static str, allowed: StateMask) -> Function {
-    Function {
-        name,
-        allowed,
-        interface: Some(Interface::CoSimulation),
-    }
+    machine::cs(Fmi2, name, allowed)
 }
 
 // The rows of the tables. "Any state with an instance but fatal" recurs:

@@ -4,11 +4,13 @@
 //! variables) and the [`Mechanism`] trait (its equations). The modelDescription, value
 //! references, GUID, FMI functions and documentation are all generated from these two.
 
+mod arrays;
 mod layout;
 mod scalar;
 mod values;
 mod variable;
 
+pub use arrays::{check_arrays, Array, Shaped, Shapes};
 pub use layout::{check_declaration, check_event_indicators, event_indicator_references, Layout};
 #[doc(hidden)]
 pub use layout::{
@@ -178,6 +180,12 @@ pub trait Mechanism: Declaration {
     /// asked at the very time a limit is crossed rather than at the end of the step that
     /// crossed it. A name that is not a continuous variable does not compile.
     const EVENT_INDICATORS: &'static [&'static str] = &[];
+
+    /// Declared scalars grouped into the arrays the physics has (an inertia tensor, a
+    /// quaternion): FMI 3.0 shows each as one array variable, FMI 2.0 keeps the scalars.
+    /// An array of states needs the array of their derivatives, in the same order. See
+    /// [`Array`].
+    const ARRAYS: &'static [Array] = &[];
 }
 
 /// A complete evaluation at the point the values hold: [`Mechanism::evaluate`] (the

@@ -7,21 +7,27 @@
 //! - [`model_description_with`]: the writer itself, from a plain [`FmuInfo`].
 //!
 //! Units come from [`units`] (base-unit exponents, `deg` display units, quantities), the
-//! `<ModelStructure>` dependencies from [`structure`] (found numerically).
+//! `<ModelStructure>` dependencies from [`structure`] (found numerically). The FMI 3.0
+//! model description of the same declaration is [`fmi3`]'s; what both write alike (units,
+//! log categories, the default experiment, numbers) is written by one private module.
 
+pub mod fmi3;
+mod shared;
 pub mod structure;
 pub mod units;
 
 use std::io;
 
-use quick_xml::events::{BytesDecl, Event};
 use quick_xml::Writer;
 
 pub use structure::{ModelStructure, Unknown};
 
 use crate::contract::{Capabilities, CAPABILITIES, LOG_CATEGORIES};
-use crate::model::{Experiment, Layout, Mechanism, Variable};
-use units::{BaseUnit, DisplayUnit};
+use crate::model::{Experiment, Mechanism, Variable};
+use shared::{
+    generation_tool, one_line, pairs, real, write_default_experiment, write_log_categories,
+    write_units, Attributes, UnitInfo,
+};
 
 /// Everything the modelDescription is written from.
 #[derive(Clone, Copy, Debug)]
@@ -66,96 +72,15 @@ pub fn model_description_for<M: Mechanism>(capabilities: &Capabilities) -> Resul
         log_categories: &LOG_CATEGORIES,
         structure: &structure,
         event_indicators: M::EVENT_INDICATORS.len(),
-        needs_completed_integrator_step: M::MONITORED || M::PROJECTED,
+        needs_completed_integrator_step: crate::contract::needs_completed_integrator_step::<M>(),
     })
-}
-
-/// Whitespace runs (doc-comment line breaks, indentation) as single spaces, trimmed.
-fn one_line(text: &str) -> String {
-    text.split_whitespace().collect::<Vec<_>>().join(" ")
-}
-
-/// A real number as `xs:double`: Rust's shortest round-trip form (`20.0`, `0.01`, `1e-8`).
-fn real(x: f64) -> String {
-    if x == 0.0 {
-        "0.0".into()
-    } else {
-        format!("{x:?}")
-    }
-}
-
-/// A unit used by the model, with its `<SimpleType>`.
-struct UnitInfo<'a> {
-    name: &'a str,
-    base: BaseUnit,
-    display: Option<DisplayUnit>,
-    quantity: Option<&'static str>,
-    type_name: String,
-}
-
-impl<'a> UnitInfo<'a> {
-    fn new(name: &'a str) -> Result<Self, String> {
-        let quantity = units::quantity(name);
-        let type_name = match (quantity, name) {
-            (Some(q), _) => q.to_string(),
-            (None, "1") => "Dimensionless".to_string(),
-            (None, _) => format!("Real_{}", name.replace('.', "_").replace('/', "_per_")),
-        };
-        Ok(UnitInfo {
-            name,
-            base: units::parse(name)?,
-            display: units::display_unit(name)?,
-            quantity,
-            type_name,
-        })
-    }
 }
 
 /// Checks what the schema and the standard require of the declaration, and collects the
 /// units in order of first use.
 fn check<'a>(info: &FmuInfo<'a>) -> Result<Vec<UnitInfo<'a>>, String> {
     let name = info.name;
-    if name.is_empty() {
-        return Err("the model name is empty".into());
-    }
-    let layout = Layout::new(info.variables).map_err(|e| format!("{name}: {e}"))?;
-    for (i, &d) in layout.derivatives.iter().enumerate() {
-        if layout.derivatives[..i].contains(&d) {
-            return Err(format!(
-                "{name}: `{}` is the derivative of two states",
-                info.variables[d].name
-            ));
-        }
-    }
-    let e = info.experiment;
-    for (what, x) in [
-        ("start", e.start),
-        ("stop", e.stop),
-        ("step", e.step),
-        ("tolerance", e.tolerance),
-    ] {
-        if !x.is_finite() {
-            return Err(format!(
-                "{name}: DefaultExperiment {what} = {x} is not finite"
-            ));
-        }
-    }
-    let mut units: Vec<UnitInfo> = Vec::new();
-    for v in info.variables {
-        for (what, x) in [("start", v.start), ("min", v.min), ("max", v.max)] {
-            if let Some(x) = x.filter(|x| !x.is_finite()) {
-                return Err(format!(
-                    "{name}: {what} of `{}` = {x} is not finite",
-                    v.name
-                ));
-            }
-        }
-        if !v.unit.is_empty() && !units.iter().any(|u| u.name == v.unit) {
-            units.push(
-                UnitInfo::new(v.unit).map_err(|e| format!("{name}: variable `{}`: {e}", v.name))?,
-            );
-        }
-    }
+    let units = shared::check_declaration(name, info.variables, info.experiment)?;
     for u in &units {
         if let Some(v) = info.variables.iter().find(|v| v.name == u.type_name) {
             return Err(format!(
@@ -184,21 +109,11 @@ fn check<'a>(info: &FmuInfo<'a>) -> Result<Vec<UnitInfo<'a>>, String> {
 /// The modelDescription.xml written from `info`.
 pub fn model_description_with(info: &FmuInfo) -> Result<String, String> {
     let units = check(info)?;
-    let bytes = write(info, &units).map_err(|e| format!("{}: {e}", info.name))?;
-    let mut xml = String::from_utf8(bytes).map_err(|e| e.to_string())?;
-    xml.push('\n');
-    Ok(xml)
-}
-
-type Attributes = Vec<(&'static str, String)>;
-
-fn pairs(attributes: &Attributes) -> impl Iterator<Item = (&str, &str)> {
-    attributes.iter().map(|(k, v)| (*k, v.as_str()))
+    shared::finish(info.name, write(info, &units))
 }
 
 fn write(info: &FmuInfo, units: &[UnitInfo]) -> io::Result<Vec<u8>> {
-    let mut w = Writer::new_with_indent(Vec::new(), b' ', 2);
-    w.write_event(Event::Decl(BytesDecl::new("1.0", Some("UTF-8"), None)))?;
+    let mut w = shared::writer()?;
     let mut root: Attributes = vec![
         ("fmiVersion", "2.0".into()),
         ("modelName", info.name.into()),
@@ -209,10 +124,7 @@ fn write(info: &FmuInfo, units: &[UnitInfo]) -> io::Result<Vec<u8>> {
         root.push(("description", description));
     }
     root.extend([
-        (
-            "generationTool",
-            format!("mechfmu {}", env!("CARGO_PKG_VERSION")),
-        ),
+        ("generationTool", generation_tool()),
         ("variableNamingConvention", "flat".into()),
         ("numberOfEventIndicators", info.event_indicators.to_string()),
     ]);
@@ -235,54 +147,11 @@ fn write(info: &FmuInfo, units: &[UnitInfo]) -> io::Result<Vec<u8>> {
             write_units(w, units)?;
             write_types(w, units)?;
             write_log_categories(w, info.log_categories)?;
-            let e = info.experiment;
-            w.create_element("DefaultExperiment")
-                .with_attributes(pairs(&vec![
-                    ("startTime", real(e.start)),
-                    ("stopTime", real(e.stop)),
-                    ("tolerance", real(e.tolerance)),
-                    ("stepSize", real(e.step)),
-                ]))
-                .write_empty()?;
+            write_default_experiment(w, &info.experiment)?;
             write_variables(w, info, units)?;
             write_structure(w, info.structure)
         })?;
     Ok(w.into_inner())
-}
-
-fn write_units(w: &mut Writer<Vec<u8>>, units: &[UnitInfo]) -> io::Result<()> {
-    if units.is_empty() {
-        return Ok(());
-    }
-    w.create_element("UnitDefinitions")
-        .write_inner_content(|w| {
-            for u in units {
-                w.create_element("Unit")
-                    .with_attribute(("name", u.name))
-                    .write_inner_content(|w| {
-                        let exponents: Attributes = u
-                            .base
-                            .exponents()
-                            .into_iter()
-                            .map(|(k, e)| (k, e.to_string()))
-                            .collect();
-                        w.create_element("BaseUnit")
-                            .with_attributes(pairs(&exponents))
-                            .write_empty()?;
-                        if let Some(d) = &u.display {
-                            w.create_element("DisplayUnit")
-                                .with_attributes(pairs(&vec![
-                                    ("name", d.name.clone()),
-                                    ("factor", real(d.factor)),
-                                ]))
-                                .write_empty()?;
-                        }
-                        Ok(())
-                    })?;
-            }
-            Ok(())
-        })?;
-    Ok(())
 }
 
 fn write_types(w: &mut Writer<Vec<u8>>, units: &[UnitInfo]) -> io::Result<()> {
@@ -311,21 +180,6 @@ fn write_types(w: &mut Writer<Vec<u8>>, units: &[UnitInfo]) -> io::Result<()> {
             }
             Ok(())
         })?;
-    Ok(())
-}
-
-fn write_log_categories(w: &mut Writer<Vec<u8>>, categories: &[(&str, &str)]) -> io::Result<()> {
-    if categories.is_empty() {
-        return Ok(());
-    }
-    w.create_element("LogCategories").write_inner_content(|w| {
-        for &(name, description) in categories {
-            w.create_element("Category")
-                .with_attributes([("name", name), ("description", description)])
-                .write_empty()?;
-        }
-        Ok(())
-    })?;
     Ok(())
 }
 

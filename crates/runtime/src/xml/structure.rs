@@ -17,25 +17,42 @@ use crate::model::{evaluate_all, Causality, Initial, Layout, Mechanism, ValueSet
 use crate::simulation::start_values;
 
 /// One `<Unknown>`: a variable and the knowns it depends on, as value references (0-based;
-/// the XML writes 1-based `ScalarVariable` indices), ascending.
+/// the FMI 2.0 XML writes 1-based `ScalarVariable` indices), ascending. With
+/// [`Knowns::Fmi3`], the value reference `VARIABLES.len()` stands for the time (FMI 3.0's
+/// independent variable has the value reference after the last variable's).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Unknown {
     pub vr: usize,
     pub dependencies: Vec<usize>,
 }
 
-/// The three lists of `<ModelStructure>`.
+/// The three lists of `<ModelStructure>`, by scalar variable.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct ModelStructure {
     /// Every output, in value-reference order. Knowns: the inputs, and the continuous
-    /// states.
+    /// states (and, for FMI 3.0, the parameters and the time).
     pub outputs: Vec<Unknown>,
-    /// The state derivatives in state order. Knowns: the inputs and the states.
+    /// The state derivatives in state order. Knowns: as for the outputs.
     pub derivatives: Vec<Unknown>,
     /// Outputs with `initial` approx/calculated, calculated parameters, and
     /// approx/calculated states and state derivatives, by value reference.
-    /// Knowns: the inputs and the variables with `initial="exact"`.
+    /// Knowns: the inputs and the variables with `initial="exact"` (and, for FMI 3.0, the
+    /// time).
     pub initial_unknowns: Vec<Unknown>,
+}
+
+/// Which variables are the knowns of `dependencies`: the two standards differ.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Knowns {
+    /// FMI 2.0.5, section 2.2.8: outputs and derivatives depend on the inputs and the
+    /// continuous states; initial unknowns on the inputs and the `initial="exact"`
+    /// variables.
+    Fmi2,
+    /// FMI 3.0, section 2.4.8 (`dependencies`): the parameters (`causality="parameter"`)
+    /// and the independent variable are knowns too, for outputs and derivatives; the
+    /// independent variable for initial unknowns. An unknown whose dependencies leave a
+    /// known out has a partial derivative of zero with respect to it.
+    Fmi3,
 }
 
 fn is_unknown_initially(v: &Variable) -> bool {
@@ -45,21 +62,37 @@ fn is_unknown_initially(v: &Variable) -> bool {
     )
 }
 
-/// Computes the model structure of `M`.
+/// Computes the model structure of `M` as FMI 2.0 has it.
 ///
 /// Every FMU is a Model Exchange FMU too, and Model Exchange needs `<Derivatives>` and the
 /// continuous-time states among the knowns of `dependencies` (FMI 2.0.5, section 2.2.8):
 /// so both are always there, whatever the capabilities.
 pub fn model_structure<M: Mechanism>() -> Result<ModelStructure, String> {
+    model_structure_with::<M>(Knowns::Fmi2)
+}
+
+/// Computes the model structure of `M` with the knowns of one standard, by scalar variable.
+pub fn model_structure_with<M: Mechanism>(standard: Knowns) -> Result<ModelStructure, String> {
     let variables = M::VARIABLES;
     let layout = Layout::new(variables).map_err(|e| format!("{}: {e}", M::NAME))?;
     let points = points::<M>()?;
+    // The time, as a known of FMI 3.0.
+    let time = (standard == Knowns::Fmi3).then_some(variables.len());
 
-    // Knowns at communication points and in continuous-time mode: inputs and states.
+    // Knowns at communication points and in continuous-time mode: inputs and states (and
+    // for FMI 3.0 the parameters and the time).
     let mut knowns: Vec<usize> = layout.inputs.clone();
     knowns.extend(&layout.states);
+    if standard == Knowns::Fmi3 {
+        knowns.extend(
+            (variables.iter().enumerate())
+                .filter(|(_, v)| v.causality == Causality::Parameter)
+                .map(|(vr, _)| vr),
+        );
+    }
     knowns.sort_unstable();
     knowns.dedup();
+    knowns.extend(time);
 
     // An output that is a state is a known itself: it depends on itself only.
     let computed: Vec<usize> = layout
@@ -87,7 +120,8 @@ pub fn model_structure<M: Mechanism>() -> Result<ModelStructure, String> {
         .map(|(&vr, dependencies)| Unknown { vr, dependencies })
         .collect();
 
-    // InitialUnknowns, knowns in Initialization Mode: inputs and initial="exact".
+    // InitialUnknowns, knowns in Initialization Mode: inputs and initial="exact" (and for
+    // FMI 3.0 the time).
     let mut unknowns: Vec<usize> = variables
         .iter()
         .enumerate()
@@ -105,7 +139,7 @@ pub fn model_structure<M: Mechanism>() -> Result<ModelStructure, String> {
     );
     unknowns.sort_unstable();
     unknowns.dedup();
-    let initial_knowns: Vec<usize> = variables
+    let mut initial_knowns: Vec<usize> = variables
         .iter()
         .enumerate()
         .filter(|(_, v)| {
@@ -113,6 +147,7 @@ pub fn model_structure<M: Mechanism>() -> Result<ModelStructure, String> {
         })
         .map(|(vr, _)| vr)
         .collect();
+    initial_knowns.extend(time);
     let deps = dependencies::<M>(&points, &unknowns, &initial_knowns);
     let initial_unknowns = unknowns
         .iter()
@@ -197,9 +232,16 @@ fn points<M: Mechanism>() -> Result<Vec<M::Values<f64>>, String> {
 
 /// `p` with known `vr` moved by 1e-3 relative (1e-3 absolute from zero), upwards unless
 /// that leaves its bounds or `calculate` refuses it; `None` when neither direction works.
+/// `vr = VARIABLES.len()` is the time, moved upwards.
 fn perturbed<M: Mechanism>(p: &M::Values<f64>, vr: usize) -> Option<M::Values<f64>> {
+    let step = |x: f64| if x != 0.0 { 1e-3 * x.abs() } else { 1e-3 };
+    if vr == M::VARIABLES.len() {
+        let mut q = p.clone();
+        q.set_time(p.time() + step(p.time()));
+        return Some(q);
+    }
     let x = p.get(vr)?;
-    let delta = if x != 0.0 { 1e-3 * x.abs() } else { 1e-3 };
+    let delta = step(x);
     let variable = &M::VARIABLES[vr];
     [x + delta, x - delta].into_iter().find_map(|y| {
         if variable.check_value(y).is_err() {
@@ -325,6 +367,22 @@ mod tests {
                 unknown(6, &[1]),
                 unknown(7, &[1])
             ]
+        );
+    }
+
+    #[test]
+    fn fmi3_has_the_parameters_and_the_time_as_knowns() {
+        let s = model_structure_with::<Probe>(Knowns::Fmi3).unwrap();
+        // The parameters a (0) and b (1) are knowns now; the time (8) moves nothing here.
+        assert_eq!(
+            s.outputs,
+            vec![unknown(3, &[3]), unknown(5, &[0, 2, 3]), unknown(6, &[1])]
+        );
+        assert_eq!(s.derivatives, vec![unknown(4, &[0, 2, 3])]);
+        // In Initialization Mode the parameters were knowns already (initial="exact").
+        assert_eq!(
+            s.initial_unknowns,
+            model_structure::<Probe>().unwrap().initial_unknowns
         );
     }
 

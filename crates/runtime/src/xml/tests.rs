@@ -78,13 +78,13 @@ impl Mechanism for Odd {
 
 /// An element (start or empty tag) read back: name and attributes.
 #[derive(Debug)]
-struct Element {
-    name: String,
-    attributes: Vec<(String, String)>,
+pub(super) struct Element {
+    pub(super) name: String,
+    pub(super) attributes: Vec<(String, String)>,
 }
 
 impl Element {
-    fn get(&self, key: &str) -> Option<&str> {
+    pub(super) fn get(&self, key: &str) -> Option<&str> {
         self.attributes
             .iter()
             .find(|(k, _)| k == key)
@@ -94,7 +94,7 @@ impl Element {
 
 /// Parses the XML back with quick-xml's reader (all well-formedness checks on), checking
 /// that every tag is closed; returns the elements in document order with their depth.
-fn parse_back(xml: &str) -> Vec<(usize, Element)> {
+pub(super) fn parse_back(xml: &str) -> Vec<(usize, Element)> {
     let mut reader = Reader::from_str(xml);
     reader.config_mut().trim_text(true);
     reader.config_mut().enable_all_checks(true);
@@ -116,6 +116,8 @@ fn parse_back(xml: &str) -> Vec<(usize, Element)> {
                 (None, false)
             }
             Event::Eof => break,
+            // Annotations' text (FMI 3.0's arrays name their FMI 2.0 scalars).
+            Event::Text(_) => (None, false),
             other => panic!("unexpected event {other:?}"),
         };
         if let Some(e) = start {
@@ -156,7 +158,7 @@ fn swing() -> String {
     model_description_for::<Swing>(&Capabilities::NONE).unwrap()
 }
 
-fn find<'a>(elements: &'a [(usize, Element)], name: &str) -> Vec<&'a Element> {
+pub(super) fn find<'a>(elements: &'a [(usize, Element)], name: &str) -> Vec<&'a Element> {
     elements
         .iter()
         .filter(|(_, e)| e.name == name)

@@ -1,4 +1,5 @@
-//! FMU states (`fmi2GetFMUstate` & co.) and their portable serialized form.
+//! FMU states (`fmi2GetFMUstate`, `fmi3GetFMUState` & co.) and their portable serialized
+//! form, the same for both standards but for the token that names the build.
 //!
 //! Serialized layout (all integers and floats little-endian, floats as IEEE-754 bits):
 //!
@@ -6,12 +7,12 @@
 //! |---|---|
 //! | magic `b"mechfmuS"` | 8 bytes |
 //! | format version | u32 |
-//! | model identifier, GUID | u32 length + UTF-8 bytes, each |
+//! | model identifier, GUID (FMI 2.0) or instantiation token (FMI 3.0) | u32 length + UTF-8 bytes, each |
 //! | values (every variable by value reference, then time) | u32 count + f64 each |
 //! | inputs, then their 1st and 2nd derivatives | u32 count + f64 × 3 each |
 //! | solver: next step size (u8 present + f64), log2 of the error memory (f64) | |
 //! | tolerance: rtol, atol | f64, f64 |
-//! | flags: 1 warning active, 2 values dirty, 4 terminated, 8 solver on its 8th-order method | u8 |
+//! | flags: 1 warning active, 2 values dirty, 4 terminated, 8 solver on its 8th-order method, 16 a Model Exchange instance's | u8 |
 //! | state-machine state | u16 |
 //! | stop time (u8 present + f64), last successful time (f64), last step status (u32) | |
 //! | checksum: FNV-1a 64 of every byte before it | u64 |
@@ -19,15 +20,16 @@
 //! No pointers, no padding, no host-dependent sizes: a state serialized in one process (or
 //! machine) restores in another running the same FMU.
 
-use super::ffi::*;
-use super::state::ModelState;
+use super::machine::{Interface, ModelState};
+use super::Version;
 use crate::model::Mechanism;
 use crate::simulation::SavedState;
 use crate::solver::{SolverMemory, Tolerance};
 
 const MAGIC: &[u8; 8] = b"mechfmuS";
 /// 2: the solver's method among the flags. 3: the solver's error memory as its logarithm.
-const FORMAT_VERSION: u32 = 3;
+/// 4: the interface type among the flags.
+const FORMAT_VERSION: u32 = 4;
 /// Marks live in-memory FMU states handed to the importer.
 pub(crate) const STATE_MAGIC: u64 = 0x6d65_6368_7374_6174; // "mechstat"
 
@@ -35,27 +37,19 @@ pub(crate) const STATE_MAGIC: u64 = 0x6d65_6368_7374_6174; // "mechstat"
 #[derive(Clone, Debug, PartialEq)]
 pub struct FmuState {
     pub(crate) magic: u64,
+    /// The standard and the interface type of the instance it was saved from.
+    pub version: Version,
+    pub interface: Interface,
     pub sim: SavedState,
     pub model_state: ModelState,
     pub stop_time: Option<f64>,
     pub last_successful_time: f64,
     pub terminated: bool,
-    pub last_step_status: fmi2Status,
+    pub last_step_status: super::Status,
 }
 
-const STATES: [ModelState; 11] = [
-    ModelState::Instantiated,
-    ModelState::InitializationMode,
-    ModelState::StepComplete,
-    ModelState::StepInProgress,
-    ModelState::StepFailed,
-    ModelState::StepCanceled,
-    ModelState::Terminated,
-    ModelState::Error,
-    ModelState::Fatal,
-    ModelState::EventMode,
-    ModelState::ContinuousTimeMode,
-];
+/// The largest status either standard has (`fmi2Pending`).
+const LAST_STATUS: u32 = 5;
 
 fn fnv(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
@@ -74,12 +68,13 @@ pub fn reseal(bytes: &mut [u8]) {
 }
 
 impl FmuState {
-    /// The serialized bytes of this state, for mechanism `M`.
+    /// The serialized bytes of this state, for mechanism `M` (the token of the standard it
+    /// was saved under).
     pub fn to_bytes<M: Mechanism>(&self) -> Vec<u8> {
         let mut w = Vec::with_capacity(256 + 8 * self.sim.values.len());
         w.extend_from_slice(MAGIC);
         w.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
-        for s in [M::NAME.to_string(), crate::contract::guid::<M>()] {
+        for s in [M::NAME.to_string(), self.version.token::<M>()] {
             w.extend_from_slice(&(s.len() as u32).to_le_bytes());
             w.extend_from_slice(s.as_bytes());
         }
@@ -104,7 +99,8 @@ impl FmuState {
             self.sim.warning_active as u8
                 | (self.sim.dirty as u8) << 1
                 | (self.terminated as u8) << 2
-                | (self.sim.solver.high_order as u8) << 3,
+                | (self.sim.solver.high_order as u8) << 3
+                | ((self.interface == Interface::ModelExchange) as u8) << 4,
         );
         w.extend_from_slice(&(self.model_state as u16).to_le_bytes());
         opt(&mut w, self.stop_time);
@@ -116,8 +112,8 @@ impl FmuState {
     }
 
     /// Reads serialized bytes, refusing anything malformed, truncated, corrupted, of
-    /// another format version, or of another model.
-    pub fn from_bytes<M: Mechanism>(bytes: &[u8]) -> Result<FmuState, String> {
+    /// another format version, or of another model or standard than `version`'s `M`.
+    pub fn from_bytes<M: Mechanism>(bytes: &[u8], version: Version) -> Result<FmuState, String> {
         if bytes.len() < MAGIC.len() + 4 + 8 || &bytes[..8] != MAGIC {
             return Err(
                 "these bytes are not a serialized mechfmu FMU state (wrong magic tag)".into(),
@@ -128,10 +124,10 @@ impl FmuState {
             bytes: &body[8..],
             at: 8,
         };
-        let version = r.u32()?;
-        if version != FORMAT_VERSION {
+        let format = r.u32()?;
+        if format != FORMAT_VERSION {
             return Err(format!(
-                "serialized FMU state has format version {version}; this FMU reads version {FORMAT_VERSION}"
+                "serialized FMU state has format version {format}; this FMU reads version {FORMAT_VERSION}"
             ));
         }
         let checksum = u64::from_le_bytes(tail.try_into().expect("8 bytes"));
@@ -148,10 +144,14 @@ impl FmuState {
                 M::NAME
             ));
         }
-        let expected = crate::contract::guid::<M>();
+        let expected = version.token::<M>();
         if guid != expected {
+            let what = match version {
+                Version::Fmi2 => "GUID",
+                Version::Fmi3 => "instantiation token",
+            };
             return Err(format!(
-                "serialized FMU state is of another build of {name} (GUID {guid}, this FMU has {expected})"
+                "serialized FMU state is of another build of {name}, or of its other FMI version ({what} {guid}, this FMU has {expected})"
             ));
         }
         let n = r.u32()? as usize;
@@ -182,7 +182,7 @@ impl FmuState {
         let tolerance =
             Tolerance::new(rtol, atol).ok_or("serialized FMU state has an invalid tolerance")?;
         let flags = r.u8()?;
-        if flags & !15 != 0 {
+        if flags & !31 != 0 {
             return Err(format!("serialized FMU state has unknown flags {flags:#x}"));
         }
         let solver = SolverMemory {
@@ -197,7 +197,7 @@ impl FmuState {
             ));
         }
         let state_bits = r.u16()?;
-        let model_state = STATES
+        let model_state = ModelState::ALL
             .into_iter()
             .find(|s| *s as u16 == state_bits)
             .ok_or_else(|| {
@@ -206,7 +206,7 @@ impl FmuState {
         let stop_time = r.opt_f64()?;
         let last_successful_time = r.f64()?;
         let last_step_status = r.u32()?;
-        if last_step_status > fmi2Pending {
+        if last_step_status > LAST_STATUS {
             return Err(format!(
                 "serialized FMU state has an unknown step status {last_step_status}"
             ));
@@ -221,6 +221,29 @@ impl FmuState {
             return Err(format!(
                 "serialized FMU state has instance state \"{}\", which no saved state of this FMU has",
                 model_state.name()
+            ));
+        }
+        let interface = if flags & 16 != 0 {
+            Interface::ModelExchange
+        } else {
+            Interface::CoSimulation
+        };
+        let machine_of_other_interface = match model_state {
+            ModelState::ContinuousTimeMode => interface != Interface::ModelExchange,
+            ModelState::StepComplete | ModelState::StepFailed => {
+                interface != Interface::CoSimulation
+            }
+            // Co-Simulation has an event mode in FMI 3.0 only.
+            ModelState::EventMode => {
+                interface == Interface::CoSimulation && version == Version::Fmi2
+            }
+            _ => false,
+        };
+        if machine_of_other_interface {
+            return Err(format!(
+                "serialized FMU state has instance state \"{}\", which a {} instance does not have",
+                model_state.name(),
+                interface.name()
             ));
         }
         let time = values[n - 1];
@@ -243,6 +266,8 @@ impl FmuState {
         }
         Ok(FmuState {
             magic: STATE_MAGIC,
+            version,
+            interface,
             sim: SavedState {
                 values,
                 inputs,

@@ -10,12 +10,13 @@
 
 #![allow(non_upper_case_globals)]
 
-use super::ffi::*;
 use super::fmu_state::{FmuState, STATE_MAGIC};
-use super::instance::{Instance, MAGIC};
-use super::state::{Function, ModelState};
+use super::instance::{magic, Instance};
+use super::machine::{Function, ModelState};
+use super::{Status, Version, DISCARD, ERROR, OK};
 use crate::model::Mechanism;
 use std::ffi::CStr;
+use std::os::raw::{c_char, c_void};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// Largest array length accepted from an importer: beyond it a length is surely garbage.
@@ -24,25 +25,25 @@ const MAX_ARRAY: usize = 1 << 24;
 /// A failed call: the status to return and the message to log.
 #[derive(Debug)]
 pub struct Failure {
-    pub status: fmi2Status,
+    pub status: Status,
     pub message: String,
 }
 
 /// What a call's body returns: the status of a success, or a failure to log.
-pub type Outcome = Result<fmi2Status, Failure>;
+pub type Outcome = Result<Status, Failure>;
 
-/// A failure with `fmi2Error`.
+/// A failure with `Error`.
 pub fn error(message: impl Into<String>) -> Failure {
     Failure {
-        status: fmi2Error,
+        status: ERROR,
         message: message.into(),
     }
 }
 
-/// A failure with `fmi2Discard`.
+/// A failure with `Discard`.
 pub fn discard(message: impl Into<String>) -> Failure {
     Failure {
-        status: fmi2Discard,
+        status: DISCARD,
         message: message.into(),
     }
 }
@@ -56,18 +57,22 @@ impl From<String> for Failure {
 /// The instance behind `c`, if it is a live instance of this FMU.
 ///
 /// # Safety
-/// `c` is NULL or a pointer the importer got from `fmi2Instantiate` of this binary (freed
-/// or not: the magic number, cleared when an instance is freed, refuses a stale one while
-/// its memory is still mapped).
-pub(crate) unsafe fn instance<'a, M: Mechanism>(c: fmi2Component) -> Option<&'a mut Instance<M>> {
+/// `c` is NULL or a pointer the importer got from instantiating this binary (freed or not:
+/// the magic number, cleared when an instance is freed, refuses a stale one while its memory
+/// is still mapped; it also refuses an instance of the other standard than `version`).
+pub(crate) unsafe fn instance<'a, M: Mechanism>(
+    c: *mut c_void,
+    version: Version,
+) -> Option<&'a mut Instance<M>> {
     let ptr = c as *mut Instance<M>;
     if ptr.is_null() || !ptr.is_aligned() {
         return None;
     }
-    // SAFETY: `c` came from fmi2Instantiate (see above); the importer calls one function of
-    // an instance at a time (FMI 2.0.5, section 2.1.5), so the borrow is exclusive.
+    // SAFETY: `c` came from instantiating (see above); the importer calls one function of
+    // an instance at a time (FMI 2.0.5, section 2.1.5; FMI 3.0, section 2.2.3), so the
+    // borrow is exclusive.
     let inst = unsafe { &mut *ptr };
-    (inst.magic == MAGIC).then_some(inst)
+    (inst.magic == magic(version)).then_some(inst)
 }
 
 /// Whether `function` may be called in the instance's state (the standard's table); logs
@@ -94,7 +99,7 @@ fn refused<M: Mechanism>(inst: &Instance<M>, function: &Function) -> bool {
             inst.state.name()
         ),
     };
-    inst.logger.log(fmi2Error, &message);
+    inst.logger.log(ERROR, &message);
     false
 }
 
@@ -105,17 +110,17 @@ fn refused<M: Mechanism>(inst: &Instance<M>, function: &Function) -> bool {
 /// # Safety
 /// As for [`instance`].
 pub unsafe fn guarded<M: Mechanism>(
-    c: fmi2Component,
+    c: *mut c_void,
     function: &Function,
     body: impl FnOnce(&mut Instance<M>) -> Outcome,
-) -> fmi2Status {
+) -> Status {
     let result = catch_unwind(AssertUnwindSafe(|| {
         // SAFETY: the caller's promise.
-        let Some(inst) = (unsafe { instance::<M>(c) }) else {
-            return fmi2Error;
+        let Some(inst) = (unsafe { instance::<M>(c, function.version) }) else {
+            return ERROR;
         };
         if !allowed(inst, function) {
-            return fmi2Error;
+            return ERROR;
         }
         match body(inst) {
             Ok(status) => status,
@@ -131,10 +136,10 @@ pub unsafe fn guarded<M: Mechanism>(
         // The instance may be half-updated: it can only be reset or freed from here on.
         let _ = catch_unwind(AssertUnwindSafe(|| {
             // SAFETY: the caller's promise; the body's borrow has ended with its panic.
-            if let Some(inst) = unsafe { instance::<M>(c) } {
+            if let Some(inst) = unsafe { instance::<M>(c, function.version) } {
                 inst.state = ModelState::Error;
                 inst.logger.log(
-                    fmi2Error,
+                    ERROR,
                     &format!(
                         "{}: internal error ({what}); the instance must be reset",
                         function.name
@@ -142,14 +147,14 @@ pub unsafe fn guarded<M: Mechanism>(
                 );
             }
         }));
-        fmi2Error
+        ERROR
     })
 }
 
 /// Logs a failed call; its status. Cold: off the path of every successful call.
 #[cold]
 #[inline(never)]
-fn failed(logger: &super::logger::Logger, function: &Function, failure: Failure) -> fmi2Status {
+fn failed(logger: &super::logger::Logger, function: &Function, failure: Failure) -> Status {
     let Failure { status, message } = failure;
     logger.log(status, &format!("{}: {message}", function.name));
     status
@@ -162,8 +167,8 @@ pub fn guarded_or<T>(fallback: T, body: impl FnOnce() -> T) -> T {
 }
 
 /// Hands a new instance to the importer.
-pub fn into_component<M: Mechanism>(instance: Box<Instance<M>>) -> fmi2Component {
-    Box::into_raw(instance) as fmi2Component
+pub fn into_component<M: Mechanism>(instance: Box<Instance<M>>) -> *mut c_void {
+    Box::into_raw(instance) as *mut c_void
 }
 
 /// Frees the instance behind `c` if it is live and may be freed in its state (else logs
@@ -171,10 +176,10 @@ pub fn into_component<M: Mechanism>(instance: Box<Instance<M>>) -> fmi2Component
 ///
 /// # Safety
 /// As for [`instance`]; the importer does not use `c` after this call.
-pub unsafe fn free_component<M: Mechanism>(c: fmi2Component, function: &Function) {
+pub unsafe fn free_component<M: Mechanism>(c: *mut c_void, function: &Function) {
     let _ = catch_unwind(AssertUnwindSafe(|| {
         // SAFETY: the caller's promise.
-        let Some(inst) = (unsafe { instance::<M>(c) }) else {
+        let Some(inst) = (unsafe { instance::<M>(c, function.version) }) else {
             return;
         };
         if !allowed(inst, function) {
@@ -199,7 +204,7 @@ pub unsafe fn slice<'a, T>(ptr: *const T, n: usize, what: &str) -> Result<&'a [T
         return Ok(&[]);
     }
     if ptr.is_null() || n > MAX_ARRAY || !ptr.is_aligned() {
-        return Err(bad_array(ptr.is_null(), n, what));
+        return Err(bad_array(ptr, n, what));
     }
     // SAFETY: the caller's promise; NULL, misalignment and absurd lengths are refused.
     Ok(unsafe { std::slice::from_raw_parts(ptr, n) })
@@ -215,7 +220,7 @@ pub unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize, what: &str) -> Result<&'a 
         return Ok(&mut []);
     }
     if ptr.is_null() || n > MAX_ARRAY || !ptr.is_aligned() {
-        return Err(bad_array(ptr.is_null(), n, what));
+        return Err(bad_array(ptr, n, what));
     }
     // SAFETY: the caller's promise; NULL, misalignment and absurd lengths are refused.
     Ok(unsafe { std::slice::from_raw_parts_mut(ptr, n) })
@@ -224,12 +229,22 @@ pub unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize, what: &str) -> Result<&'a 
 /// Why an importer's array was refused.
 #[cold]
 #[inline(never)]
-fn bad_array(null: bool, n: usize, what: &str) -> Failure {
-    if null {
+fn bad_array<T>(ptr: *const T, n: usize, what: &str) -> Failure {
+    if ptr.is_null() {
         error(format!("{what} is NULL but its length is {n}"))
-    } else {
+    } else if n > MAX_ARRAY {
         error(format!("{what} has an implausible length {n}"))
+    } else {
+        misaligned(what)
     }
+}
+
+/// A pointer not aligned for what it points to: not one the importer's C code can have
+/// made for that type.
+#[cold]
+#[inline(never)]
+fn misaligned(what: &str) -> Failure {
+    error(format!("{what} is misaligned for its type"))
 }
 
 /// An importer's output argument (a single value), refusing NULL and misalignment.
@@ -237,18 +252,34 @@ fn bad_array(null: bool, n: usize, what: &str) -> Failure {
 /// # Safety
 /// When non-NULL and aligned, `ptr` points to a writable `T`.
 pub unsafe fn out<'a, T>(ptr: *mut T, what: &str) -> Result<&'a mut T, Failure> {
-    if ptr.is_null() || !ptr.is_aligned() {
+    if ptr.is_null() {
         return Err(error(format!("{what} is NULL")));
+    }
+    if !ptr.is_aligned() {
+        return Err(misaligned(what));
     }
     // SAFETY: the caller's promise; NULL and misalignment are refused.
     Ok(unsafe { &mut *ptr })
+}
+
+/// An importer's optional out argument: `None` when NULL (the importer does not want it);
+/// a misaligned pointer is refused.
+///
+/// # Safety
+/// As for [`out`].
+pub unsafe fn out_or_null<'a, T>(ptr: *mut T, what: &str) -> Result<Option<&'a mut T>, Failure> {
+    if ptr.is_null() {
+        return Ok(None);
+    }
+    // SAFETY: the caller's promise.
+    unsafe { out(ptr, what) }.map(Some)
 }
 
 /// An importer's string: `None` when NULL or not UTF-8.
 ///
 /// # Safety
 /// When non-NULL, `ptr` points to a NUL-terminated string.
-pub unsafe fn c_str<'a>(ptr: fmi2String) -> Option<&'a str> {
+pub unsafe fn c_str<'a>(ptr: *const c_char) -> Option<&'a str> {
     if ptr.is_null() {
         return None;
     }
@@ -262,7 +293,7 @@ pub unsafe fn c_str<'a>(ptr: fmi2String) -> Option<&'a str> {
 /// # Safety
 /// As for [`slice`] and, for each element, [`c_str`].
 pub unsafe fn strings<'a>(
-    ptr: *const fmi2String,
+    ptr: *const *const c_char,
     n: usize,
     what: &str,
     element: &str,
@@ -281,57 +312,77 @@ pub unsafe fn strings<'a>(
 /// The live FMU state behind an importer's handle.
 ///
 /// # Safety
-/// `s` is NULL or a handle from `fmi2GetFMUstate`/`fmi2DeSerializeFMUstate` of this binary
+/// `s` is NULL or a handle from getting or deserializing an FMU state of this binary
 /// (freed or not: its magic number is cleared when it is freed).
-pub unsafe fn fmu_state<'a>(s: fmi2FMUstate) -> Result<&'a mut FmuState, Failure> {
+pub unsafe fn fmu_state<'a>(s: *mut c_void) -> Result<&'a mut FmuState, Failure> {
     let ptr = s as *mut FmuState;
-    if ptr.is_null() || !ptr.is_aligned() {
+    if ptr.is_null() {
         return Err(error("the FMU state is NULL"));
+    }
+    if !ptr.is_aligned() {
+        return Err(misaligned("the FMU state"));
     }
     // SAFETY: the caller's promise; one call at a time, so the borrow is exclusive.
     let state = unsafe { &mut *ptr };
     if state.magic != STATE_MAGIC {
         return Err(error(
-            "the FMU state is not a live state of this FMU (freed, or not from fmi2GetFMUstate)",
+            "the FMU state is not a live state of this FMU (freed, or not from getting or deserializing one)",
         ));
     }
     Ok(state)
 }
 
-/// The importer's `fmi2FMUstate*` argument: where a state is handed over, or freed from.
-/// Checked when used, so a call checks its other arguments first.
-pub struct StateSlot(*mut fmi2FMUstate);
+/// The importer's `fmi2FMUstate*` (`fmi3FMUState*`) argument: where a state is handed
+/// over, or freed from. Checked when used, so a call checks its other arguments first.
+pub struct StateSlot {
+    ptr: *mut *mut c_void,
+    /// The argument's name in messages (`FMUstate`, FMI 3.0's `FMUState`).
+    what: &'static str,
+}
 
 impl StateSlot {
+    /// FMI 2.0's `FMUstate`.
+    ///
     /// # Safety
-    /// `ptr` is NULL or points to a writable `fmi2FMUstate` that is NULL or a handle as for
-    /// [`fmu_state`].
-    pub unsafe fn new(ptr: *mut fmi2FMUstate) -> Self {
-        StateSlot(ptr)
+    /// `ptr` is NULL or points to a writable FMU state handle that is NULL or a handle as
+    /// for [`fmu_state`].
+    pub unsafe fn new(ptr: *mut *mut c_void) -> Self {
+        StateSlot {
+            ptr,
+            what: "FMUstate",
+        }
     }
 
-    fn get<'a>(&self) -> Result<&'a mut fmi2FMUstate, Failure> {
+    /// The argument named `what` (FMI 3.0's `FMUState`).
+    ///
+    /// # Safety
+    /// As for [`new`](Self::new).
+    pub unsafe fn named(ptr: *mut *mut c_void, what: &'static str) -> Self {
+        StateSlot { ptr, what }
+    }
+
+    fn get<'a>(&self) -> Result<&'a mut *mut c_void, Failure> {
         // SAFETY: `new`'s promise.
-        unsafe { out(self.0, "FMUstate") }
+        unsafe { out(self.ptr, self.what) }
     }
 
     /// Hands `state` to the importer, reusing the state the slot holds if any.
     pub fn store(self, state: FmuState) -> Outcome {
         let slot = self.get()?;
         if slot.is_null() {
-            *slot = Box::into_raw(Box::new(state)) as fmi2FMUstate;
+            *slot = Box::into_raw(Box::new(state)) as *mut c_void;
         } else {
             // SAFETY: `new`'s promise about what the slot holds.
             *unsafe { fmu_state(*slot) }? = state;
         }
-        Ok(fmi2OK)
+        Ok(OK)
     }
 
     /// Frees the state the slot holds (nothing if NULL) and sets the slot to NULL.
     pub fn free(self) -> Outcome {
         let slot = self.get()?;
         if slot.is_null() {
-            return Ok(fmi2OK);
+            return Ok(OK);
         }
         // SAFETY: `new`'s promise about what the slot holds.
         unsafe { fmu_state(*slot) }?.magic = 0;
@@ -339,11 +390,11 @@ impl StateSlot {
         // Box::into_raw.
         drop(unsafe { Box::from_raw(*slot as *mut FmuState) });
         *slot = std::ptr::null_mut();
-        Ok(fmi2OK)
+        Ok(OK)
     }
 }
 
-/// The importer's output buffer of `len` bytes (`fmi2SerializeFMUstate`), checked when it is
+/// The importer's output buffer of `len` bytes (serializing an FMU state), checked when it is
 /// filled, so a call checks its length first.
 pub struct Buffer {
     ptr: *mut u8,
@@ -376,45 +427,4 @@ impl Buffer {
         unsafe { slice_mut(self.ptr, self.len, what) }?.copy_from_slice(bytes);
         Ok(())
     }
-}
-
-/// `fmi2Instantiate`: the callbacks and strings checked, the instance made by
-/// [`api::instantiate`](super::api::instantiate) and handed over; NULL (with a message when
-/// there is a logger) on any failure.
-///
-/// # Safety
-/// `functions` is NULL or points to the importer's callback table; the strings are NULL or
-/// NUL-terminated.
-pub unsafe fn instantiate<M: Mechanism>(
-    instance_name: fmi2String,
-    fmu_type: fmi2Type,
-    guid: fmi2String,
-    functions: *const fmi2CallbackFunctions,
-    logging_on: fmi2Boolean,
-) -> fmi2Component {
-    guarded_or(std::ptr::null_mut(), || {
-        // Without callbacks there is no one to tell what went wrong.
-        if functions.is_null() || !functions.is_aligned() {
-            return std::ptr::null_mut();
-        }
-        // SAFETY: the caller's promise; NULL and misalignment are refused.
-        let functions = unsafe { *functions };
-        // SAFETY: the caller's promise.
-        let name = unsafe { c_str(instance_name) };
-        let logger = super::logger::Logger::new(
-            functions.logger,
-            functions.componentEnvironment,
-            name.unwrap_or(""),
-            logging_on != 0,
-        );
-        // SAFETY: the caller's promise (read only once the name and the type are accepted).
-        let guid = || unsafe { c_str(guid) };
-        match super::api::instantiate::<M>(logger, name, fmu_type, guid) {
-            Ok(instance) => into_component(instance),
-            Err((logger, message)) => {
-                logger.log(fmi2Error, &format!("fmi2Instantiate: {message}"));
-                std::ptr::null_mut()
-            }
-        }
-    })
 }

@@ -1,18 +1,25 @@
 //! An FMU instance: a simulation, the importer's logger, and where it is in the state
 //! machine.
 
-use super::ffi::*;
 use super::fmu_state::{FmuState, STATE_MAGIC};
 use super::logger::Logger;
-use super::state::{Interface, ModelState};
-use crate::model::{Layout, Mechanism};
+use super::machine::{Interface, ModelState};
+use super::{Status, Version, OK};
+use crate::model::{Layout, Mechanism, Shapes};
 use crate::simulation::Simulation;
 
-/// Marks live instances, so a stale or foreign pointer is refused rather than used.
-pub(crate) const MAGIC: u64 = 0x6d65_6368_666d_7532; // "mechfmu2"
+/// Marks live instances of each standard, so a stale or foreign pointer (or an instance of
+/// the other standard) is refused rather than used.
+pub(crate) const fn magic(version: Version) -> u64 {
+    match version {
+        Version::Fmi2 => 0x6d65_6368_666d_7532, // "mechfmu2"
+        Version::Fmi3 => 0x6d65_6368_666d_7533, // "mechfmu3"
+    }
+}
 
 pub struct Instance<M: Mechanism> {
     pub(crate) magic: u64,
+    pub version: Version,
     pub logger: Logger,
     /// Model Exchange or Co-Simulation, as instantiated.
     pub interface: Interface,
@@ -24,13 +31,22 @@ pub struct Instance<M: Mechanism> {
     pub last_successful_time: f64,
     /// The model asked to stop (a discarded step): `fmi2Terminated` status.
     pub terminated: bool,
-    pub last_step_status: fmi2Status,
+    pub last_step_status: Status,
+    /// FMI 3.0 Co-Simulation: the importer handles events in event mode
+    /// (`eventModeUsed`), and lets `fmi3DoStep` return early at one (`earlyReturnAllowed`).
+    pub event_mode_used: bool,
+    pub early_return_allowed: bool,
+    /// FMI 3.0: its variables (arrays among them), by its value references.
+    pub shapes: Option<Box<Shapes>>,
+    /// Scalar value references of a call, kept so that getting and setting allocate once.
+    pub scratch: Vec<u32>,
 }
 
 impl<M: Mechanism> Instance<M> {
-    pub fn new(logger: Logger, layout: Layout, interface: Interface) -> Self {
+    pub fn new(version: Version, logger: Logger, layout: Layout, interface: Interface) -> Self {
         Instance {
-            magic: MAGIC,
+            magic: magic(version),
+            version,
             logger,
             interface,
             state: ModelState::Instantiated,
@@ -38,7 +54,11 @@ impl<M: Mechanism> Instance<M> {
             stop_time: None,
             last_successful_time: 0.0,
             terminated: false,
-            last_step_status: fmi2OK,
+            last_step_status: OK,
+            event_mode_used: false,
+            early_return_allowed: false,
+            shapes: None,
+            scratch: Vec::new(),
         }
     }
 
@@ -49,15 +69,17 @@ impl<M: Mechanism> Instance<M> {
         self.stop_time = None;
         self.last_successful_time = 0.0;
         self.terminated = false;
-        self.last_step_status = fmi2OK;
+        self.last_step_status = OK;
     }
 }
 
 impl<M: Mechanism> Instance<M> {
-    /// Captures the instance for `fmi2GetFMUstate`.
+    /// Captures the instance (`fmi2GetFMUstate`, `fmi3GetFMUState`).
     pub fn save(&self) -> FmuState {
         FmuState {
             magic: STATE_MAGIC,
+            version: self.version,
+            interface: self.interface,
             sim: self.sim.save(),
             model_state: self.state,
             stop_time: self.stop_time,
@@ -67,17 +89,20 @@ impl<M: Mechanism> Instance<M> {
         }
     }
 
-    /// Restores a captured state (`fmi2SetFMUstate`); refuses one saved in a state of the
-    /// other interface type's machine.
+    /// Restores a captured state (`fmi2SetFMUstate`, `fmi3SetFMUState`); refuses one saved
+    /// by an instance of the other interface type (its machine's states are not this one's).
     pub fn restore(&mut self, saved: &FmuState) -> Result<(), String> {
-        if let Some(other) = saved
-            .model_state
-            .interface()
-            .filter(|&i| i != self.interface)
-        {
+        if saved.version != self.version {
+            return Err(format!(
+                "the FMU state was saved by an {} instance; this instance is {}",
+                saved.version.name(),
+                self.version.name()
+            ));
+        }
+        if saved.interface != self.interface {
             return Err(format!(
                 "the FMU state was saved by a {} instance ({}); this instance is {}",
-                other.name(),
+                saved.interface.name(),
                 saved.model_state.name(),
                 self.interface.name()
             ));

@@ -1,0 +1,14 @@
+//! The FMI 3.0 layer, Model Exchange and Co-Simulation, the sibling of [`fmi2`](crate::fmi2)
+//! over the same instance and simulation ([`fmi`](crate::fmi)). It mirrors the standard
+//! and knows nothing of any mechanism: `ffi` (the C types), `state` (the state machines'
+//! table, one row per function), `instantiate` (the instantiation functions at the C
+//! boundary), `api` (what each call does where FMI 3.0 differs from FMI 2.0: arrays, the
+//! independent time, typed getters and setters, out arguments, early return) and
+//! `functions` (the table of the 75 C signatures). [`export_fmu!`](crate::export_fmu)
+//! exports them.
+
+pub mod api;
+pub mod ffi;
+pub mod functions;
+pub mod instantiate;
+pub mod state;

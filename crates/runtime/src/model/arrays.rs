@@ -1,0 +1,322 @@
+//! Array variables: declared scalars grouped into the vectors and matrices the physics has
+//! (an inertia tensor, a quaternion), as FMI 3.0 shows them. The scalars stay the
+//! declaration and the equations' names (and FMI 2.0's variables); an [`Array`] only says
+//! which of them make up one array variable of FMI 3.0, in which order.
+//!
+//! [`Shapes`] is the list of variables FMI 3.0 sees: every scalar that is in no array, and
+//! every array at the place of its first element. A variable keeps its value reference
+//! (FMI 2.0's): an array takes the value reference of its first element, whose own and
+//! those of its other elements are then not variables of FMI 3.0.
+
+use super::layout::str_eq;
+use super::Variable;
+
+/// An array variable made of declared scalar variables.
+///
+/// ```
+/// use mechfmu::model::Array;
+/// // A symmetric 2×2 matrix of three scalars: `m_12` stands at two places.
+/// const M: Array = Array::new("M", "Mass matrix", &[2, 2], &["m_11", "m_12", "m_12", "m_22"]);
+/// assert_eq!(M.len(), 4);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Array {
+    pub name: &'static str,
+    pub description: &'static str,
+    /// The extent of each dimension: `[3]` for a vector, `[3, 3]` for a matrix.
+    pub dimensions: &'static [usize],
+    /// The scalar variables, in row-major order. A scalar may stand at several places (the
+    /// two off-diagonal places of a symmetric matrix): setting the array then requires the
+    /// values there to be equal.
+    pub elements: &'static [&'static str],
+}
+
+impl Array {
+    pub const fn new(
+        name: &'static str,
+        description: &'static str,
+        dimensions: &'static [usize],
+        elements: &'static [&'static str],
+    ) -> Self {
+        Array {
+            name,
+            description,
+            dimensions,
+            elements,
+        }
+    }
+
+    /// The number of elements: the product of the dimensions.
+    pub const fn len(&self) -> usize {
+        let mut n = 1;
+        let mut i = 0;
+        while i < self.dimensions.len() {
+            n *= self.dimensions[i];
+            i += 1;
+        }
+        n
+    }
+
+    pub const fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// Compile-time check of a mechanism's arrays, run by `export_fmu!`: each element names a
+/// declared variable and each array has as many elements as its dimensions say.
+/// [`Shapes::new`] checks the rest (units, kinds, states) when the FMU is built and tested.
+pub const fn check_arrays(variables: &[Variable], arrays: &[Array]) {
+    let mut a = 0;
+    while a < arrays.len() {
+        let array = &arrays[a];
+        if array.dimensions.is_empty() || array.is_empty() {
+            panic!("Mechanism::ARRAYS: an array has no dimension, or a dimension of 0");
+        }
+        if array.len() != array.elements.len() {
+            panic!("Mechanism::ARRAYS: an array's elements are not as many as its dimensions say");
+        }
+        let mut e = 0;
+        while e < array.elements.len() {
+            let mut j = 0;
+            while j < variables.len() && !str_eq(variables[j].name, array.elements[e]) {
+                j += 1;
+            }
+            if j == variables.len() {
+                panic!("Mechanism::ARRAYS: an array element names no declared variable");
+            }
+            e += 1;
+        }
+        a += 1;
+    }
+}
+
+/// One variable as FMI 3.0 sees it: a scalar, or an array of scalars.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Shaped {
+    /// Its value reference: the scalar's, or the array's first element's.
+    pub reference: usize,
+    pub name: &'static str,
+    pub description: &'static str,
+    /// Empty for a scalar.
+    pub dimensions: &'static [usize],
+    /// The value references of its scalars, in row-major order (one for a scalar).
+    pub elements: Vec<usize>,
+}
+
+impl Shaped {
+    pub fn is_array(&self) -> bool {
+        !self.dimensions.is_empty()
+    }
+
+    /// The declaration of its (first) scalar: every element has the same unit, causality,
+    /// variability and `initial`.
+    pub fn variable<'a>(&self, variables: &'a [Variable]) -> &'a Variable {
+        &variables[self.elements[0]]
+    }
+
+    /// `name[i,j]` (1-based, as FMI 3.0 and Modelica write an element) of element `k`.
+    pub fn element_name(&self, k: usize) -> String {
+        if !self.is_array() {
+            return self.name.to_string();
+        }
+        let mut index = Vec::with_capacity(self.dimensions.len());
+        let mut rest = k;
+        for &d in self.dimensions.iter().rev() {
+            index.push(rest % d + 1);
+            rest /= d;
+        }
+        index.reverse();
+        let index: Vec<String> = index.iter().map(usize::to_string).collect();
+        format!("{}[{}]", self.name, index.join(","))
+    }
+}
+
+/// The variables of a declaration as FMI 3.0 sees them, with its arrays.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Shapes {
+    /// In declaration order of each variable's first scalar.
+    pub variables: Vec<Shaped>,
+    /// For each scalar's value reference, the variable it belongs to (index into `variables`).
+    owner: Vec<usize>,
+}
+
+impl Shapes {
+    /// Groups `variables` into `arrays`; `Err` names the first problem: an element that is
+    /// no variable or in two arrays, elements of different units or kinds, an array named
+    /// like another variable, a state array whose derivatives are not one array in the same
+    /// order, an array of states out of the states' order.
+    pub fn new(variables: &'static [Variable], arrays: &'static [Array]) -> Result<Self, String> {
+        const NONE: usize = usize::MAX;
+        let mut array_of = vec![NONE; variables.len()];
+        let mut groups: Vec<Vec<usize>> = Vec::with_capacity(arrays.len());
+        for (a, array) in arrays.iter().enumerate() {
+            if array.dimensions.is_empty() || array.dimensions.contains(&0) {
+                return Err(format!(
+                    "array `{}` needs dimensions of at least 1",
+                    array.name
+                ));
+            }
+            let len = (array.dimensions.iter()).try_fold(1usize, |n, &d| n.checked_mul(d));
+            if len != Some(array.elements.len()) {
+                return Err(format!(
+                    "array `{}` of dimensions {:?} needs {} elements, not {}",
+                    array.name,
+                    array.dimensions,
+                    len.map_or("too many".into(), |n| n.to_string()),
+                    array.elements.len()
+                ));
+            }
+            if let Some(other) = variables.iter().find(|v| v.name == array.name) {
+                if !array.elements.contains(&other.name) {
+                    return Err(format!(
+                        "array `{}` has the name of a variable outside it",
+                        array.name
+                    ));
+                }
+            }
+            if arrays[..a].iter().any(|b| b.name == array.name) {
+                return Err(format!("array `{}` is declared twice", array.name));
+            }
+            let mut elements = Vec::with_capacity(array.elements.len());
+            for name in array.elements {
+                let Some(vr) = variables.iter().position(|v| v.name == *name) else {
+                    return Err(format!(
+                        "array `{}`: element `{name}` is not a declared variable",
+                        array.name
+                    ));
+                };
+                if array_of[vr] != NONE && array_of[vr] != a {
+                    return Err(format!(
+                        "`{name}` is an element of two arrays, `{}` and `{}`",
+                        arrays[array_of[vr]].name, array.name
+                    ));
+                }
+                array_of[vr] = a;
+                let (first, v) = (
+                    &variables[elements.first().copied().unwrap_or(vr)],
+                    &variables[vr],
+                );
+                let same = first.unit == v.unit
+                    && first.causality == v.causality
+                    && first.variability == v.variability
+                    && first.effective_initial() == v.effective_initial()
+                    && first.is_state() == v.is_state();
+                if !same {
+                    return Err(format!(
+                        "array `{}`: `{name}` differs from `{}` in unit, causality, variability, initial or being a state",
+                        array.name, first.name
+                    ));
+                }
+                elements.push(vr);
+            }
+            groups.push(elements);
+        }
+
+        let mut shapes = Shapes {
+            variables: Vec::new(),
+            owner: vec![NONE; variables.len()],
+        };
+        for (vr, v) in variables.iter().enumerate() {
+            let a = array_of[vr];
+            if a == NONE {
+                shapes.owner[vr] = shapes.variables.len();
+                shapes.variables.push(Shaped {
+                    reference: vr,
+                    name: v.name,
+                    description: v.description(),
+                    dimensions: &[],
+                    elements: vec![vr],
+                });
+            } else if shapes.owner[vr] == NONE {
+                // The array's first element in declaration order: the array stands here.
+                let index = shapes.variables.len();
+                for &e in &groups[a] {
+                    shapes.owner[e] = index;
+                }
+                shapes.variables.push(Shaped {
+                    reference: groups[a][0],
+                    name: arrays[a].name,
+                    description: arrays[a].description,
+                    dimensions: arrays[a].dimensions,
+                    elements: groups[a].clone(),
+                });
+            }
+        }
+        shapes.check_states(variables)?;
+        Ok(shapes)
+    }
+
+    /// A state's derivative must be shaped as the state: a scalar state's a scalar, a state
+    /// array's one array of the derivatives of its elements, in the same order. And the
+    /// states, taken variable by variable and element by element, must be in declaration
+    /// order: that is the order of FMI 3.0's continuous-state vector, which is FMI 2.0's.
+    fn check_states(&self, variables: &[Variable]) -> Result<(), String> {
+        let mut flattened = Vec::new();
+        for shaped in &self.variables {
+            let v = shaped.variable(variables);
+            let Some(_) = v.derivative else { continue };
+            let derivatives: Vec<usize> = shaped
+                .elements
+                .iter()
+                .map(|&e| {
+                    let name = variables[e].derivative.unwrap_or_default();
+                    variables
+                        .iter()
+                        .position(|w| w.name == name)
+                        .unwrap_or(usize::MAX)
+                })
+                .collect();
+            let Some(&first) = derivatives.first().filter(|&&d| d != usize::MAX) else {
+                return Err(format!(
+                    "state `{}` has no declared derivative",
+                    shaped.name
+                ));
+            };
+            let owner = &self.variables[self.owner[first]];
+            if owner.elements != derivatives || owner.dimensions != shaped.dimensions {
+                return Err(format!(
+                    "the derivatives of `{}` are not shaped as it is: {}",
+                    shaped.name,
+                    if shaped.is_array() {
+                        "declare one array of its elements' derivatives, in the same order"
+                    } else {
+                        "a scalar state's derivative must not be an array element"
+                    }
+                ));
+            }
+            flattened.extend(shaped.elements.iter().copied());
+        }
+        if flattened.windows(2).any(|w| w[0] >= w[1]) {
+            return Err(
+                "the states, array by array, are not in declaration order: declare each state array's elements together, in the array's order".into(),
+            );
+        }
+        Ok(())
+    }
+
+    /// The variable with value reference `vr` (none for an array's element other than its
+    /// first, nor for a value reference of no variable).
+    pub fn get(&self, vr: usize) -> Option<&Shaped> {
+        let shaped = &self.variables[*self.owner.get(vr)?];
+        (shaped.reference == vr).then_some(shaped)
+    }
+
+    /// The variable scalar `vr` belongs to.
+    pub fn owner(&self, vr: usize) -> Option<&Shaped> {
+        self.owner.get(vr).map(|&i| &self.variables[i])
+    }
+
+    /// The value reference of the independent variable `time` in FMI 3.0: one past the
+    /// last variable's, so that every variable keeps FMI 2.0's.
+    pub fn time_reference(&self) -> usize {
+        self.owner.len()
+    }
+
+    /// Whether any variable is an array.
+    pub fn has_arrays(&self) -> bool {
+        self.variables.iter().any(Shaped::is_array)
+    }
+}
+
+#[cfg(test)]
+mod tests;

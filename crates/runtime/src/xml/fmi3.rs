@@ -1,0 +1,417 @@
+//! The FMI 3.0 `modelDescription.xml` (Model Exchange and Co-Simulation) of a mechanism,
+//! generated from the same declaration as FMI 2.0's: deterministic, byte for byte.
+//!
+//! What FMI 3.0 sees differs from FMI 2.0 in three ways:
+//! - the variables are [`Shapes`]: the declared scalars, but those grouped into
+//!   [`Mechanism::ARRAYS`] shown as one `<Float64>` array each (`<Dimension>`, a start value
+//!   per element in row-major order, FMI 3.0 section 2.2.7.1), with FMI 2.0's value
+//!   references, and an annotation ([`SCALARS_ANNOTATION`]) naming the FMI 2.0 scalars
+//!   its elements are; the independent variable `time` comes first, with the value
+//!   reference after the last variable's;
+//! - the names follow `variableNamingConvention="structured"` (section 2.4.7.5.1): every
+//!   name is an identifier, and an array's element is named `I_C[1,2]` (1-based);
+//! - `<ModelStructure>` lists variables by value reference, an array once, and its
+//!   dependencies have FMI 3.0's knowns ([`Knowns::Fmi3`]: the parameters and the time
+//!   too), found numerically scalar by scalar and taken over to the variables the scalars
+//!   belong to (an array depends on what any element depends on).
+
+use std::collections::BTreeSet;
+use std::io;
+
+use quick_xml::events::BytesText;
+use quick_xml::Writer;
+
+use super::shared::{
+    self, generation_tool, one_line, pairs, real, write_default_experiment, write_log_categories,
+    write_units, Attributes, UnitInfo,
+};
+use super::structure::{self, Knowns, Unknown};
+use crate::contract::{self, FMI3_CAPABILITIES};
+use crate::model::{Mechanism, Shaped, Shapes, Variable};
+
+/// The FMI 3.0 modelDescription.xml of mechanism `M`, with the runtime's
+/// [`FMI3_CAPABILITIES`].
+///
+/// `Err` names the problem: what the FMI 2.0 writer refuses (an unknown unit, a start value
+/// that is not finite or that `calculate` rejects, ...), arrays [`Shapes::new`] refuses, a
+/// name that is no identifier, a type named like a variable, an event indicator inside an
+/// array.
+pub fn model_description<M: Mechanism>() -> Result<String, String> {
+    let name = M::NAME;
+    let variables = M::VARIABLES;
+    let units = shared::check_declaration(name, variables, M::EXPERIMENT)?;
+    let shapes = Shapes::new(variables, M::ARRAYS).map_err(|e| format!("{name}: {e}"))?;
+    check_names(name, &shapes, &units)?;
+    let mut event_indicators = Vec::with_capacity(M::EVENT_INDICATORS.len());
+    for indicator in M::EVENT_INDICATORS {
+        let owner = (variables.iter().position(|v| v.name == *indicator))
+            .and_then(|vr| shapes.owner(vr))
+            .ok_or_else(|| format!("{name}: event indicator `{indicator}` is not a variable"))?;
+        if owner.is_array() {
+            return Err(format!(
+                "{name}: event indicator `{indicator}` is an element of array `{}`, and FMI 3.0 \
+                 lists whole variables as event indicators",
+                owner.name
+            ));
+        }
+        event_indicators.push(owner.reference);
+    }
+    let structure = structure::model_structure_with::<M>(Knowns::Fmi3)?;
+    let lists = Lists {
+        outputs: by_variable(name, &shapes, &structure.outputs, "output")?,
+        derivatives: by_variable(name, &shapes, &structure.derivatives, "state derivative")?,
+        initial_unknowns: by_variable(
+            name,
+            &shapes,
+            &structure.initial_unknowns,
+            "initial unknown",
+        )?,
+        event_indicators,
+    };
+    let rows = (shapes.variables.iter())
+        .map(|s| row(name, variables, &shapes, s, &units))
+        .collect::<Result<Vec<_>, String>>()?;
+    shared::finish(name, write::<M>(&shapes, &rows, &units, &lists))
+}
+
+/// Checks the names FMI 3.0 sees: identifiers (`structured` names without hierarchy or
+/// quotes), unique, none `time` but the independent variable, none the name of a type.
+fn check_names(model: &str, shapes: &Shapes, units: &[UnitInfo]) -> Result<(), String> {
+    let mut seen = BTreeSet::from(["time"]);
+    for s in &shapes.variables {
+        let mut chars = s.name.chars();
+        let identifier = chars
+            .next()
+            .is_some_and(|c| c == '_' || c.is_ascii_alphabetic())
+            && chars.all(|c| c == '_' || c.is_ascii_alphanumeric());
+        if !identifier {
+            return Err(format!(
+                "{model}: `{}` is not a name of variableNamingConvention=\"structured\" \
+                 (ASCII letters, digits and `_`, not starting with a digit)",
+                s.name
+            ));
+        }
+        if !seen.insert(s.name) {
+            return Err(format!(
+                "{model}: two variables of FMI 3.0 are named `{}`",
+                s.name
+            ));
+        }
+    }
+    for u in units.iter().filter(|u| u.quantity.is_some()) {
+        if seen.contains(u.type_name.as_str()) {
+            return Err(format!(
+                "{model}: variable `{}` has the name of the type of unit \"{}\"",
+                u.type_name, u.name
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The lists of `<ModelStructure>`, by FMI 3.0 value reference.
+struct Lists {
+    outputs: Vec<Unknown>,
+    derivatives: Vec<Unknown>,
+    initial_unknowns: Vec<Unknown>,
+    event_indicators: Vec<usize>,
+}
+
+/// Scalar unknowns taken over to the variables they belong to, in order of first
+/// appearance: an array once, depending on the union of its elements' dependencies, each
+/// dependency the value reference of the variable its scalar belongs to (the time keeps
+/// its own). Every element of an array must be in `unknowns` if one is.
+fn by_variable(
+    model: &str,
+    shapes: &Shapes,
+    unknowns: &[Unknown],
+    what: &str,
+) -> Result<Vec<Unknown>, String> {
+    let reference = |vr: usize| match shapes.owner(vr) {
+        Some(owner) => owner.reference,
+        None => shapes.time_reference(),
+    };
+    let mut grouped: Vec<(&Shaped, BTreeSet<usize>, BTreeSet<usize>)> = Vec::new();
+    for u in unknowns {
+        let Some(owner) = shapes.owner(u.vr) else {
+            return Err(format!(
+                "{model}: the model structure refers to a variable that does not exist"
+            ));
+        };
+        let i = match grouped
+            .iter()
+            .position(|(s, _, _)| s.reference == owner.reference)
+        {
+            Some(i) => i,
+            None => {
+                grouped.push((owner, BTreeSet::new(), BTreeSet::new()));
+                grouped.len() - 1
+            }
+        };
+        grouped[i].1.insert(u.vr);
+        grouped[i]
+            .2
+            .extend(u.dependencies.iter().map(|&d| reference(d)));
+    }
+    grouped
+        .into_iter()
+        .map(|(owner, members, dependencies)| {
+            if members.len() != owner.elements.iter().collect::<BTreeSet<_>>().len() {
+                return Err(format!(
+                    "{model}: only some elements of array `{}` are {what}s",
+                    owner.name
+                ));
+            }
+            Ok(Unknown {
+                vr: owner.reference,
+                dependencies: dependencies.into_iter().collect(),
+            })
+        })
+        .collect()
+}
+
+/// One `<Float64>` of `<ModelVariables>`: its attributes, its dimensions and, for an
+/// array, the names of the declared scalars its elements are (FMI 2.0's variables).
+struct Row {
+    attributes: Attributes,
+    dimensions: &'static [usize],
+    scalars: Vec<&'static str>,
+}
+
+/// The annotation type that names, for an array, the FMI 2.0 variables its elements are,
+/// in row-major order (space-separated): what maps results, start values and reference
+/// files between the FMU's two versions.
+pub const SCALARS_ANNOTATION: &str = "org.mechfmu.scalars";
+
+/// The attributes of a variable, in the schema's order (`fmi3Float64`: name, valueReference,
+/// description, causality, variability, declaredType, initial, unit, displayUnit, min, max,
+/// start, derivative).
+fn row(
+    model: &str,
+    variables: &[Variable],
+    shapes: &Shapes,
+    s: &Shaped,
+    units: &[UnitInfo],
+) -> Result<Row, String> {
+    let v = s.variable(variables);
+    let elements: Vec<&Variable> = s.elements.iter().map(|&e| &variables[e]).collect();
+    let mut a: Attributes = vec![
+        ("name", s.name.into()),
+        ("valueReference", s.reference.to_string()),
+    ];
+    let description = one_line(s.description);
+    if !description.is_empty() {
+        a.push(("description", description));
+    }
+    a.push(("causality", v.causality.as_str().into()));
+    a.push(("variability", v.variability.as_str().into()));
+    let unit = units.iter().find(|u| u.name == v.unit);
+    if let Some(u) = unit.filter(|u| u.quantity.is_some()) {
+        a.push(("declaredType", u.type_name.clone()));
+    }
+    if let Some(initial) = v.initial {
+        a.push(("initial", initial.as_str().into()));
+    }
+    if let Some(u) = unit {
+        a.push(("unit", u.name.into()));
+        if let Some(d) = &u.display {
+            a.push(("displayUnit", d.name.clone()));
+        }
+    }
+    // A bound only when every element has it: an array has one `min` and one `max`.
+    let common = |bound: fn(&Variable) -> Option<f64>| {
+        bound(v).filter(|&x| elements.iter().all(|e| bound(e) == Some(x)))
+    };
+    if let Some(min) = common(|v| v.min) {
+        a.push(("min", real(min)));
+    }
+    if let Some(max) = common(|v| v.max) {
+        a.push(("max", real(max)));
+    }
+    let starts: Vec<Option<f64>> = elements.iter().map(|e| e.start).collect();
+    if starts.iter().all(Option::is_some) {
+        let list: Vec<String> = starts.into_iter().flatten().map(real).collect();
+        a.push(("start", list.join(" ")));
+    } else if starts.iter().any(Option::is_some) {
+        return Err(format!(
+            "{model}: array `{}` has start values for some elements only",
+            s.name
+        ));
+    }
+    // The state this variable is the derivative of: a state array's derivative is an array
+    // of the same shape (`Shapes::new` checks it), pointing at the state array.
+    let state = variables
+        .iter()
+        .position(|w| w.derivative == Some(v.name))
+        .and_then(|vr| shapes.owner(vr));
+    if let Some(state) = state {
+        a.push(("derivative", state.reference.to_string()));
+    }
+    Ok(Row {
+        attributes: a,
+        dimensions: s.dimensions,
+        scalars: elements.iter().map(|e| e.name).collect(),
+    })
+}
+
+fn write<M: Mechanism>(
+    shapes: &Shapes,
+    rows: &[Row],
+    units: &[UnitInfo],
+    lists: &Lists,
+) -> io::Result<Vec<u8>> {
+    let mut w = shared::writer()?;
+    let token = contract::instantiation_token::<M>();
+    let mut root: Attributes = vec![
+        ("fmiVersion", "3.0".into()),
+        ("modelName", M::NAME.into()),
+        ("instantiationToken", token),
+    ];
+    let description = one_line(M::DESCRIPTION);
+    if !description.is_empty() {
+        root.push(("description", description));
+    }
+    root.extend([
+        ("generationTool", generation_tool()),
+        ("variableNamingConvention", "structured".into()),
+    ]);
+    let categories = contract::fmi3_log_categories();
+    let categories: Vec<(&str, &str)> = categories.iter().map(|(n, d)| (*n, d.as_str())).collect();
+    w.create_element("fmiModelDescription")
+        .with_attributes(pairs(&root))
+        .write_inner_content(|w| {
+            let mut me: Attributes = vec![("modelIdentifier", M::NAME.into())];
+            me.extend(
+                FMI3_CAPABILITIES
+                    .model_exchange_attributes(contract::needs_completed_integrator_step::<M>()),
+            );
+            w.create_element("ModelExchange")
+                .with_attributes(pairs(&me))
+                .write_empty()?;
+            let mut cs: Attributes = vec![("modelIdentifier", M::NAME.into())];
+            cs.extend(
+                FMI3_CAPABILITIES
+                    .co_simulation_attributes(contract::might_return_early_from_do_step::<M>()),
+            );
+            w.create_element("CoSimulation")
+                .with_attributes(pairs(&cs))
+                .write_empty()?;
+            write_units(w, units)?;
+            write_types(w, units)?;
+            write_log_categories(w, &categories)?;
+            write_default_experiment(w, &M::EXPERIMENT)?;
+            write_variables(w, shapes, rows)?;
+            write_structure(w, lists)
+        })?;
+    Ok(w.into_inner())
+}
+
+/// A `<Float64Type>` per unit that has a quantity (its name), carrying the quantity, the
+/// unit and the display unit. Units without one need no type: FMI 3.0 variables carry
+/// their unit themselves.
+fn write_types(w: &mut Writer<Vec<u8>>, units: &[UnitInfo]) -> io::Result<()> {
+    let typed: Vec<&UnitInfo> = units.iter().filter(|u| u.quantity.is_some()).collect();
+    if typed.is_empty() {
+        return Ok(());
+    }
+    w.create_element("TypeDefinitions")
+        .write_inner_content(|w| {
+            for u in typed {
+                let mut a: Attributes = vec![("name", u.type_name.clone())];
+                a.extend(u.quantity.map(|q| ("quantity", q.to_string())));
+                a.push(("unit", u.name.into()));
+                if let Some(d) = &u.display {
+                    a.push(("displayUnit", d.name.clone()));
+                }
+                w.create_element("Float64Type")
+                    .with_attributes(pairs(&a))
+                    .write_empty()?;
+            }
+            Ok(())
+        })?;
+    Ok(())
+}
+
+fn write_variables(w: &mut Writer<Vec<u8>>, shapes: &Shapes, rows: &[Row]) -> io::Result<()> {
+    w.create_element("ModelVariables")
+        .write_inner_content(|w| {
+            w.create_element("Float64")
+                .with_attributes(pairs(&vec![
+                    ("name", "time".into()),
+                    ("valueReference", shapes.time_reference().to_string()),
+                    ("description", "Simulation time".into()),
+                    ("causality", "independent".into()),
+                    ("variability", "continuous".into()),
+                ]))
+                .write_empty()?;
+            for row in rows {
+                let element = w
+                    .create_element("Float64")
+                    .with_attributes(pairs(&row.attributes));
+                if row.dimensions.is_empty() {
+                    element.write_empty()?;
+                    continue;
+                }
+                element.write_inner_content(|w| {
+                    w.create_element("Annotations").write_inner_content(|w| {
+                        w.create_element("Annotation")
+                            .with_attribute(("type", SCALARS_ANNOTATION))
+                            .write_text_content(BytesText::new(&row.scalars.join(" ")))?;
+                        Ok(())
+                    })?;
+                    for d in row.dimensions {
+                        w.create_element("Dimension")
+                            .with_attribute(("start", d.to_string().as_str()))
+                            .write_empty()?;
+                    }
+                    Ok(())
+                })?;
+            }
+            Ok(())
+        })?;
+    Ok(())
+}
+
+/// `<Output>`, `<ContinuousStateDerivative>` and `<InitialUnknown>` with their dependencies
+/// (all of kind `dependent`: no particular structure is claimed), then `<EventIndicator>`.
+fn write_structure(w: &mut Writer<Vec<u8>>, lists: &Lists) -> io::Result<()> {
+    let empty = lists.outputs.is_empty()
+        && lists.derivatives.is_empty()
+        && lists.initial_unknowns.is_empty()
+        && lists.event_indicators.is_empty();
+    if empty {
+        w.create_element("ModelStructure").write_empty()?;
+        return Ok(());
+    }
+    w.create_element("ModelStructure")
+        .write_inner_content(|w| {
+            for (element, unknowns) in [
+                ("Output", &lists.outputs),
+                ("ContinuousStateDerivative", &lists.derivatives),
+                ("InitialUnknown", &lists.initial_unknowns),
+            ] {
+                for u in unknowns {
+                    let references: Vec<String> =
+                        u.dependencies.iter().map(usize::to_string).collect();
+                    let kinds = vec!["dependent"; u.dependencies.len()];
+                    w.create_element(element)
+                        .with_attributes(pairs(&vec![
+                            ("valueReference", u.vr.to_string()),
+                            ("dependencies", references.join(" ")),
+                            ("dependenciesKind", kinds.join(" ")),
+                        ]))
+                        .write_empty()?;
+                }
+            }
+            for vr in &lists.event_indicators {
+                w.create_element("EventIndicator")
+                    .with_attribute(("valueReference", vr.to_string().as_str()))
+                    .write_empty()?;
+            }
+            Ok(())
+        })?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests;
