@@ -924,4 +924,12 @@ impl<M: Mechanism> OdeSystem for System<'_, M> {
         }
         Ok(())
     }
+
+    fn valid_at(&mut self, t: f64, y: &[f64]) -> bool {
+        if !M::MONITORED {
+            return true;
+        }
+        self.evaluate_at(t, &fixed_size(y));
+        !matches!(M::monitor(self.values), Monitor::Invalid(_))
+    }
 }

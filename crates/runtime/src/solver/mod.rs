@@ -18,6 +18,7 @@ mod controller;
 mod dop853;
 mod dopri5;
 mod initial_step;
+mod locate;
 mod norm;
 mod runge_kutta;
 #[cfg(test)]
@@ -191,10 +192,16 @@ pub trait OdeSystem {
         self.rhs(t, y, dydt);
     }
     /// Called for every point the error test accepts, before it is committed. Err(message)
-    /// refuses it: the integration stops at the previous point (the last valid one), which
-    /// `t` and `y` keep -> SolverError::Stopped.
+    /// refuses it: the integration stops at the last point inside the step where the
+    /// system is still [valid](OdeSystem::valid_at) (located by bisection), which `t` and `y`
+    /// then keep -> SolverError::Stopped.
     fn accepted(&mut self, _t: f64, _y: &[f64]) -> Result<(), String> {
         Ok(())
+    }
+    /// Whether the system is valid at a point: what `accepted` decides, without its side
+    /// effects (the event location probes points out of order). Default: `accepted`'s.
+    fn valid_at(&mut self, t: f64, y: &[f64]) -> bool {
+        self.accepted(t, y).is_ok()
     }
 }
 

@@ -314,8 +314,18 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
                     h_new = h_new.max(h);
                 }
                 // The system may refuse the new point (the model stops holding there): then
-                // the integration ends at the last point it accepted, which y and t still hold.
+                // the integration ends at the last point inside the step where it holds.
                 if let Err(message) = sys.accepted(t_new, self.method.y_new().as_slice()) {
+                    let (t0, y0) = (*t, *y);
+                    let (method, evals) = (&mut self.method, &mut self.evals);
+                    let (t_stop, y_stop) =
+                        super::locate::last_valid_point(sys, (t0, y), t_new, |sys, t_probe| {
+                            method.attempt(sys, t0, t_probe - t0, t_probe, &y0, tol, evals);
+                            *method.y_new()
+                        });
+                    if t_stop > *t && sys.accepted(t_stop, y_stop.as_slice()).is_ok() {
+                        (*t, *y) = (t_stop, y_stop);
+                    }
                     return Err(SolverError::Stopped { t: *t, message });
                 }
                 *y = *self.method.y_new();

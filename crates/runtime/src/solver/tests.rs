@@ -1071,3 +1071,35 @@ fn only_memories_the_solver_can_have_are_valid() {
     }
     assert!(forged(None, 0.0).is_valid());
 }
+
+#[test]
+fn the_integration_stops_where_the_system_stops_holding_not_at_the_step_before() {
+    /// y' = -y from 1 is valid while y ≥ 1/2: until t = ln 2.
+    struct Half;
+    impl OdeSystem for Half {
+        fn rhs(&mut self, _t: f64, y: &[f64], dydt: &mut [f64]) {
+            dydt[0] = -y[0];
+        }
+        fn accepted(&mut self, _t: f64, y: &[f64]) -> Result<(), String> {
+            if y[0] < 0.5 {
+                return Err("below one half".to_string());
+            }
+            Ok(())
+        }
+    }
+    for rtol in [1e-4, 1e-8] {
+        let mut solver = Dopri5::new();
+        let (mut t, mut y) = (0.0, [1.0]);
+        let err = solver
+            .integrate(&mut Half, &mut t, 10.0, &mut y, tol(rtol))
+            .unwrap_err();
+        assert!(matches!(err, SolverError::Stopped { t: s, .. } if s == t));
+        // Located to the step's accuracy, on the valid side.
+        assert!(y[0] >= 0.5 && y[0] - 0.5 < 10.0 * rtol, "y = {}", y[0]);
+        let crossing = std::f64::consts::LN_2;
+        assert!(
+            t <= crossing + 10.0 * rtol && crossing - t < 10.0 * rtol,
+            "t = {t}"
+        );
+    }
+}
