@@ -31,7 +31,7 @@
 use mechfmu::fmi2::ffi::*;
 use mechfmu::fmi2::functions;
 use mechfmu::model::Mechanism;
-use std::ffi::{c_char, c_void, CStr, CString};
+use std::ffi::{c_char, c_uint, c_void, CStr, CString};
 use std::marker::PhantomData;
 use std::sync::Mutex;
 
@@ -60,7 +60,23 @@ unsafe extern "C" fn record(
     _format: fmi2String,
     message: *const c_char,
 ) {
-    // SAFETY: env is the Mutex this harness registered; strings are valid C strings.
+    // SAFETY: the FMU passes back the environment this harness registered, and C strings.
+    unsafe { push(env, status, category, message) }
+}
+
+/// Records one message in the [`MessageLog`] whose [`environment`](MessageLog::environment)
+/// `env` is (NULL strings as empty ones).
+///
+/// # Safety
+/// `env` is the environment of a live `MessageLog`; `category` and `message` are NULL or
+/// NUL-terminated.
+pub(crate) unsafe fn push(
+    env: *mut c_void,
+    status: c_uint,
+    category: *const c_char,
+    message: *const c_char,
+) {
+    // SAFETY: the caller's promise.
     unsafe {
         let log = &*(env as *const Mutex<Vec<Message>>);
         let text = |p: *const c_char| {
@@ -106,9 +122,17 @@ impl MessageLog {
             allocateMemory: None,
             freeMemory: None,
             stepFinished: None,
-            componentEnvironment: &*log as *const Mutex<Vec<Message>> as *mut c_void,
+            componentEnvironment: std::ptr::null_mut(),
         });
-        MessageLog { log, callbacks }
+        let mut log = MessageLog { log, callbacks };
+        log.callbacks.componentEnvironment = log.environment();
+        log
+    }
+
+    /// The environment pointer under which the log's callbacks (FMI 2.0's here, FMI 3.0's
+    /// in [`fmi3`](crate::fmi3)) record a message.
+    pub fn environment(&self) -> *mut c_void {
+        &*self.log as *const Mutex<Vec<Message>> as *mut c_void
     }
 
     /// The callbacks to pass to `fmi2Instantiate`.
@@ -305,21 +329,13 @@ impl<M: Mechanism> Harness<M> {
     /// Steps of size `h` from the current time until `t_end` (the last step shortened to
     /// land on it), with times `t0 + n·h` as an importer computes them.
     pub fn step_to(&mut self, t_end: f64, h: f64) -> Result<(), String> {
-        let t0 = self.time;
-        let mut n = 0u64;
-        while self.time < t_end - 1e-12 * t_end.abs().max(1.0) {
-            let t = t0 + n as f64 * h;
-            let step = (t0 + (n + 1) as f64 * h).min(t_end) - t;
-            let status = self.do_step(t, step);
-            if status > fmi2Warning {
-                return Err(format!(
-                    "fmi2DoStep({t}, {step}) returned {status}: {:?}",
-                    self.messages()
-                ));
-            }
-            n += 1;
-        }
-        Ok(())
+        step_to(self.time, t_end, h, |t, step| match self.do_step(t, step) {
+            status if status <= fmi2Warning => Ok(()),
+            status => Err(format!(
+                "fmi2DoStep({t}, {step}) returned {status}: {:?}",
+                self.messages()
+            )),
+        })
     }
 
     pub fn terminate(&mut self) -> fmi2Status {
@@ -463,6 +479,26 @@ impl<M: Mechanism> Harness<M> {
         self.get_real(&vrs, &mut values);
         values
     }
+}
+
+/// Calls `step(t, h)` for steps of size `h` from `t0` until `t_end` (the last one shortened
+/// to land on it), with times `t0 + n·h` as an importer computes them; stops at the first
+/// `Err`.
+pub(crate) fn step_to(
+    t0: f64,
+    t_end: f64,
+    h: f64,
+    mut step: impl FnMut(f64, f64) -> Result<(), String>,
+) -> Result<(), String> {
+    let (mut time, mut n) = (t0, 0u64);
+    while time < t_end - 1e-12 * t_end.abs().max(1.0) {
+        let t = t0 + n as f64 * h;
+        let size = (t0 + (n + 1) as f64 * h).min(t_end) - t;
+        step(t, size)?;
+        time = t + size;
+        n += 1;
+    }
+    Ok(())
 }
 
 impl<M: Mechanism> Drop for Harness<M> {

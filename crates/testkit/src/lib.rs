@@ -6,13 +6,16 @@
 //!   functions its FMU exports, recording every logged message;
 //! - [`model_exchange`]: the same importer instantiating Model Exchange, with a fixed-step
 //!   Runge–Kutta integrator that locates events;
+//! - [`fmi3`]: the same importer through FMI 3.0's functions (Co-Simulation, Model
+//!   Exchange, arrays, the independent `time`);
 //! - [`conformance`]: the checks every mechanism passes whatever its physics (reset, FMU
 //!   state and its bytes, derivatives against finite differences, threads, Model
-//!   Exchange);
+//!   Exchange, FMI 3.0 against FMI 2.0);
 //! - [`golden`]: committed files generated from the declaration (modelDescription,
 //!   interface page) checked to be current, or regenerated with `MECHFMU_BLESS=1`.
 
 pub mod conformance;
+pub mod fmi3;
 pub mod golden;
 pub mod harness;
 pub mod model_exchange;

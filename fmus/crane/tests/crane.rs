@@ -323,9 +323,21 @@ fn trolley_reaching_the_pivot_discards_the_step() {
     ] {
         assert!(fmu.get(name).is_finite(), "{name} = {}", fmu.get(name));
     }
-    // The step ends at the last valid point (x > 0), at or after t = 0.9, before the pivot.
+    // The step ends at the last valid point: where the trolley reaches the pivot (located
+    // inside the solver's step), with x > 0 still.
     let x = fmu.get("x");
     assert!(x > 0.0 && x <= 1.0 - 1.05 * 0.9 + 1e-12, "x = {x}");
+    let mut last = f64::NAN;
+    // SAFETY: a live instance of this harness; `last` is a writable f64.
+    let status = unsafe {
+        mechfmu::fmi2::functions::fmi2GetRealStatus::<Crane>(
+            fmu.component(),
+            fmi2LastSuccessfulTime,
+            &mut last,
+        )
+    };
+    assert_eq!(status, fmi2OK);
+    assert!((last - 1.0 / 1.05).abs() < 1e-12, "stopped at t = {last}");
     assert_eq!(fmu.do_step(1.0, 0.1), fmi2Error, "no step after a discard");
 }
 

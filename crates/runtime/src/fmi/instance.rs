@@ -90,7 +90,9 @@ impl<M: Mechanism> Instance<M> {
     }
 
     /// Restores a captured state (`fmi2SetFMUstate`, `fmi3SetFMUState`); refuses one saved
-    /// by an instance of the other interface type (its machine's states are not this one's).
+    /// by an instance of the other standard or interface type (its machine's states are not
+    /// this one's), and one in a state this instance cannot be in (event mode without
+    /// `eventModeUsed`).
     pub fn restore(&mut self, saved: &FmuState) -> Result<(), String> {
         if saved.version != self.version {
             return Err(format!(
@@ -106,6 +108,17 @@ impl<M: Mechanism> Instance<M> {
                 saved.model_state.name(),
                 self.interface.name()
             ));
+        }
+        // Only an importer that said it uses event mode handles a Co-Simulation instance
+        // there (`eventModeUsed`, which the state does not carry).
+        if saved.model_state == ModelState::EventMode
+            && self.interface == Interface::CoSimulation
+            && !self.event_mode_used
+        {
+            return Err(
+                "the FMU state was saved in event mode, which this Co-Simulation instance (eventModeUsed = false) has not"
+                    .into(),
+            );
         }
         self.sim.restore(&saved.sim)?;
         self.state = saved.model_state;

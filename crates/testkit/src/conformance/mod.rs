@@ -1,9 +1,10 @@
 //! Checks every mechanism must pass whatever its physics, through its real FMI functions:
 //! reset, FMU state and its serialized form, directional and output derivatives,
-//! independent instances in threads, and Model Exchange ([`model_exchange`]). A mechanism
-//! crate runs them all with `mechfmu_testkit::conformance::check::<M>()` in one of its
-//! tests.
+//! independent instances in threads, Model Exchange ([`model_exchange`]) and FMI 3.0
+//! against FMI 2.0 ([`fmi3`]). A mechanism crate runs them all with
+//! `mechfmu_testkit::conformance::check::<M>()` in one of its tests.
 
+pub mod fmi3;
 pub mod model_exchange;
 
 use crate::harness::Harness;
@@ -20,6 +21,7 @@ pub fn check<M: Mechanism>() {
     output_derivatives_match_finite_differences::<M>();
     threads_match_sequential_runs::<M>();
     model_exchange::check::<M>();
+    fmi3::check::<M>();
 }
 
 fn layout<M: Mechanism>() -> Layout {
