@@ -115,11 +115,17 @@ fn judge<M: Mechanism>(inst: &mut Instance<M>, function: &str) -> Result<(Status
     }
 }
 
+// Inlined into both standards' exported functions: the path of every derivative an
+// importer's solver asks for.
+#[inline(always)]
 pub fn set_time<M: Mechanism>(inst: &mut Instance<M>, time: f64) -> Outcome {
     inst.sim.set_time(time)?;
     Ok(OK)
 }
 
+// Inlined into both standards' exported functions: the path of every derivative an
+// importer's solver asks for.
+#[inline(always)]
 pub fn set_continuous_states<M: Mechanism>(inst: &mut Instance<M>, x: &[f64]) -> Outcome {
     check_count(inst.version, Count::States, x.len(), inst.sim.state_count())?;
     inst.sim.set_states(x)?;
@@ -134,6 +140,9 @@ pub fn get_continuous_states<M: Mechanism>(inst: &mut Instance<M>, x: &mut [f64]
 
 /// A derivative that is not a number is `fmi2Discard` (the standard's advice for a point
 /// outside the equations' domain: the solver retries with a smaller step).
+// Inlined into both standards' exported functions: the path of every derivative an
+// importer's solver asks for.
+#[inline(always)]
 pub fn get_derivatives<M: Mechanism>(inst: &mut Instance<M>, dx: &mut [f64]) -> Outcome {
     check_count(
         inst.version,
