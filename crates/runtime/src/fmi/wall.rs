@@ -1,12 +1,12 @@
 //! The C boundary: the only place where the importer's raw pointers become Rust references.
 //!
-//! Every exported function (see [`functions`](super::functions)) runs its body through
+//! Every exported function (see [`fmi2::functions`](crate::fmi2::functions), [`fmi3::functions`](crate::fmi3::functions)) runs its body through
 //! [`guarded`] (or [`guarded_or`] for the calls without an instance): the instance pointer is
 //! checked, the call against the state table, the body runs under `catch_unwind`, and a
 //! failure becomes a status and a message to the importer's logger. Each kind of pointer
-//! argument has one checked conversion here ([`slice`], [`slice_mut`], [`out`], [`c_str`],
+//! argument has one checked conversion here ([`slice()`], [`slice_mut`], [`out`], [`c_str`],
 //! [`strings`], [`fmu_state`], [`StateSlot`], [`Buffer`]), with the one SAFETY argument it rests on; the
-//! bodies they feed ([`api`](super::api)) are safe Rust.
+//! bodies they feed ([`common`](super::common) and each layer's `api`) are safe Rust.
 
 #![allow(non_upper_case_globals)]
 
@@ -108,7 +108,7 @@ fn refused<M: Mechanism>(inst: &Instance<M>, function: &Function) -> bool {
 /// and a failure is logged through the importer's logger and returned as its status.
 ///
 /// # Safety
-/// As for [`instance`].
+/// As for `instance`: `c` is NULL or a pointer the importer got from instantiating this binary.
 pub unsafe fn guarded<M: Mechanism>(
     c: *mut c_void,
     function: &Function,
@@ -175,7 +175,7 @@ pub fn into_component<M: Mechanism>(instance: Box<Instance<M>>) -> *mut c_void {
 /// why not, when there is a logger to log to).
 ///
 /// # Safety
-/// As for [`instance`]; the importer does not use `c` after this call.
+/// As for `instance`: `c` is NULL or a pointer the importer got from instantiating this binary. the importer does not use `c` after this call.
 pub unsafe fn free_component<M: Mechanism>(c: *mut c_void, function: &Function) {
     let _ = catch_unwind(AssertUnwindSafe(|| {
         // SAFETY: the caller's promise.

@@ -1,12 +1,13 @@
 //! The FMI 2.0 functions (Model Exchange and Co-Simulation), each written once: its C signature (as in
-//! `fmi2FunctionTypes.h`) and its guarded call, one row of [`fmi2_functions!`].
+//! `fmi2FunctionTypes.h`) and its guarded call, one row of [`fmi2_functions!`](crate::fmi2_functions).
 //!
 //! The table is expanded twice. Here, into generic `extern "C"` functions (`fmi2DoStep::<M>`,
 //! ...): the harness and the tests call these. In a mechanism crate, by
 //! [`export_fmu!`](crate::export_fmu), into the unmangled symbols an importer loads, each
 //! forwarding to its generic function. A row's body converts every pointer argument with
-//! one checked conversion of [`wall`](super::wall) and hands the result to the safe body in
-//! [`api`](super::api); [`guarded`](super::wall::guarded) puts it behind the wall.
+//! one checked conversion of [`wall`](crate::fmi::wall) and hands the result to the safe
+//! body in [`api`](super::api) or [`common`](crate::fmi::common);
+//! [`guarded`](crate::fmi::wall::guarded) puts it behind the wall.
 
 #![allow(non_snake_case, clippy::missing_safety_doc)]
 

@@ -1,5 +1,5 @@
 //! The 75 FMI 3.0 functions (`fmi3Functions.h`), each written once: its C signature and its
-//! guarded call, one row of [`fmi3_functions!`], expanded as FMI 2.0's table is (see
+//! guarded call, one row of [`fmi3_functions!`](crate::fmi3_functions), expanded as FMI 2.0's table is (see
 //! [`fmi2::functions`](crate::fmi2::functions)): into generic `extern "C"` functions here,
 //! and into the unmangled symbols of a mechanism crate by [`export_fmu!`](crate::export_fmu).
 //! The functions of features this FMU does not offer (clocks, configuration mode,
@@ -8,10 +8,10 @@
 
 #![allow(non_snake_case, clippy::missing_safety_doc)]
 
-use super::api;
 use super::ffi::*;
 use super::instantiate::{self, CoSimulationOptions};
 use super::state::*;
+use super::{api, variables};
 use crate::fmi::model_exchange as me;
 use crate::fmi::wall::{
     self, fmu_state, guarded, out, out_or_null, slice, slice_mut, strings, Buffer, StateSlot,
@@ -45,59 +45,59 @@ macro_rules! fmi3_functions {
         fmi3Terminate(instance: fmi3Instance) -> fmi3Status = guarded::<M>(instance, &TERMINATE, common::terminate);
         fmi3Reset(instance: fmi3Instance) -> fmi3Status = guarded::<M>(instance, &RESET, common::reset);
         fmi3GetFloat32(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3Float32, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_FLOAT32, |_| { slice_mut(values, nValues, "values[]")?; api::no_variables(GET_FLOAT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_FLOAT32, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_FLOAT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3GetFloat64(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3Float64, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_FLOAT64, |inst| api::get_float64(inst, slice(valueReferences, nValueReferences, "valueReferences[]")?, slice_mut(values, nValues, "values[]")?));
+            = guarded::<M>(instance, &GET_FLOAT64, |inst| variables::get_float64(inst, slice(valueReferences, nValueReferences, "valueReferences[]")?, slice_mut(values, nValues, "values[]")?));
         fmi3GetInt8(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3Int8, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_INT8, |_| { slice_mut(values, nValues, "values[]")?; api::no_variables(GET_INT8.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_INT8, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_INT8.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3GetUInt8(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3UInt8, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_UINT8, |_| { slice_mut(values, nValues, "values[]")?; api::no_variables(GET_UINT8.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_UINT8, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_UINT8.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3GetInt16(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3Int16, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_INT16, |_| { slice_mut(values, nValues, "values[]")?; api::no_variables(GET_INT16.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_INT16, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_INT16.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3GetUInt16(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3UInt16, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_UINT16, |_| { slice_mut(values, nValues, "values[]")?; api::no_variables(GET_UINT16.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_UINT16, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_UINT16.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3GetInt32(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3Int32, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_INT32, |_| { slice_mut(values, nValues, "values[]")?; api::no_variables(GET_INT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_INT32, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_INT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3GetUInt32(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3UInt32, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_UINT32, |_| { slice_mut(values, nValues, "values[]")?; api::no_variables(GET_UINT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_UINT32, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_UINT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3GetInt64(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3Int64, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_INT64, |_| { slice_mut(values, nValues, "values[]")?; api::no_variables(GET_INT64.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_INT64, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_INT64.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3GetUInt64(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3UInt64, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_UINT64, |_| { slice_mut(values, nValues, "values[]")?; api::no_variables(GET_UINT64.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_UINT64, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_UINT64.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3GetBoolean(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3Boolean, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_BOOLEAN, |_| { slice_mut(values as *mut u8, nValues, "values[]")?; api::no_variables(GET_BOOLEAN.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_BOOLEAN, |_| { slice_mut(values as *mut u8, nValues, "values[]")?; variables::no_variables(GET_BOOLEAN.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3GetString(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3String, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_STRING, |_| { slice_mut(values, nValues, "values[]")?; api::no_variables(GET_STRING.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_STRING, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_STRING.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3GetBinary(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, valueSizes: *mut usize, values: *mut fmi3Binary, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_BINARY, |_| { slice_mut(valueSizes, nValues, "valueSizes[]")?; slice_mut(values, nValues, "values[]")?; api::no_variables(GET_BINARY.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_BINARY, |_| { slice_mut(valueSizes, nValues, "valueSizes[]")?; slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_BINARY.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3GetClock(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3Clock) -> fmi3Status
             = guarded::<M>(instance, &GET_CLOCK, |_| api::unsupported("no clocks"));
         fmi3SetFloat32(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3Float32, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_FLOAT32, |_| { slice(values, nValues, "values[]")?; api::no_variables(SET_FLOAT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_FLOAT32, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_FLOAT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3SetFloat64(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3Float64, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_FLOAT64, |inst| api::set_float64(inst, slice(valueReferences, nValueReferences, "valueReferences[]")?, slice(values, nValues, "values[]")?));
+            = guarded::<M>(instance, &SET_FLOAT64, |inst| variables::set_float64(inst, slice(valueReferences, nValueReferences, "valueReferences[]")?, slice(values, nValues, "values[]")?));
         fmi3SetInt8(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3Int8, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_INT8, |_| { slice(values, nValues, "values[]")?; api::no_variables(SET_INT8.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_INT8, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_INT8.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3SetUInt8(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3UInt8, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_UINT8, |_| { slice(values, nValues, "values[]")?; api::no_variables(SET_UINT8.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_UINT8, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_UINT8.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3SetInt16(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3Int16, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_INT16, |_| { slice(values, nValues, "values[]")?; api::no_variables(SET_INT16.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_INT16, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_INT16.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3SetUInt16(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3UInt16, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_UINT16, |_| { slice(values, nValues, "values[]")?; api::no_variables(SET_UINT16.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_UINT16, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_UINT16.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3SetInt32(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3Int32, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_INT32, |_| { slice(values, nValues, "values[]")?; api::no_variables(SET_INT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_INT32, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_INT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3SetUInt32(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3UInt32, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_UINT32, |_| { slice(values, nValues, "values[]")?; api::no_variables(SET_UINT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_UINT32, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_UINT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3SetInt64(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3Int64, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_INT64, |_| { slice(values, nValues, "values[]")?; api::no_variables(SET_INT64.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_INT64, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_INT64.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3SetUInt64(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3UInt64, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_UINT64, |_| { slice(values, nValues, "values[]")?; api::no_variables(SET_UINT64.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_UINT64, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_UINT64.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3SetBoolean(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3Boolean, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_BOOLEAN, |_| { slice(values as *const u8, nValues, "values[]")?; api::no_variables(SET_BOOLEAN.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_BOOLEAN, |_| { slice(values as *const u8, nValues, "values[]")?; variables::no_variables(SET_BOOLEAN.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3SetString(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3String, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_STRING, |_| { slice(values, nValues, "values[]")?; api::no_variables(SET_STRING.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_STRING, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_STRING.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3SetBinary(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, valueSizes: *const usize, values: *const fmi3Binary, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_BINARY, |_| { slice(valueSizes, nValues, "valueSizes[]")?; slice(values, nValues, "values[]")?; api::no_variables(SET_BINARY.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_BINARY, |_| { slice(valueSizes, nValues, "valueSizes[]")?; slice(values, nValues, "values[]")?; variables::no_variables(SET_BINARY.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
         fmi3SetClock(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3Clock) -> fmi3Status
             = guarded::<M>(instance, &SET_CLOCK, |_| api::unsupported("no clocks"));
         fmi3GetNumberOfVariableDependencies(instance: fmi3Instance, valueReference: fmi3ValueReference, nDependencies: *mut usize) -> fmi3Status
@@ -117,9 +117,9 @@ macro_rules! fmi3_functions {
         fmi3DeserializeFMUState(instance: fmi3Instance, serializedState: *const fmi3Byte, size: usize, FMUState: *mut fmi3FMUState) -> fmi3Status
             = guarded::<M>(instance, &DESERIALIZE_FMU_STATE, |_| common::deserialize_fmu_state::<M>(Version::Fmi3, slice(serializedState, size, "serializedState[]")?, StateSlot::named(FMUState, "FMUState")));
         fmi3GetDirectionalDerivative(instance: fmi3Instance, unknowns: *const fmi3ValueReference, nUnknowns: usize, knowns: *const fmi3ValueReference, nKnowns: usize, seed: *const fmi3Float64, nSeed: usize, sensitivity: *mut fmi3Float64, nSensitivity: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_DIRECTIONAL_DERIVATIVE, |inst| api::get_directional_derivative(inst, slice(unknowns, nUnknowns, "unknowns[]")?, slice(knowns, nKnowns, "knowns[]")?, slice(seed, nSeed, "seed[]")?, slice_mut(sensitivity, nSensitivity, "sensitivity[]")?));
+            = guarded::<M>(instance, &GET_DIRECTIONAL_DERIVATIVE, |inst| variables::get_directional_derivative(inst, slice(unknowns, nUnknowns, "unknowns[]")?, slice(knowns, nKnowns, "knowns[]")?, slice(seed, nSeed, "seed[]")?, slice_mut(sensitivity, nSensitivity, "sensitivity[]")?));
         fmi3GetAdjointDerivative(instance: fmi3Instance, unknowns: *const fmi3ValueReference, nUnknowns: usize, knowns: *const fmi3ValueReference, nKnowns: usize, seed: *const fmi3Float64, nSeed: usize, sensitivity: *mut fmi3Float64, nSensitivity: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_ADJOINT_DERIVATIVE, |inst| api::get_adjoint_derivative(inst, slice(unknowns, nUnknowns, "unknowns[]")?, slice(knowns, nKnowns, "knowns[]")?, slice(seed, nSeed, "seed[]")?, slice_mut(sensitivity, nSensitivity, "sensitivity[]")?));
+            = guarded::<M>(instance, &GET_ADJOINT_DERIVATIVE, |inst| variables::get_adjoint_derivative(inst, slice(unknowns, nUnknowns, "unknowns[]")?, slice(knowns, nKnowns, "knowns[]")?, slice(seed, nSeed, "seed[]")?, slice_mut(sensitivity, nSensitivity, "sensitivity[]")?));
         fmi3EnterConfigurationMode(instance: fmi3Instance) -> fmi3Status
             = guarded::<M>(instance, &ENTER_CONFIGURATION_MODE, |_| api::unsupported("no structural parameters"));
         fmi3ExitConfigurationMode(instance: fmi3Instance) -> fmi3Status
@@ -166,7 +166,7 @@ macro_rules! fmi3_functions {
             = guarded::<M>(instance, &GET_NUMBER_OF_CONTINUOUS_STATES, |inst| api::get_number_of_continuous_states(inst, out(nContinuousStates, "nContinuousStates")?));
         fmi3EnterStepMode(instance: fmi3Instance) -> fmi3Status = guarded::<M>(instance, &ENTER_STEP_MODE, api::enter_step_mode);
         fmi3GetOutputDerivatives(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, orders: *const fmi3Int32, values: *mut fmi3Float64, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_OUTPUT_DERIVATIVES, |inst| api::get_output_derivatives(inst, slice(valueReferences, nValueReferences, "valueReferences[]")?, slice(orders, nValueReferences, "orders[]")?, slice_mut(values, nValues, "values[]")?));
+            = guarded::<M>(instance, &GET_OUTPUT_DERIVATIVES, |inst| variables::get_output_derivatives(inst, slice(valueReferences, nValueReferences, "valueReferences[]")?, slice(orders, nValueReferences, "orders[]")?, slice_mut(values, nValues, "values[]")?));
         fmi3DoStep(instance: fmi3Instance, currentCommunicationPoint: fmi3Float64, communicationStepSize: fmi3Float64, noSetFMUStatePriorToCurrentPoint: fmi3Boolean, eventHandlingNeeded: *mut fmi3Boolean, terminateSimulation: *mut fmi3Boolean, earlyReturn: *mut fmi3Boolean, lastSuccessfulTime: *mut fmi3Float64) -> fmi3Status
             = guarded::<M>(instance, &DO_STEP, |inst| api::do_step(inst, currentCommunicationPoint, communicationStepSize, out(eventHandlingNeeded, "eventHandlingNeeded")?, out(terminateSimulation, "terminateSimulation")?, out(earlyReturn, "earlyReturn")?, out(lastSuccessfulTime, "lastSuccessfulTime")?));
         fmi3ActivateModelPartition(instance: fmi3Instance, clockReference: fmi3ValueReference, activationTime: fmi3Float64) -> fmi3Status

@@ -1,0 +1,228 @@
+//! FMI 3.0's variables by value reference: scalars keep FMI 2.0's, an array stands for its
+//! elements (row-major, `nValues` counts them), the independent `time` is read-only; the
+//! typed getters and setters of types this FMU has none of; directional, adjoint and
+//! output derivatives over the same references. Each call expands the references into the
+//! simulation's scalar ones and hands them to [`common`](crate::fmi::common).
+
+use super::ffi::*;
+use crate::fmi::common;
+use crate::fmi::instance::Instance;
+use crate::fmi::wall::{error, Failure, Outcome};
+use crate::fmi::OK;
+use crate::model::{Mechanism, Shapes, ValueSet};
+
+/// Stands for the independent variable among scalar value references.
+const TIME: u32 = u32::MAX;
+
+fn shapes<M: Mechanism>(inst: &Instance<M>) -> Result<&Shapes, Failure> {
+    inst.shapes
+        .as_deref()
+        .ok_or_else(|| error("the instance has no FMI 3.0 variables"))
+}
+
+/// The scalars of `vrs` (the time as [`TIME`]), in order, into `scalars`.
+fn expand(shapes: &Shapes, vrs: &[u32], scalars: &mut Vec<u32>) -> Result<(), Failure> {
+    scalars.clear();
+    for &vr in vrs {
+        if vr as usize == shapes.time_reference() {
+            scalars.push(TIME);
+            continue;
+        }
+        let Some(shaped) = shapes.get(vr as usize) else {
+            return Err(error(format!(
+                "value reference {vr} is not a variable of this FMU"
+            )));
+        };
+        scalars.extend(shaped.elements.iter().map(|&e| e as u32));
+    }
+    Ok(())
+}
+
+/// `n` (named `what`) values given for `expected` (the elements of the variables asked).
+fn check_values(what: &str, n: usize, expected: usize) -> Result<(), Failure> {
+    if n == expected {
+        return Ok(());
+    }
+    Err(error(format!(
+        "{what} = {n}, but the value references given have {expected} values (arrays count each element)"
+    )))
+}
+
+/// The name of the `position`-th value of `vrs` (an array element as `name[i,j]`).
+fn value_name(shapes: &Shapes, vrs: &[u32], position: usize) -> String {
+    let mut at = 0;
+    for &vr in vrs {
+        match shapes.get(vr as usize) {
+            Some(shaped) if position < at + shaped.elements.len() => {
+                return shaped.element_name(position - at)
+            }
+            Some(shaped) => at += shaped.elements.len(),
+            None if position == at => return "time".into(),
+            None => at += 1,
+        }
+    }
+    format!("value {position}")
+}
+
+pub fn get_float64<M: Mechanism>(
+    inst: &mut Instance<M>,
+    vrs: &[fmi3ValueReference],
+    values: &mut [fmi3Float64],
+) -> Outcome {
+    let mut scalars = std::mem::take(&mut inst.scratch);
+    let read = (|| {
+        expand(shapes(inst)?, vrs, &mut scalars)?;
+        check_values("nValues", values.len(), scalars.len())?;
+        inst.sim.update()?;
+        let (t, v) = (inst.sim.time(), inst.sim.values());
+        for (out, &s) in values.iter_mut().zip(&scalars) {
+            *out = if s == TIME {
+                t
+            } else {
+                v.get(s as usize).unwrap_or(f64::NAN)
+            };
+        }
+        Ok(OK)
+    })();
+    inst.scratch = scalars;
+    read
+}
+
+pub fn set_float64<M: Mechanism>(
+    inst: &mut Instance<M>,
+    vrs: &[fmi3ValueReference],
+    values: &[fmi3Float64],
+) -> Outcome {
+    let mut scalars = std::mem::take(&mut inst.scratch);
+    let set = (|| {
+        let shapes = shapes(inst)?;
+        expand(shapes, vrs, &mut scalars)?;
+        check_values("nValues", values.len(), scalars.len())?;
+        if scalars.contains(&TIME) {
+            return Err(error(
+                "time is the independent variable: it cannot be set (fmi3SetTime sets it in Model Exchange)",
+            ));
+        }
+        // One scalar at several places (a symmetric matrix's off-diagonal) takes one value.
+        if let Some((first, second)) = disagreeing(&scalars, values) {
+            return Err(error(format!(
+                "{} = {} and {} = {} are the same variable `{}`: they must be equal",
+                value_name(shapes, vrs, first),
+                values[first],
+                value_name(shapes, vrs, second),
+                values[second],
+                M::VARIABLES[scalars[first] as usize].name
+            )));
+        }
+        common::set_real(inst, &scalars, values)
+    })();
+    inst.scratch = scalars;
+    set
+}
+
+/// The first two positions of the same scalar with different values, if any.
+fn disagreeing(scalars: &[u32], values: &[f64]) -> Option<(usize, usize)> {
+    let mut order: Vec<usize> = (0..scalars.len()).collect();
+    order.sort_by_key(|&i| (scalars[i], i));
+    order.windows(2).find_map(|w| {
+        let (a, b) = (w[0], w[1]);
+        (scalars[a] == scalars[b] && values[a].to_bits() != values[b].to_bits())
+            .then_some((a.min(b), a.max(b)))
+    })
+}
+
+/// A get or set of a type this FMU has no variables of.
+pub fn no_variables(function: &str, vrs: &[fmi3ValueReference], n_values: usize) -> Outcome {
+    common::no_variables(
+        function,
+        vrs,
+        function
+            .trim_start_matches("fmi3Get")
+            .trim_start_matches("fmi3Set"),
+    )?;
+    check_values("nValues", n_values, 0)?;
+    Ok(OK)
+}
+
+/// The scalar value references of `vrs` (named `what`), which must not include the time.
+fn scalars_of<M: Mechanism>(
+    inst: &Instance<M>,
+    vrs: &[u32],
+    what: &str,
+) -> Result<Vec<u32>, Failure> {
+    let mut scalars = Vec::with_capacity(vrs.len());
+    expand(shapes(inst)?, vrs, &mut scalars)?;
+    if scalars.contains(&TIME) {
+        return Err(error(format!(
+            "{what} include time: derivatives are taken with respect to states and inputs"
+        )));
+    }
+    Ok(scalars)
+}
+
+pub fn get_directional_derivative<M: Mechanism>(
+    inst: &mut Instance<M>,
+    unknowns: &[fmi3ValueReference],
+    knowns: &[fmi3ValueReference],
+    seed: &[fmi3Float64],
+    sensitivity: &mut [fmi3Float64],
+) -> Outcome {
+    let unknowns = scalars_of(inst, unknowns, "the unknowns")?;
+    let knowns = scalars_of(inst, knowns, "the knowns")?;
+    check_values("nSeed", seed.len(), knowns.len())?;
+    check_values("nSensitivity", sensitivity.len(), unknowns.len())?;
+    common::directional_derivative(inst, &unknowns, &knowns, seed, sensitivity)
+}
+
+/// `seedᵀ J` for the Jacobian `J` of the unknowns by the knowns: one directional
+/// derivative per known (exact, by forward-mode automatic differentiation).
+pub fn get_adjoint_derivative<M: Mechanism>(
+    inst: &mut Instance<M>,
+    unknowns: &[fmi3ValueReference],
+    knowns: &[fmi3ValueReference],
+    seed: &[fmi3Float64],
+    sensitivity: &mut [fmi3Float64],
+) -> Outcome {
+    let unknowns = scalars_of(inst, unknowns, "the unknowns")?;
+    let knowns = scalars_of(inst, knowns, "the knowns")?;
+    check_values("nSeed", seed.len(), unknowns.len())?;
+    check_values("nSensitivity", sensitivity.len(), knowns.len())?;
+    if let Some(x) = seed.iter().find(|x| !x.is_finite()) {
+        return Err(error(format!(
+            "the seed contains {x}: every seed must be finite"
+        )));
+    }
+    let mut column = vec![0.0; unknowns.len()];
+    for (j, out) in sensitivity.iter_mut().enumerate() {
+        common::directional_derivative(inst, &unknowns, &knowns[j..=j], &[1.0], &mut column)?;
+        *out = seed.iter().zip(&column).map(|(s, c)| s * c).sum();
+    }
+    if let Some(j) = sensitivity.iter().position(|x| !x.is_finite()) {
+        return Err(error(format!(
+            "the sensitivity to value reference {} is not a finite number (a seed too large?)",
+            knowns[j]
+        )));
+    }
+    Ok(OK)
+}
+
+/// First time derivatives of outputs (`orders` per variable, for each of its elements).
+pub fn get_output_derivatives<M: Mechanism>(
+    inst: &mut Instance<M>,
+    vrs: &[fmi3ValueReference],
+    orders: &[fmi3Int32],
+    values: &mut [fmi3Float64],
+) -> Outcome {
+    let shapes = shapes(inst)?;
+    let (mut scalars, mut scalar_orders, mut one) = (Vec::new(), Vec::new(), Vec::new());
+    for (&vr, &order) in vrs.iter().zip(orders) {
+        expand(shapes, &[vr], &mut one)?;
+        scalars.extend(&one);
+        scalar_orders.extend(std::iter::repeat_n(order, one.len()));
+    }
+    if scalars.contains(&TIME) {
+        return Err(error("time is not an output"));
+    }
+    check_values("nValues", values.len(), scalars.len())?;
+    common::output_derivatives(inst, &scalars, &scalar_orders, values)
+}
