@@ -128,27 +128,44 @@ pub unsafe fn guarded<M: Mechanism>(
         }
     }));
     result.unwrap_or_else(|payload| {
-        let what = payload
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| payload.downcast_ref::<String>().cloned())
-            .unwrap_or_default();
-        // The instance may be half-updated: it can only be reset or freed from here on.
-        let _ = catch_unwind(AssertUnwindSafe(|| {
-            // SAFETY: the caller's promise; the body's borrow has ended with its panic.
-            if let Some(inst) = unsafe { instance::<M>(c, function.version) } {
-                inst.state = ModelState::Error;
-                inst.logger.log(
-                    ERROR,
-                    &format!(
-                        "{}: internal error ({what}); the instance must be reset",
-                        function.name
-                    ),
-                );
-            }
-        }));
-        ERROR
+        // SAFETY: the caller's promise; the body's borrow has ended with its panic.
+        unsafe { panicked::<M>(c, function, payload) }
     })
+}
+
+/// After a panic inside a call: the instance (which may be half-updated) goes to the Error
+/// state, from which it can only be reset or freed, and the panic's message is logged.
+/// Cold and out of line, so the exported functions carry only a call to it and keep their
+/// registers for the path every successful call takes.
+///
+/// # Safety
+/// As for [`guarded`], with no borrow of the instance left.
+#[cold]
+#[inline(never)]
+unsafe fn panicked<M: Mechanism>(
+    c: *mut c_void,
+    function: &Function,
+    payload: Box<dyn std::any::Any + Send>,
+) -> Status {
+    let what = payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_default();
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: the caller's promise.
+        if let Some(inst) = unsafe { instance::<M>(c, function.version) } {
+            inst.state = ModelState::Error;
+            inst.logger.log(
+                ERROR,
+                &format!(
+                    "{}: internal error ({what}); the instance must be reset",
+                    function.name
+                ),
+            );
+        }
+    }));
+    ERROR
 }
 
 /// Logs a failed call; its status. Cold: off the path of every successful call.
