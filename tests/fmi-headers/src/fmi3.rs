@@ -9,7 +9,8 @@ const _: header::fmi3GetVersionTYPE = Some(exports::fmi3GetVersion);
 const _: header::fmi3SetDebugLoggingTYPE = Some(exports::fmi3SetDebugLogging);
 const _: header::fmi3InstantiateModelExchangeTYPE = Some(exports::fmi3InstantiateModelExchange);
 const _: header::fmi3InstantiateCoSimulationTYPE = Some(exports::fmi3InstantiateCoSimulation);
-const _: header::fmi3InstantiateScheduledExecutionTYPE = Some(exports::fmi3InstantiateScheduledExecution);
+const _: header::fmi3InstantiateScheduledExecutionTYPE =
+    Some(exports::fmi3InstantiateScheduledExecution);
 const _: header::fmi3FreeInstanceTYPE = Some(exports::fmi3FreeInstance);
 const _: header::fmi3EnterInitializationModeTYPE = Some(exports::fmi3EnterInitializationMode);
 const _: header::fmi3ExitInitializationModeTYPE = Some(exports::fmi3ExitInitializationMode);
@@ -44,7 +45,8 @@ const _: header::fmi3SetBooleanTYPE = Some(exports::fmi3SetBoolean);
 const _: header::fmi3SetStringTYPE = Some(exports::fmi3SetString);
 const _: header::fmi3SetBinaryTYPE = Some(exports::fmi3SetBinary);
 const _: header::fmi3SetClockTYPE = Some(exports::fmi3SetClock);
-const _: header::fmi3GetNumberOfVariableDependenciesTYPE = Some(exports::fmi3GetNumberOfVariableDependencies);
+const _: header::fmi3GetNumberOfVariableDependenciesTYPE =
+    Some(exports::fmi3GetNumberOfVariableDependencies);
 const _: header::fmi3GetVariableDependenciesTYPE = Some(exports::fmi3GetVariableDependencies);
 const _: header::fmi3GetFMUStateTYPE = Some(exports::fmi3GetFMUState);
 const _: header::fmi3SetFMUStateTYPE = Some(exports::fmi3SetFMUState);
@@ -70,12 +72,15 @@ const _: header::fmi3EnterContinuousTimeModeTYPE = Some(exports::fmi3EnterContin
 const _: header::fmi3CompletedIntegratorStepTYPE = Some(exports::fmi3CompletedIntegratorStep);
 const _: header::fmi3SetTimeTYPE = Some(exports::fmi3SetTime);
 const _: header::fmi3SetContinuousStatesTYPE = Some(exports::fmi3SetContinuousStates);
-const _: header::fmi3GetContinuousStateDerivativesTYPE = Some(exports::fmi3GetContinuousStateDerivatives);
+const _: header::fmi3GetContinuousStateDerivativesTYPE =
+    Some(exports::fmi3GetContinuousStateDerivatives);
 const _: header::fmi3GetEventIndicatorsTYPE = Some(exports::fmi3GetEventIndicators);
 const _: header::fmi3GetContinuousStatesTYPE = Some(exports::fmi3GetContinuousStates);
-const _: header::fmi3GetNominalsOfContinuousStatesTYPE = Some(exports::fmi3GetNominalsOfContinuousStates);
+const _: header::fmi3GetNominalsOfContinuousStatesTYPE =
+    Some(exports::fmi3GetNominalsOfContinuousStates);
 const _: header::fmi3GetNumberOfEventIndicatorsTYPE = Some(exports::fmi3GetNumberOfEventIndicators);
-const _: header::fmi3GetNumberOfContinuousStatesTYPE = Some(exports::fmi3GetNumberOfContinuousStates);
+const _: header::fmi3GetNumberOfContinuousStatesTYPE =
+    Some(exports::fmi3GetNumberOfContinuousStates);
 const _: header::fmi3EnterStepModeTYPE = Some(exports::fmi3EnterStepMode);
 const _: header::fmi3GetOutputDerivativesTYPE = Some(exports::fmi3GetOutputDerivatives);
 const _: header::fmi3DoStepTYPE = Some(exports::fmi3DoStep);

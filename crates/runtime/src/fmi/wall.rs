@@ -264,13 +264,22 @@ fn misaligned(what: &str) -> Failure {
     error(format!("{what} is misaligned for its type"))
 }
 
+/// A NULL argument the call needs.
+#[cold]
+#[inline(never)]
+fn null(what: &str) -> Failure {
+    error(format!("{what} is NULL"))
+}
+
 /// An importer's output argument (a single value), refusing NULL and misalignment.
+/// Inlined with its messages out of line: a communication step checks four of them.
 ///
 /// # Safety
 /// When non-NULL and aligned, `ptr` points to a writable `T`.
+#[inline(always)]
 pub unsafe fn out<'a, T>(ptr: *mut T, what: &str) -> Result<&'a mut T, Failure> {
     if ptr.is_null() {
-        return Err(error(format!("{what} is NULL")));
+        return Err(null(what));
     }
     if !ptr.is_aligned() {
         return Err(misaligned(what));

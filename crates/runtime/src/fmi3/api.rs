@@ -140,30 +140,26 @@ pub fn do_step<M: Mechanism>(
     early_return: &mut fmi3Boolean,
     last_successful_time: &mut fmi3Float64,
 ) -> Outcome {
-    *event_handling_needed = false;
-    *terminate_simulation = false;
-    *early_return = false;
-    *last_successful_time = inst.last_successful_time;
     let stepped = common::step(
         inst,
         current_communication_point,
         communication_step_size,
         "fmi3DoStep",
-    )?;
+    );
+    // Every outcome tells the importer where the instance is and whether to go on.
+    let stopped = matches!(stepped, Ok(Stepped::Stopped { .. }));
+    *event_handling_needed = false;
+    *terminate_simulation = stopped;
+    *early_return = stopped && inst.early_return_allowed;
     *last_successful_time = inst.last_successful_time;
-    match stepped {
+    match stepped? {
         Stepped::Completed(status) => Ok(status),
-        Stepped::Stopped { message, .. } => {
-            *terminate_simulation = true;
-            if inst.early_return_allowed {
-                *early_return = true;
-                inst.logger
-                    .log(WARNING, &format!("fmi3DoStep: returned early: {message}"));
-                Ok(WARNING)
-            } else {
-                Err(discard(message))
-            }
+        Stepped::Stopped { message, .. } if inst.early_return_allowed => {
+            inst.logger
+                .log(WARNING, &format!("fmi3DoStep: returned early: {message}"));
+            Ok(WARNING)
         }
+        Stepped::Stopped { message, .. } => Err(discard(message)),
     }
 }
 
