@@ -183,6 +183,11 @@ pub fn run(args: Args) -> Result<(), String> {
         } else {
             b::measure(name, fmu_path, &binary, effort, &progress)?
         };
+        if binary.fmi3.is_none() {
+            report.notes.push(format!(
+                "{name}: the binary exports no FMI 3.0 functions: no fmi3DoStep figures"
+            ));
+        }
         if figures.model_exchange.is_none() {
             report.notes.push(format!(
                 "{name}: no Model Exchange figures (the FMU declares no ModelExchange or its binary lacks the functions)"
@@ -215,6 +220,7 @@ pub fn run(args: Args) -> Result<(), String> {
                         1e-6,
                         effort,
                         (n, evals),
+                        binary.fmi3.is_some(),
                     )?);
                 }
                 if m.model_exchange.is_some() {

@@ -244,6 +244,8 @@ pub struct Binary {
     pub path: PathBuf,
     pub description: Description,
     pub functions: Functions,
+    /// The FMI 3.0 side of the same binary (None: it exports no FMI 3.0 functions).
+    pub fmi3: Option<super::fmu3::Api>,
     _library: libloading::Library,
 }
 
@@ -294,10 +296,12 @@ impl Binary {
                 })
             })(),
         };
+        let fmi3 = super::fmu3::Api::load(&library)?;
         Ok(Binary {
             path: so.to_path_buf(),
             description,
             functions,
+            fmi3,
             _library: library,
         })
     }

@@ -16,6 +16,8 @@ use std::process::Command;
 pub enum Probe {
     /// A run of `fmi2DoStep` over the default experiment.
     Step,
+    /// The same run of `fmi3DoStep` (an FMI 3.0 instance of the same binary).
+    Fmi3Step,
     /// As many model evaluations alone as a run of steps does.
     Eval,
     /// As many right-hand-side callbacks (load, evaluate, read derivatives).
@@ -52,9 +54,16 @@ pub struct Counts {
     pub sim_step_per_step: f64,
     /// Per `fmi2GetReal` of all outputs.
     pub per_get_real: f64,
+    /// Per `fmi3DoStep` over the same run (None: the binary has no FMI 3.0 functions).
+    pub fmi3_per_step: Option<f64>,
 }
 
 impl Counts {
+    /// Instructions per `fmi3DoStep` over those per `fmi2DoStep`.
+    pub fn fmi3_ratio(&self) -> Option<f64> {
+        self.fmi3_per_step.map(|n| n / self.per_step)
+    }
+
     /// The same split as [`super::native::Split`], in instructions.
     pub fn split(&self) -> super::native::Split {
         super::native::Split {
@@ -77,6 +86,8 @@ impl Counts {
             "beyond_rhs_per_step": self.split().beyond_rhs(),
             "runtime_plumbing_per_step": self.split().runtime(),
             "instructions_per_get_real_outputs": self.per_get_real,
+            "fmi3_instructions_per_step": self.fmi3_per_step,
+            "fmi3_over_fmi2": self.fmi3_ratio(),
         })
     }
 }
@@ -146,7 +157,9 @@ fn instructions(exe: &Path, args: &[String]) -> Result<u64, String> {
 }
 
 /// Counts for one FMU binary at `(h, tol)` by running `exe bench --probe ...` under
-/// valgrind; `work` is (steps per run, evaluations per run) from an ordinary run.
+/// valgrind; `work` is (steps per run, evaluations per run) from an ordinary run; with
+/// `fmi3`, also `fmi3DoStep` over the same run.
+#[allow(clippy::too_many_arguments)]
 pub fn count(
     exe: &Path,
     so: &Path,
@@ -155,6 +168,7 @@ pub fn count(
     tol: f64,
     effort: Effort,
     work: (usize, u64),
+    fmi3: bool,
 ) -> Result<Counts, String> {
     let diff = |probe: &str| difference(exe, so, xml, h, tol, effort, probe);
     let (steps, _) = work;
@@ -167,6 +181,10 @@ pub fn count(
         integrate_per_step: diff("integrate")? / steps as f64,
         sim_step_per_step: diff("sim-step")? / steps as f64,
         per_get_real: diff("get")? / GET_CALLS as f64,
+        fmi3_per_step: match fmi3 {
+            true => Some(diff("fmi3-step")? / steps as f64),
+            false => None,
+        },
     })
 }
 
@@ -245,6 +263,9 @@ pub fn probe(
     ) {
         return probe_model_exchange(&binary, probe, tol, repeat, max_steps);
     }
+    if probe == Probe::Fmi3Step {
+        return super::fmi3::probe(&binary, h, tol, repeat, max_steps);
+    }
     let effort = Effort {
         runs: 1,
         max_steps,
@@ -285,7 +306,7 @@ pub fn probe(
                 inst.get_real(&outputs, &mut out);
             }
         }
-        Probe::MeApi | Probe::MeSimulation | Probe::MeEquations => {}
+        Probe::MeApi | Probe::MeSimulation | Probe::MeEquations | Probe::Fmi3Step => {}
     }
     Ok(())
 }

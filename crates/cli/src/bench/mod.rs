@@ -12,6 +12,8 @@
 //!   model's equations, copying, the solver's arithmetic, the step's checks and the FMI
 //!   layer; the plumbing is copying, checks and the FMI layer. Also ns per
 //!   `fmi2GetReal`/`fmi2SetReal` and per co-simulation cycle.
+//! - [`fmi3`]: ns per `fmi3DoStep` of the same binary, timed in the same runs as
+//!   `fmi2DoStep` (the same calls of the simulation, the FMI layer apart).
 //! - [`model_exchange`]: ns per derivative evaluation through Model Exchange
 //!   (`fmi2SetTime` + `fmi2SetContinuousStates` + `fmi2GetDerivatives`) next to the
 //!   model's equations alone at the same points, and the difference.
@@ -25,7 +27,9 @@
 
 pub mod clock;
 pub mod command;
+pub mod fmi3;
 pub mod fmu;
+pub mod fmu3;
 pub mod instructions;
 pub mod model_exchange;
 pub mod native;

@@ -7,6 +7,7 @@
 //! initialization untimed, then the timed loop of steps), so each run does the same work.
 
 use super::clock::{cpu_ns, num, Stat};
+use super::fmi3;
 use super::fmu::{Binary, Instance, Part};
 use mechfmu::fmi2::ffi::{fmi2OK, fmi2Warning};
 use mechfmu::simulation::{isolate, ISOLATES};
@@ -53,6 +54,9 @@ pub struct StepFigures {
     /// processor. NaN where the processor or the binary cannot isolate calls.
     pub isolated_ns: Stat,
     pub integrate_isolated_ns: Stat,
+    /// CPU ns per `fmi3DoStep` of the same binary over the same run, timed beside
+    /// `fmi2DoStep` ([`super::fmi3`]); no runs where the binary has no FMI 3.0 functions.
+    pub fmi3_ns: Stat,
 }
 
 /// Where the ns of one `fmi2DoStep` go (differences of medians, so a small part can come
@@ -119,6 +123,11 @@ impl Split {
 }
 
 impl StepFigures {
+    /// ns per `fmi3DoStep` over ns per `fmi2DoStep` (NaN without FMI 3.0 figures).
+    pub fn fmi3_ratio(&self) -> f64 {
+        self.fmi3_ns.median / self.ns.median
+    }
+
     pub fn split(&self) -> Split {
         Split {
             rhs: self.evaluate_ns.median + self.point_ns.median,
@@ -149,6 +158,8 @@ impl StepFigures {
             "tol": self.tol,
             "steps_per_run": self.steps_per_run,
             "ns_per_step": self.ns.to_json(),
+            "fmi3_do_step_ns_per_step": self.fmi3_ns.to_json(),
+            "fmi3_over_fmi2": num(self.fmi3_ratio()),
             "evals_per_step": num(self.evals),
             "accepted_per_step": num(self.accepted),
             "rejected_per_step": num(self.rejected),
@@ -254,6 +265,12 @@ pub fn step_figures(
         "fmi2DoStep: {} timed runs of each, in turns",
         effort.runs
     ));
+    if binary.fmi3.is_some() {
+        progress(&format!(
+            "fmi2DoStep and fmi3DoStep: {} timed runs of each, in turns",
+            effort.runs
+        ));
+    }
     for _ in 0..effort.runs {
         for bench in &mut benches {
             bench.run()?;
@@ -275,6 +292,8 @@ pub const PLACEMENTS: usize = 3;
 /// The runs of one configuration: `fmi2DoStep` and the parts alone, interleaved.
 struct StepBench<'a> {
     instances: Vec<Instance<'a>>,
+    /// FMI 3.0 instances of the same binary, one per placement (none without FMI 3.0).
+    fmi3: Vec<fmi3::Instance<'a>>,
     /// Runs so far: the next run's instance and stack depth.
     turn: usize,
     h: f64,
@@ -288,7 +307,7 @@ struct StepBench<'a> {
     /// Isolated calls where the processor has the barrier and the binary the part (a binary
     /// without part 5 answers fmi2Error to it).
     isolating: bool,
-    samples: [Vec<f64>; 8],
+    samples: [Vec<f64>; 9],
 }
 
 impl<'a> StepBench<'a> {
@@ -303,11 +322,21 @@ impl<'a> StepBench<'a> {
             (_, work) = step_run(&mut inst, tol, h, n, true)?;
             instances.push(inst);
         }
+        let mut fmi3 = Vec::new();
+        if binary.fmi3.is_some() {
+            for inst in &mut instances {
+                let mut three = fmi3::Instance::new(binary)?;
+                fmi3::step_run(&mut three, tol, h, n, true)?;
+                fmi3::same_run(inst, &mut three)?;
+                fmi3.push(three);
+            }
+        }
         let parts = binary.has_counters();
         let isolating =
             parts && ISOLATES && instances[0].bench(Part::IntegrateIsolated, 1, h).is_ok();
         Ok(StepBench {
             instances,
+            fmi3,
             turn: 0,
             h,
             tol,
@@ -320,13 +349,25 @@ impl<'a> StepBench<'a> {
     }
 
     /// One timed run of each figure, on the next instance at the next stack depth.
+    /// `fmi3DoStep` runs right before the `fmi2DoStep` run in every other round of the
+    /// placements, right after it in the others.
     fn run(&mut self) -> Result<(), String> {
         let placement = self.turn % PLACEMENTS;
+        let fmi3_first = (self.turn / PLACEMENTS) % 2 == 1;
         self.turn += 1;
-        deeper(placement, &mut || self.run_here(placement))
+        deeper(placement, &mut || self.run_here(placement, fmi3_first))
     }
 
-    fn run_here(&mut self, placement: usize) -> Result<(), String> {
+    /// One timed run of `fmi3DoStep` on the FMI 3.0 instance of `placement`.
+    fn run_fmi3(&mut self, placement: usize) -> Result<(), String> {
+        if let Some(three) = self.fmi3.get_mut(placement) {
+            let ns = fmi3::step_run(three, self.tol, self.h, self.n, false)?;
+            self.samples[8].push(ns / self.n as f64);
+        }
+        Ok(())
+    }
+
+    fn run_here(&mut self, placement: usize, fmi3_first: bool) -> Result<(), String> {
         let (inst, h, n) = (&mut self.instances[placement], self.h, self.n);
         let start = inst.binary.description.start;
         inst.start(self.tol, start, &[], true)?;
@@ -354,8 +395,15 @@ impl<'a> StepBench<'a> {
             self.samples[6].push(ns / n as f64);
             inst.start(self.tol, start, &[], true)?;
         }
+        if fmi3_first {
+            self.run_fmi3(placement)?;
+        }
+        let inst = &mut self.instances[placement];
         let (ns, _) = step_loop(inst, h, n, false)?;
         self.samples[0].push(ns / n as f64);
+        if !fmi3_first {
+            self.run_fmi3(placement)?;
+        }
         Ok(())
     }
 
@@ -383,6 +431,7 @@ impl<'a> StepBench<'a> {
             point_ns: Stat::of(&samples[5]),
             isolated_ns: Stat::of(&samples[6]),
             integrate_isolated_ns: Stat::of(&samples[7]),
+            fmi3_ns: Stat::of(&samples[8]),
         }
     }
 }

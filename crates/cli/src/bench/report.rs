@@ -144,6 +144,7 @@ impl Report {
                     met: beyond.map(|w| w.0 <= 25.0),
                 });
             }
+            t.extend(super::fmi3::target(m));
             if let Some(me) = &m.model_exchange {
                 t.push(Target {
                     what: format!(
@@ -244,8 +245,8 @@ impl Report {
             let _ = writeln!(o, "fmi2DoStep from a native loop (the .so through libloading), default experiment interval per run");
             let _ = writeln!(
             o,
-            "{:<18} {:>6} {:>6} {:>8} {:>11} {:>5} {:>4} {:>4} {:>7} | {:>6} {:>5} {:>6} {:>5} {:>5} | {:>6} {:>7} | {:>5} {:>7}",
-            "mechanism", "h", "tol", "ns/step", "(min–max)", "evals", "acc", "rej", "ns/eval",
+            "{:<18} {:>6} {:>6} {:>8} {:>11} {:>6} {:>7} {:>5} {:>4} {:>4} {:>7} | {:>6} {:>5} {:>6} {:>5} {:>5} | {:>6} {:>7} | {:>5} {:>7}",
+            "mechanism", "h", "tol", "ns/step", "(min–max)", "fmi3", "fmi3 Δ", "evals", "acc", "rej", "ns/eval",
             "rhs", "copy", "solver", "step", "fmi", ">rhs", "plumb.", "own", "overlap"
         );
             for m in &self.mechanisms {
@@ -254,12 +255,14 @@ impl Report {
                     let iso = s.isolated();
                     let _ = writeln!(
                     o,
-                    "{:<18} {:>6} {:>6} {:>8.0} {:>11} {:>5.2} {:>4.2} {:>4.2} {:>7.1} | {:>6.0} {:>5.0} {:>6.0} {:>5.0} {:>5.0} | {:>6.0} {:>7.0} | {:>5.0} {:>7.0}",
+                    "{:<18} {:>6} {:>6} {:>8.0} {:>11} {:>6} {:>7} {:>5.2} {:>4.2} {:>4.2} {:>7.1} | {:>6.0} {:>5.0} {:>6.0} {:>5.0} {:>5.0} | {:>6.0} {:>7.0} | {:>5.0} {:>7.0}",
                     m.name,
                     e(s.h),
                     e(s.tol),
                     s.ns.median,
                     spread(&s.ns),
+                    f(s.fmi3_ns.median, 0),
+                    super::fmi3::percent(s.fmi3_ratio()),
                     s.evals,
                     s.accepted,
                     s.rejected,
@@ -276,6 +279,7 @@ impl Report {
                 );
                 }
             }
+            let _ = writeln!(o, "  fmi3 = ns per fmi3DoStep of the same binary over the same run, timed beside fmi2DoStep; fmi3 Δ = fmi3 / ns/step - 1.");
             let _ = writeln!(o, "  evals/acc/rej: model evaluations, accepted and rejected solver steps per fmi2DoStep.");
             let _ = writeln!(o, "  Split of ns/step, from the parts run alone in the FMU on the same trajectory (mechfmu_bench):");
             let _ = writeln!(o, "  rhs = the model's equations (evaluate at every stage, outputs and any projection once per step);");
@@ -415,13 +419,15 @@ impl Report {
         if self.mechanisms.iter().any(|m| m.instructions.is_some()) {
             let _ = writeln!(
                 o,
-                "Instructions per fmi2DoStep (valgrind, repeatable), h = 1e-2, tol = 1e-6"
+                "Instructions per fmi2DoStep (valgrind, repeatable), h = 1e-2, tol = 1e-6; fmi3 = per fmi3DoStep, same run"
             );
             let _ = writeln!(
                 o,
-                "{:<18} {:>8} | {:>6} {:>5} {:>6} {:>5} {:>5} | {:>6} {:>7} | {:>11}",
+                "{:<18} {:>8} {:>8} {:>7} | {:>6} {:>5} {:>6} {:>5} {:>5} | {:>6} {:>7} | {:>11}",
                 "mechanism",
                 "total",
+                "fmi3",
+                "fmi3 Δ",
                 "rhs",
                 "copy",
                 "solver",
@@ -436,9 +442,11 @@ impl Report {
                     let p = c.split();
                     let _ = writeln!(
                         o,
-                        "{:<18} {:>8.0} | {:>6.0} {:>5.0} {:>6.0} {:>5.0} {:>5.0} | {:>6.0} {:>7.0} | {:>11.0}",
+                        "{:<18} {:>8.0} {:>8} {:>7} | {:>6.0} {:>5.0} {:>6.0} {:>5.0} {:>5.0} | {:>6.0} {:>7.0} | {:>11.0}",
                         m.name,
                         c.per_step,
+                        c.fmi3_per_step.map_or("-".into(), |n| format!("{n:.0}")),
+                        c.fmi3_ratio().map_or("-".into(), super::fmi3::percent),
                         p.rhs,
                         p.copying,
                         p.solver,
@@ -555,11 +563,11 @@ impl Report {
             );
             let _ = writeln!(
             o,
-            "| mechanism | h | tol | ns/step | evals/step | rhs | copy | solver | step | FMI | plumbing (copy+step+FMI) | own (isolated) | overlap lost |"
+            "| mechanism | h | tol | ns/step | fmi3DoStep ns/step | fmi3 vs fmi2 | evals/step | rhs | copy | solver | step | FMI | plumbing (copy+step+FMI) | own (isolated) | overlap lost |"
         );
             let _ = writeln!(
                 o,
-                "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+                "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
             );
             for m in &self.mechanisms {
                 for s in &m.steps {
@@ -567,11 +575,13 @@ impl Report {
                     let iso = s.isolated();
                     let _ = writeln!(
                     o,
-                    "| {} | {} | {} | {:.0} | {:.2} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} |",
+                    "| {} | {} | {} | {:.0} | {} | {} | {:.2} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} |",
                     m.name,
                     e(s.h),
                     e(s.tol),
                     s.ns.median,
+                    f(s.fmi3_ns.median, 0),
+                    super::fmi3::percent(s.fmi3_ratio()),
                     s.evals,
                     p.rhs,
                     p.copying,
@@ -582,6 +592,26 @@ impl Report {
                     iso.plumbing,
                     iso.overlap_lost
                 );
+                }
+            }
+        }
+        if self.mechanisms.iter().any(|m| m.instructions.is_some()) {
+            let _ = writeln!(
+                o,
+                "\n**Instructions** per step (valgrind), h 1e-2, tol 1e-6:\n"
+            );
+            let _ = writeln!(o, "| mechanism | fmi2DoStep | fmi3DoStep | fmi3 vs fmi2 |");
+            let _ = writeln!(o, "|---|---:|---:|---:|");
+            for m in &self.mechanisms {
+                if let Some(c) = &m.instructions {
+                    let _ = writeln!(
+                        o,
+                        "| {} | {:.0} | {} | {} |",
+                        m.name,
+                        c.per_step,
+                        c.fmi3_per_step.map_or("-".into(), |n| format!("{n:.0}")),
+                        c.fmi3_ratio().map_or("-".into(), super::fmi3::percent)
+                    );
                 }
             }
         }
