@@ -1,11 +1,14 @@
-"""mechfmu_validate: validation of FMI 2.0 FMUs, what ``mechfmu validate`` runs.
+"""mechfmu_validate: validation of FMI 2.0 and FMI 3.0 FMUs, what ``mechfmu validate`` runs.
 
 For each FMU: FMPy's ``validate_fmu`` and mechfmu's stricter checks (:mod:`.checks`); the
 mechanism's reference cases, declared once in ``<crate>/validation/cases.py`` with
 :class:`mechfmu_validate.case.Case`, under FMPy's ``simulate_fmu``, libcosim and the fmi crate
-in Co-Simulation (:mod:`.importers`), and in Model Exchange (:mod:`.model_exchange`); a table,
-an exit status, and optionally a report with one plot per case (:mod:`.report`). The same
-cases are what ``tests/python/test_cases.py`` and ``test_model_exchange.py`` run.
+in Co-Simulation (:mod:`.importers`, :mod:`.fmi_crate`), and in Model Exchange
+(:mod:`.model_exchange`); the same cases on the mechanism's FMI 3.0 FMU (:mod:`.fmi3`, its
+array elements named by :mod:`.arrays`, its checks :mod:`.checks3`); a table, an exit status,
+and optionally a report with one plot per case (:mod:`.report`, :mod:`.readme`). The same
+cases are what ``tests/python/test_cases.py``, ``test_model_exchange.py`` and ``test_fmi3.py``
+run.
 
 Command line (what ``mechfmu validate`` runs, in the venv where ``python/pyproject.toml``
 installs this package)::

@@ -2,13 +2,16 @@
 
     python -m mechfmu_validate FMU [FMU ...] [--cases MODEL=cases.py ...] [--case TEXT ...]
                                [--report DIR] [--json FILE] [--readme DIR] [--no-libcosim]
-                               [--no-fmi-crate] [--no-model-exchange]
+                               [--no-fmi-crate] [--no-model-exchange] [--no-fmi3]
     python -m mechfmu_validate references FMU [FMU ...] --cases MODEL=cases.py ...
 
 Each case runs under FMPy (against the case's reference), then under libcosim and under the
 Rust ``fmi`` crate (``mechfmu-fmi-run``, named by ``$MECHFMU_FMI_RUN``), each of which must agree
 with FMPy to 1e-9, relative, at the same settings; then in Model Exchange under FMPy's CVode
-and Euler and the fmi crate's RK4, against the reference (:mod:`.model_exchange`).
+and Euler and the fmi crate's RK4, against the reference (:mod:`.model_exchange`); then, when
+the FMI 3.0 FMU is beside the FMI 2.0 one (``<dir>/fmi3/<Name>.fmu``; ``--no-fmi3`` leaves it
+out), under FMPy's and the fmi crate's FMI 3.0 (:mod:`.fmi3`). An FMI 3.0 FMU given on the
+command line gets its checks and the FMI 3.0 rows alone (:mod:`.validation`).
 
 Exit status: 0 when everything passes, 1 when a check or a case fails, 2 for a usage error.
 """
@@ -20,31 +23,18 @@ import json
 import math
 import platform
 import sys
-import time
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
 import fmpy
 
-from .case import Case, describe, evaluate
-from .checks import run_checks
-from .importers import (FMI_CRATE_NOTE, LIBCOSIM_NOTE, Fmu, agreement, capture_fmu_log, fmi_crate_available,
-                        libcosim_available, run_fmi_crate, run_fmpy, run_libcosim)
+from .importers import Fmu, capture_fmu_log, fmi_crate_available, libcosim_available
 from .loader import default_case, load_cases
 from .reference import write_references
 from .report import limit_text, result_text
-from . import model_exchange
-
-#: libcosim must agree with FMPy to this, relative (max |a - b| / max |b|), at the same settings
-LIBCOSIM_TOLERANCE = 1e-9
-
-#: the fmi crate must agree with FMPy to this, relative, both at the case's tolerance
-FMI_CRATE_TOLERANCE = 1e-9
-
-#: the importer column of the fmi crate's rows
-FMI_CRATE = "fmi crate"
+# the tolerances and the rows of one FMU (importable from here, as before)
+from .validation import FMI_CRATE, FMI_CRATE_TOLERANCE, LIBCOSIM_TOLERANCE, validate_fmu  # noqa: F401
 
 
 def make_parser() -> argparse.ArgumentParser:
@@ -62,6 +52,8 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-fmi-crate", action="store_true",
                    help="do not run the cases under the Rust fmi crate (mechfmu-fmi-run)")
     p.add_argument("--no-model-exchange", action="store_true", help="do not run the cases in Model Exchange")
+    p.add_argument("--no-fmi3", action="store_true",
+                   help="do not validate the FMI 3.0 FMU beside an FMI 2.0 one (<dir>/fmi3/<Name>.fmu)")
     return p
 
 
@@ -73,130 +65,6 @@ def _cases_map(items: list[str]) -> dict[str, Path]:
             raise SystemExit(f"mechfmu validate: --cases takes MODEL=PATH, not {item!r}")
         out[model] = Path(path)
     return out
-
-
-def _progress(msg: str) -> None:
-    if sys.stderr.isatty():
-        sys.stderr.write(f"\r\033[K{msg}")
-        sys.stderr.flush()
-
-
-def _settings(case: Case) -> str:
-    parts = [f"stop {case.stop_time:g} s", f"output interval {case.output_interval:g} s",
-             "relative tolerance " + ("DefaultExperiment" if case.relative_tolerance is None
-                                      else f"{case.relative_tolerance:g}")]
-    if case.start_values:
-        parts.append("start values " + ", ".join(f"{k}={v:g}" for k, v in case.start_values.items()))
-    if case.input is not None:
-        parts.append("input table " + ", ".join(case.input_table().dtype.names[1:]))
-    return "; ".join(parts)
-
-
-def validate_fmu(path: Path, cases_file: Path | None, only: list[str], use_libcosim: bool,
-                 rows: list[dict], plots: list[dict], details: list[dict], use_fmi_crate: bool = True,
-                 use_model_exchange: bool = True) -> None:
-    fmu = Fmu(path)
-    name = fmu.model
-    try:
-        cases: list[Case] = load_cases(cases_file, name) if cases_file else []
-        selected = [c for c in cases if not only or any(o in c.name for o in only)]
-        _progress(f"{name}: checks")
-        for check in run_checks(fmu, default_case(cases)):
-            rows.append(dict(kind="check", fmu=name, case=f"check: {check.name}",
-                             importer="fmpy" if check.name == "fmpy validate" else "mechfmu",
-                             max_error=float(len(check.problems)) if check.max_error is None else check.max_error,
-                             tolerance=0.0 if check.tolerance is None else check.tolerance,
-                             passed=check.passed, problems=check.problems, notes=check.notes))
-        if cases_file is None:
-            rows.append(dict(kind="note", fmu=name, case="(no validation/cases.py: no reference cases)",
-                             importer="-", max_error=None, tolerance=None, passed=True, problems=[], notes=[]))
-        units = {}
-        for v in fmu.md.modelVariables:
-            u = v.unit or (v.declaredType.unit if v.declaredType is not None else None)
-            units[v.name] = u or ""
-        for case in selected:
-            _progress(f"{name}: {case.name} (FMPy)")
-            anchor = f"{name}-{case.name}".replace(" ", "-")
-            entry: dict[str, Any] = dict(fmu=name, case=case.name, anchor=anchor, description=case.description,
-                                         settings=_settings(case), highlight=case.highlight, plot=list(case.plot),
-                                         units={**units, **{d: "derived" for d in case.derived}})
-            t0 = time.perf_counter()
-            fmpy_result = None
-            try:
-                fmpy_result = run_fmpy(fmu, case)
-                ev = evaluate(case, fmpy_result)
-            except Exception as e:
-                ev = None
-                problem = f"FMPy run failed: {type(e).__name__}: {e}"
-            if ev is not None:
-                problem = ev.problem
-                worst = ev.worst
-                rows.append(dict(kind="case", fmu=name, case=case.name, importer="FMPy", anchor=anchor,
-                                 max_error=None if worst is None else worst.max_error,
-                                 tolerance=None if worst is None else worst.tolerance,
-                                 passed=ev.passed, problems=[problem] if problem else [],
-                                 notes=[f"worst signal {worst.name} at t = {worst.at_time:g}"] if worst else [],
-                                 signals={s.name: dict(max_error=s.max_error, at_time=s.at_time, scale=s.scale,
-                                                       tolerance=s.tolerance, passed=s.passed) for s in ev.signals},
-                                 seconds=time.perf_counter() - t0,
-                                 log=fmpy_result.log[-20:] if fmpy_result else []))
-            else:
-                rows.append(dict(kind="case", fmu=name, case=case.name, importer="FMPy", anchor=anchor,
-                                 max_error=math.inf, tolerance=None, passed=False, problems=[problem], notes=[]))
-            entry["evaluation"] = ev
-            entry["result"] = fmpy_result
-            entry["passed"] = ev is not None and ev.passed
-            if use_libcosim:
-                _progress(f"{name}: {case.name} (libcosim)")
-                lc_row = dict(kind="case", fmu=name, case=case.name, importer="libcosim", anchor=anchor,
-                              tolerance=LIBCOSIM_TOLERANCE, problems=[], notes=[LIBCOSIM_NOTE])
-                try:
-                    same = fmpy_result if (case.relative_tolerance is None and fmpy_result is not None) \
-                        else run_fmpy(fmu, case, relative_tolerance=None)
-                    lc = run_libcosim(fmu, case)
-                    floors = {s.name: s.scale for s in ev.signals} if ev is not None else {}
-                    worst, where, when, over_time = agreement(lc, same, case.recorded(), floors)
-                    lc_row.update(max_error=worst, passed=bool(worst <= LIBCOSIM_TOLERANCE),
-                                  notes=[f"worst signal {where} at t = {when:g}", LIBCOSIM_NOTE])
-                    entry["libcosim"] = dict(time=lc.time, error_over_time=over_time, tolerance=LIBCOSIM_TOLERANCE,
-                                             max_error=worst)
-                except Exception as e:
-                    lc_row.update(max_error=math.inf, passed=False,
-                                  problems=[f"libcosim run failed: {type(e).__name__}: {e}"])
-                rows.append(lc_row)
-                entry["passed"] = entry["passed"] and lc_row["passed"]
-            if use_fmi_crate:
-                _progress(f"{name}: {case.name} (fmi crate)")
-                fc_row = dict(kind="case", fmu=name, case=case.name, importer=FMI_CRATE, anchor=anchor,
-                              tolerance=FMI_CRATE_TOLERANCE, problems=[], notes=[FMI_CRATE_NOTE])
-                t1 = time.perf_counter()
-                try:
-                    fc = run_fmi_crate(fmu, case)
-                    if fmpy_result is None:
-                        raise RuntimeError("the FMPy run failed: nothing to compare with")
-                    floors = {s.name: s.scale for s in ev.signals} if ev is not None else {}
-                    worst, where, when, over_time = agreement(fc, fmpy_result, case.recorded(), floors)
-                    fc_row.update(max_error=worst, passed=bool(worst <= FMI_CRATE_TOLERANCE),
-                                  notes=[f"worst signal {where} at t = {when:g}", FMI_CRATE_NOTE],
-                                  seconds=time.perf_counter() - t1, log=fc.log[-20:])
-                    entry["fmi_crate"] = dict(time=fc.time, error_over_time=over_time,
-                                              tolerance=FMI_CRATE_TOLERANCE, max_error=worst)
-                except Exception as e:
-                    fc_row.update(max_error=math.inf, passed=False,
-                                  problems=[f"fmi crate run failed: {type(e).__name__}: {e}"])
-                rows.append(fc_row)
-                entry["passed"] = entry["passed"] and fc_row["passed"]
-            if use_model_exchange:
-                for me_row in model_exchange.rows(fmu, case, anchor, entry, use_fmi_crate,
-                                                  lambda what: _progress(f"{name}: {case.name} ({what})")):
-                    rows.append(me_row)
-                    entry["passed"] = entry["passed"] and me_row["passed"]
-            if ev is not None and ev.signals:
-                plots.append(entry)
-            details.append(dict(fmu=name, **describe(case)))
-    finally:
-        fmu.cleanup()
-        _progress("")
 
 
 def print_table(rows: list[dict]) -> None:
@@ -317,7 +185,8 @@ def main(argv: list[str] | None = None) -> int:
         except Exception:
             pass
         validate_fmu(path, cases_map.get(md_model or path.stem), args.case, use_libcosim, rows, plots, details,
-                     use_fmi_crate=use_fmi_crate, use_model_exchange=not args.no_model_exchange)
+                     use_fmi_crate=use_fmi_crate, use_model_exchange=not args.no_model_exchange,
+                     use_fmi3=not args.no_fmi3)
     header = dict(fmpy=fmpy.__version__, libcosim=libcosim_info, fmi_crate=fmi_crate_info,
                   python=platform.python_version())
     print_table(rows)

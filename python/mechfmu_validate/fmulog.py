@@ -12,6 +12,11 @@ proxy at a temporary callback that is freed after the call, and the next FMU mes
 jump to freed memory. Whoever repoints the proxy on purpose (an in-process sweep does) calls
 :func:`repoint` afterwards.
 
+FMI 3.0's log callback is not variadic: ctypes receives it directly, without the proxy, and
+FMPy keeps the callback it is given alive with the instance. Pass :func:`fmi3_logger` as
+``logger=`` to ``fmpy.simulate_fmu`` (or ``logMessage=`` to an instance's ``instantiate``)
+of an FMI 3.0 FMU, and its messages land here too (FMPy's default prints them to stdout).
+
 Every message becomes a :class:`LogRecord`; a :class:`LogMark` collects those logged after
 its creation::
 
@@ -33,7 +38,7 @@ from ctypes import byref
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["LogRecord", "LogMark", "install", "raw_callbacks", "repoint", "status_name", "STATUS_NAMES"]
+__all__ = ["LogRecord", "LogMark", "install", "raw_callbacks", "repoint", "fmi3_logger", "status_name", "STATUS_NAMES"]
 
 #: fmi2Status values and their names
 STATUS_NAMES = {
@@ -46,8 +51,10 @@ STATUS_NAMES = {
 }
 
 
-def status_name(status: int) -> str:
-    return STATUS_NAMES.get(status, f"status {status}")
+def status_name(status: int, fmi: int = 2) -> str:
+    """``fmi2Warning`` (``fmi3Warning`` for ``fmi=3``: the statuses have the same values)."""
+    name = STATUS_NAMES.get(status)
+    return f"fmi{fmi}{name.removeprefix('fmi2')}" if name else f"status {status}"
 
 
 @dataclass(frozen=True)
@@ -56,13 +63,15 @@ class LogRecord:
     status: int
     category: str
     message: str
+    #: the FMI version of the FMU that logged it (FMI 3.0's callback names no instance)
+    fmi: int = 2
 
     def __str__(self) -> str:
-        return f"[{status_name(self.status)}|{self.category}] {self.instance}: {self.message}"
+        return f"[{status_name(self.status, self.fmi)}|{self.category}] {self.instance}: {self.message}"
 
     def brief(self) -> str:
         """``[Warning] message``: the form of the report's log lines."""
-        return f"[{status_name(self.status).removeprefix('fmi2')}] {self.message}"
+        return f"[{status_name(self.status, self.fmi).removeprefix(f'fmi{self.fmi}')}] {self.message}"
 
 
 _records: list[LogRecord] = []
@@ -75,6 +84,16 @@ def _decode(b: bytes | None) -> str:
 
 def _capture(env, instance_name, status, category, message):  # called from C through fmpy's proxy
     _records.append(LogRecord(_decode(instance_name), int(status), _decode(category), _decode(message)))
+
+
+def _capture_fmi3(env, status, category, message):  # FMI 3.0's fmi3LogMessageCallback
+    _records.append(LogRecord("", int(status), _decode(category), _decode(message), fmi=3))
+
+
+def fmi3_logger():
+    """The log callback for an FMI 3.0 FMU under FMPy (``simulate_fmu(logger=...)``): its
+    messages become :class:`LogRecord` s that a :class:`LogMark` sees."""
+    return _capture_fmi3
 
 
 def _capture_raw(env, instance_name, status, category, message):  # called from C, no proxy

@@ -14,9 +14,8 @@ DefaultExperiment tolerance; libcosimpy offers no way to pass one. The compariso
 ``relative_tolerance=None`` (FMPy then passes the DefaultExperiment tolerance).
 
 The fmi-crate runner takes the tolerance (and the stop time) like FMPy, so it is compared
-with FMPy at the case's own settings. It is a separate executable, found through the
-environment variable ``MECHFMU_FMI_RUN`` (``mechfmu validate`` builds it and sets it); it
-reads the experiment as JSON and writes its result as CSV.
+with FMPy at the case's own settings (:mod:`.fmi_crate`, whose names are importable from
+here too). The FMI 3.0 FMUs' runs are in :mod:`.fmi3`.
 
 In Model Exchange the importer integrates. The inputs are the Co-Simulation run's: the
 value FMPy applies at each communication point, held to the next (:func:`held_input`), so
@@ -27,11 +26,7 @@ from before the event there, for the same reason.
 
 from __future__ import annotations
 
-import csv
-import json
-import os
 import shutil
-import subprocess
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -47,15 +42,10 @@ from .case import Case, Result, step_input
 
 __all__ = ["Fmu", "run_fmpy", "run_fmpy_me", "simulate_me", "held_input", "run_libcosim", "libcosim_available",
            "run_fmi_crate", "fmi_crate_available", "NotSupported", "capture_fmu_log", "LIBCOSIM_NOTE",
-           "FMI_CRATE_NOTE", "FMI_RUN_ENV", "ME_CVODE_RTOL"]
+           "FMI_CRATE_NOTE", "FMI_RUN_ENV", "ME_CVODE_RTOL", "agreement"]
 
 LIBCOSIM_NOTE = ("libcosim passes no tolerance to fmi2SetupExperiment (the FMU uses its "
                  "DefaultExperiment tolerance): compared with FMPy run at relative_tolerance=None")
-
-FMI_CRATE_NOTE = "the fmi crate (rust-fmi) through mechfmu-fmi-run: compared with FMPy at the case's tolerance"
-
-#: the environment variable naming the mechfmu-fmi-run executable
-FMI_RUN_ENV = "MECHFMU_FMI_RUN"
 
 #: the relative tolerance of FMPy's CVode in the Model Exchange runs
 ME_CVODE_RTOL = 1e-10
@@ -63,6 +53,11 @@ ME_CVODE_RTOL = 1e-10
 
 class NotSupported(RuntimeError):
     """The importer cannot run this kind of experiment (a row to skip, not a failure)."""
+
+
+# the fmi crate's runner lives in .fmi_crate (it uses the input helpers below); its names are
+# importable from here as before
+from .fmi_crate import FMI_CRATE_NOTE, FMI_RUN_ENV, fmi_crate_available, run_fmi_crate  # noqa: E402
 
 
 @dataclass
@@ -83,6 +78,11 @@ class Fmu:
     def model(self) -> str:
         cs = self.md.coSimulation
         return cs.modelIdentifier if cs is not None else self.md.modelName
+
+    @property
+    def fmi3(self) -> bool:
+        """An FMI 3.0 FMU (its arrays need an :class:`~.arrays.ArrayMap` for a case's names)."""
+        return self.md.fmiVersion.startswith("3.")
 
     @property
     def variables(self) -> dict[str, Any]:
@@ -332,73 +332,6 @@ def run_libcosim(fmu: Fmu, case: Case) -> Result:
             raise RuntimeError(f"libcosim observed {np.count_nonzero(~np.isnan(col))} of {n + 1} samples of {name}")
         columns[name] = col
     return Result(columns)
-
-
-# ---------------------------------------------------------------------------------------
-# the fmi crate (rust-fmi), through mechfmu-fmi-run
-
-
-def fmi_crate_available() -> tuple[bool, str]:
-    """(True, path) when ``$MECHFMU_FMI_RUN`` names an executable file, else (False, why)."""
-    path = os.environ.get(FMI_RUN_ENV)
-    if not path:
-        return False, (f"{FMI_RUN_ENV} is not set (`mechfmu validate` builds mechfmu-fmi-run from tools/fmi-run "
-                       "and sets it; see the message above the table if that build failed)")
-    if not (os.path.isfile(path) and os.access(path, os.X_OK)):
-        return False, f"{FMI_RUN_ENV}={path} is not an executable file"
-    return True, path
-
-
-def run_fmi_crate(fmu: Fmu, case: Case, relative_tolerance: float | None | str = "case", interface: str = "cs",
-                  step: float | None = None) -> Result:
-    """The case under the Rust ``fmi`` crate: ``mechfmu-fmi-run`` runs a fixed-step experiment
-    with the case's output interval, start values and stop time, the tolerance
-    (``"case"``: the case's; ``None``: none), the inputs FMPy applies set before every step,
-    and records the case's variables. Raises with the runner's message when it fails.
-
-    ``interface="me"``: Model Exchange, the runner integrating with its own RK4 at ``step``
-    (a divisor of the output interval, run as ``--substeps``; default: the output interval).
-    Raises :class:`NotSupported` when the runner does not accept ``--interface``."""
-    ok, found = fmi_crate_available()
-    if not ok:
-        raise RuntimeError(f"the fmi-crate importer is not available: {found}")
-    rtol = case.relative_tolerance if relative_tolerance == "case" else relative_tolerance
-    if not _input_events_on_grid(case):
-        raise RuntimeError("an input jump is off the communication grid: a fixed-step master cannot follow it")
-    n, h = case.steps(), case.output_interval
-    substeps = 1 if step is None else round(h / step)
-    if abs(substeps * (step or h) - h) > 1e-9 * h:
-        raise ValueError(f"the step {step} does not divide the output interval {h}")
-    input_names, _ = _input_values(case, fmu, 0.0)
-    rows = [_input_values(case, fmu, k * h)[1] for k in range(n + 1)] if input_names else []
-    names = case.recorded()
-    experiment = dict(fmu=str(fmu.path), relative_tolerance=rtol, stop_time=float(case.stop_time), step_size=h,
-                      steps=n, start_values={k: float(v) for k, v in case.start_values.items()},
-                      inputs=input_names, input_values=rows, record=names)
-    options = [] if interface == "cs" else ["--interface", interface]
-    if substeps > 1:
-        options += ["--substeps", str(substeps)]
-    with tempfile.TemporaryDirectory(prefix="mechfmu-fmi-run-") as tmp:
-        spec, out = Path(tmp) / "experiment.json", Path(tmp) / "result.csv"
-        spec.write_text(json.dumps(experiment, allow_nan=False))
-        proc = subprocess.run([found, str(spec), "--out", str(out), *options], capture_output=True, text=True)
-        log = [line for line in proc.stderr.splitlines() if line.strip()]
-        if options and proc.returncode == 2 and log and log[-1].startswith("usage:"):
-            raise NotSupported(f"mechfmu-fmi-run does not accept {' '.join(options)} ({log[-1]})")
-        if proc.returncode != 0:
-            problem = next((line for line in reversed(log) if line.startswith("mechfmu-fmi-run:")),
-                           log[-1] if log else f"exit status {proc.returncode}")
-            fmu_log = [line for line in log if line.startswith("[FMU")][-5:]
-            raise RuntimeError(problem + ("; FMU log: " + " | ".join(fmu_log) if fmu_log else ""))
-        with out.open(newline="") as f:
-            table = list(csv.reader(f))
-    if not table or table[0] != ["time", *names]:
-        raise RuntimeError(f"mechfmu-fmi-run wrote the columns {table[0] if table else []}, "
-                           f"expected {['time', *names]}")
-    if len(table) != n + 2:
-        raise RuntimeError(f"mechfmu-fmi-run wrote {len(table) - 1} rows, expected {n + 1}")
-    data = np.array([[float(x) for x in row] for row in table[1:]], dtype=float)
-    return Result({name: data[:, i] for i, name in enumerate(table[0])}, log)
 
 
 def agreement(a: Result, b: Result, names: list[str],

@@ -130,8 +130,10 @@ def band_text(band) -> str:
     return f"{band[0]:g} to {band[1]:g}"
 
 
-def run_cvode(fmu: Fmu, case: Case) -> tuple[Result, Evaluation]:
-    result = run_fmpy_me(fmu, case, "CVode")
+def run_cvode(fmu: Fmu, case: Case, run: Callable[[Fmu, Case], Result] | None = None) -> tuple[Result, Evaluation]:
+    """The case under FMPy's CVode (``run``: how, for an FMU FMPy cannot run from the case's
+    names alone, such as an FMI 3.0 one with arrays)."""
+    result = run(fmu, case) if run is not None else run_fmpy_me(fmu, case, "CVode")
     return result, evaluate(case, result)
 
 
@@ -170,16 +172,18 @@ def rows(fmu: Fmu, case: Case, anchor: str, entry: dict[str, Any], use_fmi_crate
     return out
 
 
-def cvode_row(fmu: Fmu, case: Case, anchor: str = "", entry: dict[str, Any] | None = None) -> dict[str, Any]:
-    """The case's row under FMPy's CVode, held to the case's limits."""
-    row = dict(kind="case", fmu=fmu.model, case=case.name, anchor=anchor, importer=CVODE, problems=[],
+def cvode_row(fmu: Fmu, case: Case, anchor: str = "", entry: dict[str, Any] | None = None, importer: str = CVODE,
+              run: Callable[[Fmu, Case], Result] | None = None) -> dict[str, Any]:
+    """The case's row under FMPy's CVode, held to the case's limits (named ``importer``, run by
+    ``run``: see :func:`run_cvode`)."""
+    row = dict(kind="case", fmu=fmu.model, case=case.name, anchor=anchor, importer=importer, problems=[],
                notes=[CVODE_NOTE])
     t0 = time.perf_counter()
     try:
-        result, ev = run_cvode(fmu, case)
+        result, ev = run_cvode(fmu, case, run)
     except Exception as e:
         return dict(row, max_error=math.inf, tolerance=None, passed=False,
-                    problems=[f"{CVODE} run failed: {type(e).__name__}: {e}"])
+                    problems=[f"{importer} run failed: {type(e).__name__}: {e}"])
     worst = ev.worst
     limited = not ev.passed and ev.problem is None and all(x.passed or x.max_error <= CVODE_FLOOR
                                                            for x in ev.signals)

@@ -2,21 +2,21 @@
 one PNG per case (``DIR/<FMU>/<case>.png``): the FMU's signals against the reference, and the
 error over time on a log scale (with the tolerance, libcosim's and the fmi crate's deviations
 from FMPy, and the Model Exchange run under CVode).
-``--readme DIR`` writes the table (``DIR/validation.md``) and the highlighted cases' PNGs.
+``--readme DIR`` writes the tables (``DIR/validation.md``) and the highlighted cases' PNGs
+(:mod:`.readme`).
 """
 
 from __future__ import annotations
 
 import html
 import math
-import shutil
 from types import SimpleNamespace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .model_exchange import CVODE, EULER, METHODS, RK4, band_text
+from .model_exchange import band_text
 
 __all__ = ["plot_case", "write_report", "write_readme", "markdown_table", "limit_text", "result_text"]
 
@@ -110,7 +110,8 @@ def plot_case(entry: dict[str, Any], path: Path) -> None:
              color="#1a7f37" if entry["passed"] else "#cf222e", ha="left", va="top")
     sub = []
     if worst is not None:
-        sub.append(f"FMPy: max error {worst.max_error:.1e} ({worst.name}), tolerance {worst.tolerance:.0e}")
+        sub.append(f"{entry.get('label', 'FMPy')}: max error {worst.max_error:.1e} ({worst.name}), "
+                   f"tolerance {worst.tolerance:.0e}")
     lc = entry.get("libcosim")
     if lc and lc.get("max_error") is not None:
         sub.append(f"libcosim vs FMPy: {lc['max_error']:.1e}, tolerance {lc['tolerance']:.0e}")
@@ -211,7 +212,11 @@ LEGEND = (
     "order: the observed order log2(e(h)/e(h/2)), whose band is shown, says the whole error is the "
     "method's truncation error. LIMIT: the importer's solver did not reach the case's tolerance (CVode "
     "up to 1e-6; a fixed-step method outside its asymptotic range, or limited by what the FMU holds to its "
-    "own tolerance); the error reached is reported, not failed. For a check: the number of problems found."
+    "own tolerance); the error reached is reported, not failed. The FMI 3.0 FMU of the mechanism "
+    "(fmus/fmi3/<Name>.fmu) runs the same cases: FMPy FMI3 CS and FMPy FMI3 ME CVode against the reference "
+    "as above; fmi crate FMI3 CS against FMPy's FMI 3.0 run (1e-9); fmi crate FMI3 ME RK4 as the RK4 row; "
+    "check: FMI 3.0 CS = FMI 2.0 CS compares every variable of the DefaultExperiment under both FMUs (1e-12, "
+    "relative). For a check: the number of problems found."
 )
 
 
@@ -257,76 +262,5 @@ def write_report(directory: Path, rows: list[dict[str, Any]], cases: list[dict[s
         f"<style>{style}</style></head><body>\n" + "\n".join(body) + "\n</body></html>\n")
 
 
-def _me_cell(row: dict[str, Any] | None) -> str:
-    """A Model Exchange row in the README's table: the error, the observed order when the row
-    is judged by it, ✗ when it fails."""
-    if row is None:
-        return "-"
-    if row.get("skipped"):
-        return "SKIP"
-    cell = _fmt(row["max_error"])
-    if row.get("observed_order") is not None:
-        cell += f" (h {row['step'] * 1e3:g} ms, p {row['observed_order']:.2f})"
-    if row.get("limited"):
-        return cell + " (limit)"
-    return cell if row["passed"] else cell + " **✗**"
-
-
-def write_readme(directory: Path, rows: list[dict[str, Any]], cases: list[dict[str, Any]],
-                 header: dict[str, Any]) -> list[Path]:
-    """The table (validation.md) and the highlighted cases' plots, for the README."""
-    directory.mkdir(parents=True, exist_ok=True)
-    written = []
-    per_case: dict[tuple[str, str], dict[str, Any]] = {}
-    for r in rows:
-        if r["kind"] != "case":
-            continue
-        d = per_case.setdefault((r["fmu"], r["case"]), {"fmu": r["fmu"], "case": r["case"], "passed": True})
-        d[r["importer"]] = r["max_error"]
-        d[r["importer"] + " tol"] = r["tolerance"]
-        d[r["importer"] + " row"] = r
-        d["passed"] &= r["passed"]
-    checks: dict[str, list[bool]] = {}
-    for r in rows:
-        if r["kind"] == "check":
-            checks.setdefault(r["fmu"], []).append(r["passed"])
-    lines = ["| FMU | reference case | FMPy: max error | tolerance | libcosim vs FMPy | fmi crate vs FMPy | "
-             "ME CVode | ME Euler | ME RK4 (fmi crate) | result |",
-             "|---|---|---:|---:|---:|---:|---:|---:|---:|---|"]
-    for d in per_case.values():
-        me = " | ".join(_me_cell(d.get(f"{importer} row")) for importer in (CVODE, EULER, RK4))
-        lines.append(f"| {d['fmu']} | {d['case']} | {_fmt(d.get('FMPy'))} | {_fmt(d.get('FMPy tol'))} | "
-                     f"{_fmt(d.get('libcosim'))} | {_fmt(d.get('fmi crate'))} | {me} | "
-                     f"{'PASS' if d['passed'] else 'FAIL'} |")
-    check_line = ", ".join(f"{f} {'PASS' if all(v) else 'FAIL'} ({len(v)} checks)" for f, v in checks.items())
-    text = ("<!-- written by `cargo run --release -- validate --readme docs/validation` -->\n\n"
-            + "\n".join(lines) + "\n\n"
-            + f"Model-description, binary and GUID checks: {check_line}.\n\n"
-            + "Max error: max over time and signals of |FMU − reference| / (range of the reference), or the relative "
-            + "drift of an invariant; libcosim (fmi crate) vs FMPy: max |libcosim (fmi crate) − FMPy| / max |FMPy| "
-            + "at the same settings. "
-            + "ME: the same cases in Model Exchange, against the reference: FMPy's CVode at relative tolerance "
-            + "1e-10, held to the case's tolerance; FMPy's Euler and the fmi crate's RK4 at a fixed step h and "
-            + "at h/2, held to the case's tolerance or to their order: p = log2(e(h)/e(h/2)) in "
-            + f"{band_text(METHODS[EULER].band)} for Euler, {band_text(METHODS[RK4].band)} for RK4 (whose "
-            + "conserved quantities drift at order 5), h being the output interval over 2, 4 or 8 for Euler, "
-            + "1 or 2 for RK4: the first at which the error neither falls faster than that nor is as large as "
-            + "the signal. (limit): the importer's solver does not reach the case's tolerance; the error it "
-            + "reaches is reported, not failed (CVode up to 1e-6; a fixed-step method that passes neither way). "
-            + "✗: a failure. "
-            + f"FMPy {header['fmpy']}, {header['libcosim']}, {header.get('fmi_crate', '-')}.\n")
-    path = directory / "validation.md"
-    path.write_text(text)
-    written.append(path)
-    for entry in cases:
-        if entry.get("highlight") and entry.get("png_path"):
-            stem = entry["highlight"] if isinstance(entry["highlight"], str) else f"{entry['fmu']}-{entry['case']}"
-            dest = directory / f"{stem}.png"
-            shutil.copyfile(entry["png_path"], dest)
-            written.append(dest)
-        elif entry.get("highlight"):
-            stem = entry["highlight"] if isinstance(entry["highlight"], str) else f"{entry['fmu']}-{entry['case']}"
-            dest = directory / f"{stem}.png"
-            plot_case(entry, dest)
-            written.append(dest)
-    return written
+# the README material (re-exported: `from .report import write_readme`)
+from .readme import write_readme  # noqa: E402

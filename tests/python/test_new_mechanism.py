@@ -82,3 +82,16 @@ def test_mechfmu_validate_runs_the_crates_own_cases(double_pendulum):
     assert done.returncode == 0 and "LIMIT DoublePendulum / energy_conserved / FMPy ME CVode" in done.stdout
     for importer in ("FMPy", "libcosim", "fmi crate", "FMPy ME Euler", "fmi crate ME RK4"):
         assert re.search(rf"^DoublePendulum\s+energy_conserved\s+{importer}\s.*PASS$", done.stdout, re.M), importer
+
+
+def test_user_mechanism_comes_out_as_fmi3_too(double_pendulum):
+    """No extra line in the user's crate: `mechfmu build` writes the FMI 3.0 FMU beside the
+    FMI 2.0 one, FMPy validates it, and its Co-Simulation results equal FMI 2.0's."""
+    fmi3 = double_pendulum.parent / "fmi3" / double_pendulum.name
+    assert fmi3.exists(), f"no {fmi3}"
+    assert validate_fmu(str(fmi3)) == []
+    kwargs = dict(stop_time=2.0, output_interval=0.01, relative_tolerance=1e-10)
+    a = simulate_fmu(str(double_pendulum), **kwargs)
+    b = simulate_fmu(str(fmi3), **kwargs)
+    for name in ("theta1", "theta2", "E"):
+        assert np.array_equal(a[name], b[name]), name

@@ -10,7 +10,9 @@ is wrong: every case with damping must fail, by name, and the undamped one must 
 
 Every case runs under three importers: FMPy, libcosim and the Rust fmi crate (rows
 "fmi crate", through tools/fmi-run, which `mechfmu validate` builds); then in Model Exchange
-under FMPy's CVode and Euler and the fmi crate's RK4.
+under FMPy's CVode and Euler and the fmi crate's RK4; then on the mechanism's FMI 3.0 FMU
+(fmus/fmi3/<Name>.fmu) under FMPy's and the fmi crate's FMI 3.0, in Co-Simulation and Model
+Exchange (test_fmi3.py). An FMI 3.0 FMU given on the command line is validated as such.
 """
 
 from __future__ import annotations
@@ -26,11 +28,17 @@ from pathlib import Path
 import pytest
 
 import fmutest
+from mechfmu_validate.fmi3 import AGREEMENT, FMI3_CRATE, FMI3_CS, FMI3_CVODE, FMI3_RK4
+from mechfmu_validate.fmi3 import IMPORTERS as FMI3_IMPORTERS
 from mechfmu_validate.model_exchange import CVODE, EULER, RK4
 from test_model_exchange import KNOWN_LIMITS
 
 REPO = fmutest.REPO_ROOT
-IMPORTERS = {"FMPy", "libcosim", "fmi crate", CVODE, EULER, RK4}
+IMPORTERS = {"FMPy", "libcosim", "fmi crate", CVODE, EULER, RK4, *FMI3_IMPORTERS}
+#: the LIMIT rows: the FMI 2.0 ones, and the same cases' FMI 3.0 Model Exchange rows (one
+#: binary: the same numbers)
+LIMITS = {*KNOWN_LIMITS,
+          *((m, c, {CVODE: FMI3_CVODE, RK4: FMI3_RK4}[i]) for m, c, i in KNOWN_LIMITS if i in (CVODE, RK4))}
 
 
 def mechfmu(*args: str, timeout: float = 1200) -> subprocess.CompletedProcess:
@@ -58,12 +66,19 @@ def test_validate_passes_on_every_fmu_and_writes_the_report(tmp_path):
     failed = {(r["fmu"], r["case"], r["importer"]) for r in rows if not r["passed"]}
     assert not failed, failed
     limited = {(r["fmu"], r["case"], r["importer"]) for r in rows if r.get("limited")}
-    assert limited == set(KNOWN_LIMITS), \
-        f"unexpected: {sorted(limited - set(KNOWN_LIMITS))}; no longer limited: {sorted(set(KNOWN_LIMITS) - limited)}"
+    assert limited == LIMITS, f"unexpected: {sorted(limited - LIMITS)}; no longer limited: {sorted(LIMITS - limited)}"
     assert proc.returncode == 0 and not any(r.get("skipped") for r in rows), proc.stderr[-3000:]
-    fmi_crate = [r for r in rows if r["importer"] == "fmi crate"]
-    assert len(fmi_crate) == len(cases)
-    assert all(r["tolerance"] == 1e-9 and r["max_error"] <= 1e-9 for r in fmi_crate), fmi_crate
+    for importer in ("fmi crate", FMI3_CRATE):
+        fmi_crate = [r for r in rows if r["importer"] == importer]
+        assert len(fmi_crate) == len(cases)
+        assert all(r["tolerance"] == 1e-9 and r["max_error"] <= 1e-9 for r in fmi_crate), fmi_crate
+    # FMI 3.0: the checks of each FMU's archive, its agreement with FMI 2.0, the same errors
+    checks3 = {r["fmu"] for r in rows if r["kind"] == "check" and r["case"].startswith("check: FMI 3.0")}
+    agreements = {r["fmu"]: r["max_error"] for r in rows if r["case"] == AGREEMENT}
+    assert checks3 == set(agreements) == {f for f, _ in cases} and max(agreements.values()) <= 1e-12, agreements
+    by = {(r["fmu"], r["case"], r["importer"]): r for r in rows if r["kind"] == "case"}
+    for fmu, case in cases:
+        assert by[(fmu, case, FMI3_CS)]["max_error"] == by[(fmu, case, "FMPy")]["max_error"], (fmu, case)
     assert re.search(rf"^\d+ passed, 0 failed, {len(limited)} at the importer's limit$", proc.stdout, re.M), \
         proc.stdout[-2000:]
     index = (report / "index.html").read_text()
@@ -131,9 +146,12 @@ def test_validate_fails_on_a_broken_fmu_and_names_the_cases(broken_oscillator, t
         me = {r["case"]: r for r in rows if r["kind"] == "case" and r["importer"] == importer}
         assert all(me[c].get("limited") for c in damped), (importer, me)
         assert me["free_undamped"]["passed"] and not me["free_undamped"].get("limited"), (importer, me)
+    # the FMI 3.0 FMU beside it (the same binary) fails the same cases
+    fmi3_rows = {r["case"]: r for r in rows if r["kind"] == "case" and r["importer"] == FMI3_CS}
+    assert [c for c in damped if fmi3_rows[c]["passed"]] == [] and fmi3_rows["free_undamped"]["passed"], fmi3_rows
     # still a valid FMU, imported identically by the three importers: the failure is the physics
     assert all(r["passed"] for r in rows if r["kind"] == "check"), [r for r in rows if not r["passed"]]
-    for importer in ("libcosim", "fmi crate"):
+    for importer in ("libcosim", "fmi crate", FMI3_CRATE):
         others = {r["case"]: r for r in rows if r["kind"] == "case" and r["importer"] == importer}
         assert set(others) == set(fmpy_rows), (importer, sorted(others))
         assert all(r["passed"] for r in others.values()), [r for r in others.values() if not r["passed"]]
@@ -145,6 +163,7 @@ def test_validate_without_the_fmi_crate():
                    "--no-fmi-crate")
     assert proc.returncode == 0, f"{proc.stdout[-3000:]}\n{proc.stderr[-2000:]}"
     assert re.search(r"^Oscillator\s+free_critical\s+libcosim\s.*PASS$", proc.stdout, re.M), proc.stdout
+    assert re.search(r"^Oscillator\s+free_critical\s+FMPy FMI3 CS\s.*PASS$", proc.stdout, re.M), proc.stdout
     assert "fmi crate" not in proc.stdout
 
 
@@ -163,6 +182,27 @@ def test_the_fmi_crate_rows_fail_when_its_runner_is_missing(tmp_path):
     assert rows["FMPy"]["passed"] and not rows["fmi crate"]["passed"]
     assert "MECHFMU_FMI_RUN is not set" in rows["fmi crate"]["problems"][0]
     assert re.search(r"^FAIL Oscillator / free_critical / fmi crate:", proc.stdout, re.M), proc.stdout
+
+
+def test_validate_an_fmi3_fmu_given_on_the_command_line(tmp_path):
+    """An FMI 3.0 .fmu named on the command line: its checks (FMPy's validation among them),
+    its agreement with the FMI 2.0 FMU beside it (whose variables name its array elements),
+    and the cases under the FMI 3.0 importers only; the report's plots are FMPy's FMI 3.0 runs."""
+    js, report = tmp_path / "fmi3.json", tmp_path / "report"
+    path = fmutest.FMU_DIR / "fmi3" / "RigidBody.fmu"
+    proc = mechfmu("validate", str(path), "--case", "heavy_top", "--case", "axisymmetric", "--json", str(js),
+                   "--report", str(report))
+    assert proc.returncode == 0, f"{proc.stdout[-4000:]}\n{proc.stderr[-2000:]}"
+    rows = _rows(js)
+    checks = {r["case"] for r in rows if r["kind"] == "check"}
+    assert checks == {"check: FMI 3.0 fmpy validate", "check: FMI 3.0 identifier = binary",
+                      "check: FMI 3.0 instantiation token accepted, wrong token refused",
+                      "check: FMI 3.0 arrays = FMI 2.0 scalars", AGREEMENT}, checks
+    cases = {(r["case"], r["importer"]) for r in rows if r["kind"] == "case"}
+    assert cases == {(c, i) for c in ("heavy_top", "axisymmetric_precession") for i in FMI3_IMPORTERS}, cases
+    assert all(r["passed"] for r in rows), [r for r in rows if not r["passed"]]
+    assert re.search(r"^RigidBody\s+check: FMI 3\.0 fmpy validate\s+fmpy\s+0\s+0\s+PASS$", proc.stdout, re.M)
+    assert len(list(report.glob("RigidBody/*.png"))) == 2
 
 
 def test_validate_reports_an_unknown_mechanism():

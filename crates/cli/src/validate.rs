@@ -3,6 +3,11 @@
 //! more importers, libcosim and the Rust `fmi` crate (rust-fmi), each of which must agree with
 //! FMPy; with a table, an exit status, and optionally a report.
 //!
+//! A mechanism named (or all of them) is validated through `<fmu dir>/<Name>.fmu` (FMI 2.0);
+//! the Python side finds its FMI 3.0 FMU beside it, `<fmu dir>/fmi3/<Name>.fmu` (as `mechfmu
+//! build` writes them), and runs the same cases on it under FMI 3.0 (`--no-fmi3`: not). An
+//! FMI 3.0 `.fmu` given on the command line is validated as such (its checks and the cases).
+//!
 //! The work is done by the Python package `mechfmu_validate` (in `python/` of mechfmu's
 //! source tree), installed in the venv that [`ensure_venv`](super::python::ensure_venv)
 //! provisions (editable, so the venv's interpreter imports it as is). The
@@ -47,6 +52,9 @@ pub struct Args {
     /// Do not run the cases under the Rust `fmi` crate (and do not build `mechfmu-fmi-run`).
     #[arg(long)]
     no_fmi_crate: bool,
+    /// Do not validate the FMI 3.0 FMUs (`<fmu dir>/fmi3/<Name>.fmu`) beside the FMI 2.0 ones.
+    #[arg(long)]
+    no_fmi3: bool,
 }
 
 /// mechfmu's own source tree: where `python/mechfmu_validate` and the pinned requirements are.
@@ -130,6 +138,9 @@ pub fn run(args: Args) -> Result<(), String> {
         }
         if args.no_fmi_crate {
             py.push("--no-fmi-crate".into());
+        }
+        if args.no_fmi3 {
+            py.push("--no-fmi3".into());
         }
     }
     let python = crate::python::ensure_venv(&home)?;

@@ -28,8 +28,9 @@ impl log::Log for StderrLog {
     }
 
     fn log(&self, record: &log::Record) {
-        // fmi-sys gives the FMU's messages the module path "logger", the instance as target
-        if record.module_path() == Some("logger") {
+        // the fmi crate gives the FMU's messages the module path "logger" (FMI 2.0: the
+        // instance as target) or "fmu" (FMI 3.0: the category as target)
+        if matches!(record.module_path(), Some("logger" | "fmu")) {
             eprintln!(
                 "[FMU {}] {}: {}",
                 record.level(),
