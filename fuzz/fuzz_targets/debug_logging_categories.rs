@@ -4,9 +4,9 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use mechfmu::fmi2::functions;
-use mechfmu::fmi2::ffi::*;
 use mechfmu::contract::LOG_CATEGORIES as CATEGORIES;
+use mechfmu::fmi2::ffi::*;
+use mechfmu::fmi2::functions;
 use mechfmu_testkit::harness::Harness;
 use oscillator::Oscillator;
 use std::ffi::CString;

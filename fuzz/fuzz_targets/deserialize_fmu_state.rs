@@ -4,17 +4,17 @@
 //! edits (offset, byte) of a real serialized state with the checksum repaired, so the
 //! fuzzer explores states that parse; the real states include Model Exchange ones (event
 //! mode, continuous-time mode), and the instance that restores is either type, so a state
-//! of the other interface type's machine is tried too. Nothing may panic, no NaN may come
-//! back with fmi2OK, a state of a mode the instance's interface type does not have is
-//! refused, and every instance must be freeable at the end.
+//! of the other interface type is tried too. Nothing may panic, no NaN may come back with
+//! fmi2OK, a state saved by an instance of the other interface type is refused, and every
+//! instance must be freeable at the end.
 #![no_main]
 #![allow(non_upper_case_globals)] // fmi2OK & co. in patterns are constants
 
 use libfuzzer_sys::fuzz_target;
-use mechfmu::fmi2::ffi::*;
 use mechfmu::fmi::fmu_state::{reseal, FmuState};
-use mechfmu::fmi::Version;
 use mechfmu::fmi::machine::Interface;
+use mechfmu::fmi::Version;
+use mechfmu::fmi2::ffi::*;
 use mechfmu::model::Declaration;
 use mechfmu_testkit::harness::Harness;
 use mechfmu_testkit::model_exchange::ModelExchange;
@@ -116,22 +116,20 @@ fuzz_target!(|data: &[u8]| {
         no_internal_error(&fmu.messages());
         return;
     };
-    let parsed = FmuState::from_bytes::<Oscillator>(&bytes, Version::Fmi2).expect("accepted by the FMI function");
+    let parsed = FmuState::from_bytes::<Oscillator>(&bytes, Version::Fmi2)
+        .expect("accepted by the FMI function");
     let time = *parsed.sim.values.last().unwrap();
     let status = fmu.set_fmu_state(state);
     assert!(
         status == fmi2OK || status == fmi2Error,
         "fmi2SetFMUstate: {status}"
     );
-    if parsed
-        .model_state
-        .interface()
-        .is_some_and(|i| i != interface)
-    {
+    if parsed.interface != interface {
         assert_eq!(
             status,
             fmi2Error,
-            "a {:?} state restored into a {} instance",
+            "a {} state ({:?}) restored into a {} instance",
+            parsed.interface.name(),
             parsed.model_state,
             interface.name()
         );

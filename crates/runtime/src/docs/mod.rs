@@ -83,7 +83,7 @@ pub fn default_experiment<M: Mechanism>() -> Result<Trajectory, String> {
         match sim.step(t, h) {
             Ok(_) => record(&mut sim, t + h)?,
             Err(StepFailure::Rejected(message)) => return Err(message),
-            Err(StepFailure::Stopped { time, message }) => {
+            Err(StepFailure::Stopped { time, message, .. }) => {
                 stopped = Some(format!("stopped at t = {time}: {message}"));
                 break;
             }

@@ -248,7 +248,12 @@ pub enum Stepped {
     Completed(Status),
     /// The model stopped holding inside the step, at `time`: the instance is terminated
     /// there, and `message` says why (the caller logs it with the status it returns).
-    Stopped { time: f64, message: String },
+    Stopped {
+        time: f64,
+        message: String,
+        /// A limit of the model (its monitor), not a failure of the solver.
+        limit: bool,
+    },
 }
 
 /// A communication step from `t` of size `h` (`fmi2DoStep`, `fmi3DoStep`), as `function`
@@ -281,13 +286,18 @@ pub fn step<M: Mechanism>(
             }))
         }
         Err(StepFailure::Rejected(message)) => Err(error(message)),
-        Err(StepFailure::Stopped { time, message }) => {
+        Err(StepFailure::Stopped {
+            time,
+            message,
+            limit,
+        }) => {
             inst.last_successful_time = time;
             inst.last_step_status = DISCARD;
             inst.terminated = true;
             inst.state = ModelState::StepFailed;
             Ok(Stepped::Stopped {
                 time,
+                limit,
                 message: format!("step from t = {t} stopped at t = {time}: {message}"),
             })
         }

@@ -5,6 +5,7 @@
 //! is in [`common`](crate::fmi::common) and [`model_exchange`](crate::fmi::model_exchange).
 
 use super::ffi::*;
+use crate::contract::might_return_early_from_do_step;
 use crate::fmi::common::{self, Stepped};
 use crate::fmi::instance::Instance;
 use crate::fmi::logger::Logger;
@@ -146,15 +147,24 @@ pub fn do_step<M: Mechanism>(
         communication_step_size,
         "fmi3DoStep",
     );
-    // Every outcome tells the importer where the instance is and whether to go on.
-    let stopped = matches!(stepped, Ok(Stepped::Stopped { .. }));
+    // Every outcome tells the importer where the instance is and whether to go on. Only a
+    // limit of the model returns early, as the model description says
+    // (`mightReturnEarlyFromDoStep`: a mechanism with event indicators); a step the solver
+    // cannot complete is discarded.
+    let (stopped, early) = match &stepped {
+        Ok(Stepped::Stopped { limit, .. }) => (
+            true,
+            *limit && inst.early_return_allowed && might_return_early_from_do_step::<M>(),
+        ),
+        _ => (false, false),
+    };
     *event_handling_needed = false;
     *terminate_simulation = stopped;
-    *early_return = stopped && inst.early_return_allowed;
+    *early_return = early;
     *last_successful_time = inst.last_successful_time;
     match stepped? {
         Stepped::Completed(status) => Ok(status),
-        Stepped::Stopped { message, .. } if inst.early_return_allowed => {
+        Stepped::Stopped { message, .. } if early => {
             inst.logger
                 .log(WARNING, &format!("fmi3DoStep: returned early: {message}"));
             Ok(WARNING)

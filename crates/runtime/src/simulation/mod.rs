@@ -36,7 +36,13 @@ pub enum StepFailure {
     /// The step cannot be done as asked (bad arguments): nothing happened.
     Rejected(String),
     /// The model or the solver stopped at `time` (the last valid time): `fmi2Discard`.
-    Stopped { time: f64, message: String },
+    Stopped {
+        time: f64,
+        message: String,
+        /// The mechanism's monitor refused the next point (a limit of the model, located
+        /// inside the step), not the solver or a value that is not a number.
+        limit: bool,
+    },
 }
 
 /// Work done by a simulation since it was created: cumulative, never reset, not part of
@@ -582,6 +588,7 @@ impl<M: Mechanism> Simulation<M> {
             let why = result.err().map(|e| format!(" ({})", describe(&e)));
             return Err(StepFailure::Stopped {
                 time: t,
+                limit: false,
                 message: format!(
                     "`{name}` became non-finite before t = {t_end}{}; the step is undone, the values are those at t = {t}",
                     why.unwrap_or_default()
@@ -611,6 +618,7 @@ impl<M: Mechanism> Simulation<M> {
             }
             Err(e) => Err(StepFailure::Stopped {
                 time,
+                limit: matches!(e, SolverError::Stopped { .. }),
                 message: describe(&e),
             }),
         }

@@ -472,7 +472,7 @@ fn a_step_never_ends_on_a_derivative_or_an_output_that_is_not_a_number() {
         let at = sim.time();
         let before = *sim.values();
         let failure = sim.step(at, h).unwrap_err();
-        let StepFailure::Stopped { time, message } = failure else {
+        let StepFailure::Stopped { time, message, .. } = failure else {
             panic!("{failure:?}")
         };
         let values = *sim.values();

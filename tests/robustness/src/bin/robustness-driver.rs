@@ -5,13 +5,16 @@
 //! ```text
 //! robustness-driver sequences --fmu fmus/Oscillator.fmu [--first SEED] [--count N] [--announce] [--trace]
 //! robustness-driver cycles    --fmu fmus/Oscillator.fmu [--count 1000]
-//! robustness-driver long-run  --fmu fmus/Oscillator.fmu [--steps 1000000] [--h 1e-3]
+//! robustness-driver long-run  --fmu fmus/Oscillator.fmu [--steps 1000000] [--h 1e-3]   (FMI 2.0)
 //! robustness-driver tour      --fmu fmus/Oscillator.fmu      (prints nothing unless it fails)
-//! robustness-driver dump-state --fmu fmus/Oscillator.fmu --out FILE [--steps 10] [--me event|continuous]
+//! robustness-driver dump-state --fmu fmus/Oscillator.fmu --out FILE [--steps 10] [--me event|continuous] [--cs-event]
 //! ```
+//! Each command runs on an FMU of either version (`fmus/fmi3/<Name>.fmu`: FMI 3.0), by the
+//! `fmiVersion` of its modelDescription.xml; `--cs-event` (FMI 3.0) dumps the state of a
+//! Co-Simulation instance in event mode.
 //! Exit status: 0 success, 1 a check failed (the failure on stderr), 2 bad usage.
 
-use mechfmu_robustness::fmu::Fmu;
+use mechfmu_robustness::fmu::{fmi_version, Fmu, Fmu3};
 use mechfmu_robustness::{scenarios, sequences};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -39,7 +42,12 @@ fn main() -> ExitCode {
         eprintln!("robustness-driver: --fmu PATH is required");
         return ExitCode::from(2);
     };
-    let fmu = match Fmu::load(&path) {
+    let loaded = match fmi_version(&path) {
+        Ok(v) if v == "3.0" => Fmu3::load(&path).map(|f| Loaded::Fmi3(Box::new(f))),
+        Ok(_) => Fmu::load(&path).map(|f| Loaded::Fmi2(Box::new(f))),
+        Err(e) => Err(e),
+    };
+    let fmu = match loaded {
         Ok(f) => f,
         Err(e) => {
             eprintln!("robustness-driver: {e}");
@@ -50,8 +58,11 @@ fn main() -> ExitCode {
         "sequences" => {
             let first = number("--first", 0);
             let count = number("--count", 1000);
-            let (stats, failures) =
-                sequences::run_many(&fmu, first, count, flag("--announce"), flag("--trace"));
+            let (announce, trace) = (flag("--announce"), flag("--trace"));
+            let (stats, failures) = match &fmu {
+                Loaded::Fmi2(fmu) => sequences::run_many(fmu, first, count, announce, trace),
+                Loaded::Fmi3(fmu) => sequences::run_many3(fmu, first, count, announce, trace),
+            };
             println!("summary {}: {stats}", fmu.name());
             for f in failures.iter().take(20) {
                 println!("FAIL {f}");
@@ -65,9 +76,19 @@ fn main() -> ExitCode {
         }
         "cycles" => {
             let count = number("--count", 1000) as usize;
-            match scenarios::cycles(&fmu, count) {
+            let (cycles, me) = match &fmu {
+                Loaded::Fmi2(fmu) => (
+                    scenarios::cycles(fmu, count),
+                    fmu.md.model_exchange.is_some(),
+                ),
+                Loaded::Fmi3(fmu) => (
+                    scenarios::cycles3(fmu, count),
+                    fmu.md.model_exchange.is_some(),
+                ),
+            };
+            match cycles {
                 Ok(calls) => {
-                    let me = if fmu.md.model_exchange.is_some() {
+                    let me = if me {
                         count.div_ceil(scenarios::ME_EVERY)
                     } else {
                         0
@@ -87,7 +108,11 @@ fn main() -> ExitCode {
         "long-run" => {
             let steps = number("--steps", 1_000_000);
             let h = value("--h").map_or(1e-3, |v| v.parse().expect("--h: a number"));
-            match scenarios::long_run(&fmu, steps, h) {
+            let Loaded::Fmi2(fmu) = &fmu else {
+                eprintln!("robustness-driver: long-run drives FMI 2.0 FMUs");
+                return ExitCode::from(2);
+            };
+            match scenarios::long_run(fmu, steps, h) {
                 Ok(r) => {
                     println!("{}: {r}", fmu.name());
                     println!(
@@ -120,6 +145,7 @@ fn main() -> ExitCode {
             // `--me event` / `--me continuous`: of a Model Exchange instance in that mode.
             let out = value("--out").expect("--out FILE");
             let how = match value("--me").as_deref() {
+                None if flag("--cs-event") => scenarios::Dump::CoSimulationEventMode,
                 None => scenarios::Dump::CoSimulation,
                 Some("event") => scenarios::Dump::EventMode,
                 Some("continuous") => scenarios::Dump::ContinuousTimeMode,
@@ -128,7 +154,12 @@ fn main() -> ExitCode {
                     return ExitCode::from(2);
                 }
             };
-            match scenarios::serialized_state(&fmu, number("--steps", 10) as usize, how) {
+            let steps = number("--steps", 10) as usize;
+            let dumped = match &fmu {
+                Loaded::Fmi2(fmu) => scenarios::serialized_state(fmu, steps, how),
+                Loaded::Fmi3(fmu) => scenarios::serialized_state3(fmu, steps, how),
+            };
+            match dumped {
                 Ok(bytes) => {
                     std::fs::write(&out, bytes).expect("write --out");
                     ExitCode::SUCCESS
@@ -139,7 +170,10 @@ fn main() -> ExitCode {
                 }
             }
         }
-        "tour" => match scenarios::tour(&fmu) {
+        "tour" => match match &fmu {
+            Loaded::Fmi2(fmu) => scenarios::tour(fmu),
+            Loaded::Fmi3(fmu) => scenarios::tour3(fmu),
+        } {
             Ok(_) => ExitCode::SUCCESS,
             Err(e) => {
                 // The test checks stderr is empty: a failure is the exit status, and its
@@ -153,6 +187,21 @@ fn main() -> ExitCode {
         other => {
             eprintln!("robustness-driver: unknown command {other}");
             ExitCode::from(2)
+        }
+    }
+}
+
+/// The FMU of either version.
+enum Loaded {
+    Fmi2(Box<Fmu>),
+    Fmi3(Box<Fmu3>),
+}
+
+impl Loaded {
+    fn name(&self) -> &str {
+        match self {
+            Loaded::Fmi2(f) => f.name(),
+            Loaded::Fmi3(f) => f.name(),
         }
     }
 }

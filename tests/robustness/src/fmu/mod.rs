@@ -1,0 +1,241 @@
+//! Finding, unpacking and loading the built FMUs (`fmus/<Name>.fmu` of FMI 2.0,
+//! `fmus/fmi3/<Name>.fmu` of FMI 3.0), and reading what an importer needs from their
+//! modelDescription.xml ([`md2`], [`md3`]).
+
+mod md2;
+mod md3;
+
+pub use md2::{Experiment, ModelDescription, Var};
+pub use md3::{ModelDescription3, Var3};
+
+use crate::ffi::Api;
+use crate::ffi3::Api3;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// The directory holding the built FMUs: `$MECHFMU_FMUS_DIR`, else the workspace's `fmus/`.
+pub fn fmus_dir() -> PathBuf {
+    std::env::var_os("MECHFMU_FMUS_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fmus"))
+}
+
+/// Every `*.fmu` in `dir`, sorted, restricted to the comma-separated model names in
+/// `$MECHFMU_ROBUSTNESS_ONLY` if set.
+fn fmus_in(dir: &Path) -> Vec<PathBuf> {
+    let only: Option<Vec<String>> = std::env::var("MECHFMU_ROBUSTNESS_ONLY")
+        .ok()
+        .map(|s| s.split(',').map(|x| x.trim().to_string()).collect());
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|e| e == "fmu"))
+                .filter(|p| {
+                    only.as_ref().is_none_or(|o| {
+                        p.file_stem()
+                            .is_some_and(|s| o.iter().any(|n| n.as_str() == s.to_string_lossy()))
+                    })
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    paths.sort();
+    paths
+}
+
+/// The FMI 2.0 FMUs: every `*.fmu` in [`fmus_dir`] (see [`fmus_in`]).
+pub fn fmu_paths() -> Vec<PathBuf> {
+    fmus_in(&fmus_dir())
+}
+
+/// The FMI 3.0 FMUs: every `*.fmu` in [`fmus_dir`]`/fmi3`.
+pub fn fmu3_paths() -> Vec<PathBuf> {
+    fmus_in(&fmus_dir().join("fmi3"))
+}
+
+/// `paths`, or a panic telling how to build them (a robustness suite that finds nothing
+/// to test must not pass).
+fn required(paths: Vec<PathBuf>, dir: PathBuf) -> Vec<PathBuf> {
+    assert!(
+        !paths.is_empty(),
+        "no FMUs in {}: build them first with `cargo run --release -- build` \
+         (or point MECHFMU_FMUS_DIR at a directory of .fmu files)",
+        dir.display()
+    );
+    paths
+}
+
+/// The FMI 2.0 FMUs to test.
+pub fn required_fmu_paths() -> Vec<PathBuf> {
+    required(fmu_paths(), fmus_dir())
+}
+
+/// The FMI 3.0 FMUs to test.
+pub fn required_fmu3_paths() -> Vec<PathBuf> {
+    required(fmu3_paths(), fmus_dir().join("fmi3"))
+}
+
+/// The FMI version a `.fmu`'s modelDescription.xml declares (`fmiVersion`).
+pub fn fmi_version(fmu: &Path) -> Result<String, String> {
+    let xml = Unpacked::model_description(fmu)?;
+    let at = xml
+        .find("fmiVersion=\"")
+        .ok_or_else(|| format!("{}: no fmiVersion", fmu.display()))?;
+    let rest = &xml[at + 12..];
+    Ok(rest[..rest.find('"').unwrap_or(0)].to_string())
+}
+
+static UNPACKED: AtomicUsize = AtomicUsize::new(0);
+
+/// An FMU's binary copied into a private temporary directory and loaded (removed again
+/// on drop).
+struct Unpacked {
+    lib: Option<libloading::Library>,
+    dir: PathBuf,
+    binary: PathBuf,
+}
+
+impl Unpacked {
+    fn model_description(fmu: &Path) -> Result<String, String> {
+        let file = std::fs::File::open(fmu).map_err(|e| format!("{}: {e}", fmu.display()))?;
+        let mut zip = zip::ZipArchive::new(file).map_err(|e| format!("{}: {e}", fmu.display()))?;
+        let mut xml = String::new();
+        zip.by_name("modelDescription.xml")
+            .map_err(|e| format!("{}: modelDescription.xml: {e}", fmu.display()))?
+            .read_to_string(&mut xml)
+            .map_err(|e| e.to_string())?;
+        Ok(xml)
+    }
+
+    /// dlopens the archive's `entry` (the binary), from a copy of its own.
+    fn binary(fmu: &Path, entry: &str) -> Result<Unpacked, String> {
+        let file = std::fs::File::open(fmu).map_err(|e| format!("{}: {e}", fmu.display()))?;
+        let mut zip = zip::ZipArchive::new(file).map_err(|e| format!("{}: {e}", fmu.display()))?;
+        let mut so = vec![];
+        zip.by_name(entry)
+            .map_err(|e| format!("{}: {entry}: {e}", fmu.display()))?
+            .read_to_end(&mut so)
+            .map_err(|e| e.to_string())?;
+        let dir = std::env::temp_dir().join(format!(
+            "mechfmu-robustness-{}-{}",
+            std::process::id(),
+            UNPACKED.fetch_add(1, Ordering::Relaxed)
+        ));
+        std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        let name = Path::new(entry).file_name().expect("a file name");
+        let binary = dir.join(name);
+        std::fs::write(&binary, &so).map_err(|e| format!("{}: {e}", binary.display()))?;
+        // SAFETY: an FMU binary: loading it runs no initializers of consequence.
+        let lib = unsafe { libloading::Library::new(&binary) }
+            .map_err(|e| format!("{}: {e}", binary.display()))?;
+        Ok(Unpacked {
+            lib: Some(lib),
+            dir,
+            binary,
+        })
+    }
+
+    fn lib(&self) -> &libloading::Library {
+        self.lib.as_ref().expect("loaded until dropped")
+    }
+}
+
+impl Drop for Unpacked {
+    fn drop(&mut self) {
+        drop(self.lib.take());
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
+
+/// An FMI 2.0 FMU unpacked into a private temporary directory and loaded.
+pub struct Fmu {
+    pub md: ModelDescription,
+    pub api: Api,
+    pub path: PathBuf,
+    unpacked: Unpacked,
+}
+
+impl Fmu {
+    /// Unpacks `fmu` (modelDescription.xml and binaries/linux64/<id>.so) and dlopens the
+    /// binary, resolving all 44 functions.
+    pub fn load(fmu: &Path) -> Result<Fmu, String> {
+        let xml = Unpacked::model_description(fmu)?;
+        let md = ModelDescription::parse(&xml).map_err(|e| format!("{}: {e}", fmu.display()))?;
+        let unpacked =
+            Unpacked::binary(fmu, &format!("binaries/linux64/{}.so", md.model_identifier))?;
+        // SAFETY: an FMI 2.0 binary.
+        let api =
+            unsafe { Api::load(unpacked.lib()) }.map_err(|e| format!("{}: {e}", fmu.display()))?;
+        Ok(Fmu {
+            md,
+            api,
+            path: fmu.to_path_buf(),
+            unpacked,
+        })
+    }
+
+    pub fn name(&self) -> &str {
+        &self.md.model_identifier
+    }
+
+    /// The unpacked binary.
+    pub fn binary(&self) -> PathBuf {
+        self.unpacked.binary.clone()
+    }
+}
+
+/// An FMI 3.0 FMU unpacked into a private temporary directory and loaded.
+pub struct Fmu3 {
+    pub md: ModelDescription3,
+    pub api: Api3,
+    /// The FMI 2.0 functions of the same binary (it serves the FMU of either version) and
+    /// the GUID of the FMI 2.0 FMU built with it (`fmus/<Name>.fmu`, when there): a
+    /// hostile importer's way to the other standard's instances and FMU states.
+    pub fmi2: Option<(Api, String)>,
+    pub path: PathBuf,
+    unpacked: Unpacked,
+}
+
+impl Fmu3 {
+    /// Unpacks `fmu` (modelDescription.xml and binaries/x86_64-linux/<id>.so) and dlopens
+    /// the binary, resolving all 75 functions.
+    pub fn load(fmu: &Path) -> Result<Fmu3, String> {
+        let xml = Unpacked::model_description(fmu)?;
+        let md = ModelDescription3::parse(&xml).map_err(|e| format!("{}: {e}", fmu.display()))?;
+        let unpacked = Unpacked::binary(
+            fmu,
+            &format!("binaries/x86_64-linux/{}.so", md.model_identifier),
+        )?;
+        // SAFETY: an FMI 3.0 binary.
+        let api =
+            unsafe { Api3::load(unpacked.lib()) }.map_err(|e| format!("{}: {e}", fmu.display()))?;
+        let sibling = fmu
+            .parent()
+            .and_then(Path::parent)
+            .map(|d| d.join(fmu.file_name().unwrap_or_default()));
+        let guid = sibling
+            .and_then(|p| Unpacked::model_description(&p).ok())
+            .and_then(|xml| ModelDescription::parse(&xml).ok())
+            .filter(|md2| md2.model_identifier == md.model_identifier)
+            .map(|md2| md2.guid);
+        // SAFETY: the binary exports the FMI 2.0 functions too (tests/exports.rs).
+        let fmi2 = guid.and_then(|g| unsafe { Api::load(unpacked.lib()) }.ok().map(|a| (a, g)));
+        Ok(Fmu3 {
+            md,
+            api,
+            fmi2,
+            path: fmu.to_path_buf(),
+            unpacked,
+        })
+    }
+
+    pub fn name(&self) -> &str {
+        &self.md.model_identifier
+    }
+
+    /// The unpacked binary.
+    pub fn binary(&self) -> PathBuf {
+        self.unpacked.binary.clone()
+    }
+}
