@@ -33,7 +33,8 @@ impl<M: Mechanism> Simulation<M> {
 
     /// `fmi2SetContinuousStates`: `x` holds one value per state, in the states' order. All or
     /// nothing: a value that is not finite is refused before any is set. The same states
-    /// again (an importer often sets the point it evaluated last) keep the evaluation.
+    /// again after an evaluation of the derivatives there (an importer often sets the point
+    /// it evaluated last) keep the evaluation.
     #[inline(always)]
     pub fn set_states(&mut self, x: &[f64]) -> Result<(), String> {
         debug_assert_eq!(x.len(), M::STATES.len());
@@ -47,6 +48,15 @@ impl<M: Mechanism> Simulation<M> {
         let nonfinite_bits = (states.as_slice().iter()).fold(0, |any, &v| any | (v - v).to_bits());
         if nonfinite_bits != 0 {
             return Err(non_finite_state::<M>(x));
+        }
+        if !self.derivatives_current {
+            // No derivatives at the current point for the same states to keep (the time has
+            // moved, as before most evaluations of an importer's solver): no comparison.
+            for (&vr, &v) in M::STATES.iter().zip(states.as_slice()) {
+                self.values.set(vr, v);
+            }
+            self.moved();
+            return Ok(());
         }
         let mut changed = 0;
         for (&vr, &v) in M::STATES.iter().zip(states.as_slice()) {
