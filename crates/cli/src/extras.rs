@@ -67,8 +67,9 @@ pub fn reference_files(model: &str, dir: &Path) -> Result<Vec<(String, Vec<u8>)>
 }
 
 /// The text a built FMU binary renders of itself through one of the documented extras of
-/// `export_fmu!` (`symbol`: `mechfmu_model_description`, `mechfmu_documentation`,
-/// `mechfmu_interface`; `what` names the text in messages), with the buffer protocol of
+/// `export_fmu!` (`symbol`: `mechfmu_model_description`, `mechfmu_documentation`, their
+/// `_fmi3` siblings, `mechfmu_interface`; `what` names the text in messages), with the
+/// buffer protocol of
 /// `mechfmu::export::write_text`.
 pub(crate) fn exported_text(library: &Path, symbol: &str, what: &str) -> Result<String, String> {
     type Render = unsafe extern "C" fn(*mut u8, usize) -> usize;

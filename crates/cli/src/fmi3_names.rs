@@ -3,6 +3,8 @@
 //! `array[i,j]` (1-based) there. `mechfmu build` renames the columns of the reference files
 //! it packages into an FMI 3.0 FMU with it.
 
+use mechfmu::model::element_name;
+use mechfmu::xml::fmi3::SCALARS_ANNOTATION;
 use quick_xml::events::Event;
 use quick_xml::{Reader, XmlVersion};
 
@@ -25,7 +27,7 @@ pub fn element_names(xml: &str) -> Result<Vec<(String, String)>, String> {
                 array = Some((name, Vec::new(), Vec::new()));
             }
             Event::Start(e) if e.name().into_inner() == "Annotation" => {
-                in_scalars = attribute(&e, "type")?.as_deref() == Some("org.mechfmu.scalars");
+                in_scalars = attribute(&e, "type")?.as_deref() == Some(SCALARS_ANNOTATION);
             }
             Event::Text(t) if in_scalars => {
                 let text = t.xml_content(XmlVersion::Explicit1_0);
@@ -70,18 +72,6 @@ fn attribute(e: &quick_xml::events::BytesStart, key: &str) -> Result<Option<Stri
         }
     }
     Ok(None)
-}
-
-/// `name[i,j]` (1-based) of element `k` (row-major) of an array of `dimensions`.
-fn element_name(name: &str, dimensions: &[usize], k: usize) -> String {
-    let mut index = Vec::with_capacity(dimensions.len());
-    let mut rest = k;
-    for &d in dimensions.iter().rev() {
-        index.push((rest % d.max(1) + 1).to_string());
-        rest /= d.max(1);
-    }
-    index.reverse();
-    format!("{name}[{}]", index.join(","))
 }
 
 /// `csv` with the quoted column names of its first line renamed by `names`.

@@ -1,10 +1,14 @@
 //! A counting global allocator, and the check that the FMI functions an importer calls at
-//! every communication step (`fmi2SetReal`, `fmi2DoStep`, `fmi2GetReal`) never allocate
-//! once an instance is running. The functions are the real ones (`mechfmu::fmi2::functions`,
-//! what `export_fmu!` exports), called in-process on the mechanism crates.
+//! every communication step (`fmi2SetReal`, `fmi2DoStep`, `fmi2GetReal`; through FMI 3.0
+//! `fmi3SetFloat64`, `fmi3DoStep`, `fmi3GetFloat64`: [`fmi3`]) never allocate once an
+//! instance is running. The functions are the real ones (`mechfmu::fmi2::functions`,
+//! `mechfmu::fmi3::functions`, what `export_fmu!` exports), called in-process on the
+//! mechanism crates.
 //!
 //! The counts are per thread, so tests running in parallel do not see each other's
 //! allocations. Every test binary linking this crate uses the counting allocator.
+
+pub mod fmi3;
 
 use mechfmu::fmi2::ffi::*;
 use mechfmu::fmi2::functions;

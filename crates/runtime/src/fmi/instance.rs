@@ -29,7 +29,8 @@ pub struct Instance<M: Mechanism> {
     /// The time of the last communication point reached (after a discarded step, the last
     /// valid time).
     pub last_successful_time: f64,
-    /// The model asked to stop (a discarded step): `fmi2Terminated` status.
+    /// The model asked to stop (a discarded or early-returned step, a Model Exchange
+    /// `terminateSimulation`): FMI 2.0's `fmi2Terminated` status.
     pub terminated: bool,
     pub last_step_status: Status,
     /// FMI 3.0 Co-Simulation: the importer handles events in event mode
@@ -62,7 +63,7 @@ impl<M: Mechanism> Instance<M> {
         }
     }
 
-    /// Back to the state right after `fmi2Instantiate`.
+    /// Back to the state right after instantiation.
     pub fn reset(&mut self) {
         self.state = ModelState::Instantiated;
         self.sim.reset();

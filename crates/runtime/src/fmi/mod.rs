@@ -1,8 +1,9 @@
 //! What the FMI 2.0 and FMI 3.0 layers share: an instance over one simulation and where it
 //! is in the state machine (`instance`, `machine`: the states both standards' machines are
 //! made of, and a table row's mask of them), FMU states and their portable bytes
-//! (`fmu_state`), the importer's logger (`logger`) and the C boundary (`wall`: checked
-//! conversions of the importer's pointers, `catch_unwind`, failures to statuses). The two
+//! (`fmu_state`), the importer's logger (`logger`), the C boundary (`wall`: checked
+//! conversions of the importer's pointers, `catch_unwind`, failures to statuses) and what
+//! the calls both standards share do (`common`; `model_exchange` for Model Exchange's). The two
 //! layers ([`fmi2`](crate::fmi2), [`fmi3`](crate::fmi3)) are siblings over these: each has
 //! its C types, its table of functions and state-machine rows, and the bodies of its calls.
 //!

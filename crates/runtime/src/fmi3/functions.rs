@@ -45,59 +45,59 @@ macro_rules! fmi3_functions {
         fmi3Terminate(instance: fmi3Instance) -> fmi3Status = guarded::<M>(instance, &TERMINATE, common::terminate);
         fmi3Reset(instance: fmi3Instance) -> fmi3Status = guarded::<M>(instance, &RESET, common::reset);
         fmi3GetFloat32(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3Float32, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_FLOAT32, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_FLOAT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_FLOAT32, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_FLOAT32.name, vrs, nValues) });
         fmi3GetFloat64(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3Float64, nValues: usize) -> fmi3Status
             = guarded::<M>(instance, &GET_FLOAT64, |inst| variables::get_float64(inst, slice(valueReferences, nValueReferences, "valueReferences[]")?, slice_mut(values, nValues, "values[]")?));
         fmi3GetInt8(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3Int8, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_INT8, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_INT8.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_INT8, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_INT8.name, vrs, nValues) });
         fmi3GetUInt8(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3UInt8, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_UINT8, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_UINT8.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_UINT8, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_UINT8.name, vrs, nValues) });
         fmi3GetInt16(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3Int16, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_INT16, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_INT16.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_INT16, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_INT16.name, vrs, nValues) });
         fmi3GetUInt16(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3UInt16, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_UINT16, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_UINT16.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_UINT16, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_UINT16.name, vrs, nValues) });
         fmi3GetInt32(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3Int32, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_INT32, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_INT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_INT32, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_INT32.name, vrs, nValues) });
         fmi3GetUInt32(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3UInt32, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_UINT32, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_UINT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_UINT32, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_UINT32.name, vrs, nValues) });
         fmi3GetInt64(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3Int64, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_INT64, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_INT64.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_INT64, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_INT64.name, vrs, nValues) });
         fmi3GetUInt64(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3UInt64, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_UINT64, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_UINT64.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_UINT64, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_UINT64.name, vrs, nValues) });
         fmi3GetBoolean(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3Boolean, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_BOOLEAN, |_| { slice_mut(values as *mut u8, nValues, "values[]")?; variables::no_variables(GET_BOOLEAN.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_BOOLEAN, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice_mut(values as *mut u8, nValues, "values[]")?; variables::no_variables(GET_BOOLEAN.name, vrs, nValues) });
         fmi3GetString(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3String, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_STRING, |_| { slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_STRING.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_STRING, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_STRING.name, vrs, nValues) });
         fmi3GetBinary(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, valueSizes: *mut usize, values: *mut fmi3Binary, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &GET_BINARY, |_| { slice_mut(valueSizes, nValues, "valueSizes[]")?; slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_BINARY.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &GET_BINARY, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice_mut(valueSizes, nValues, "valueSizes[]")?; slice_mut(values, nValues, "values[]")?; variables::no_variables(GET_BINARY.name, vrs, nValues) });
         fmi3GetClock(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *mut fmi3Clock) -> fmi3Status
             = guarded::<M>(instance, &GET_CLOCK, |_| api::unsupported("no clocks"));
         fmi3SetFloat32(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3Float32, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_FLOAT32, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_FLOAT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_FLOAT32, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice(values, nValues, "values[]")?; variables::no_variables(SET_FLOAT32.name, vrs, nValues) });
         fmi3SetFloat64(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3Float64, nValues: usize) -> fmi3Status
             = guarded::<M>(instance, &SET_FLOAT64, |inst| variables::set_float64(inst, slice(valueReferences, nValueReferences, "valueReferences[]")?, slice(values, nValues, "values[]")?));
         fmi3SetInt8(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3Int8, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_INT8, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_INT8.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_INT8, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice(values, nValues, "values[]")?; variables::no_variables(SET_INT8.name, vrs, nValues) });
         fmi3SetUInt8(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3UInt8, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_UINT8, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_UINT8.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_UINT8, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice(values, nValues, "values[]")?; variables::no_variables(SET_UINT8.name, vrs, nValues) });
         fmi3SetInt16(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3Int16, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_INT16, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_INT16.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_INT16, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice(values, nValues, "values[]")?; variables::no_variables(SET_INT16.name, vrs, nValues) });
         fmi3SetUInt16(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3UInt16, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_UINT16, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_UINT16.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_UINT16, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice(values, nValues, "values[]")?; variables::no_variables(SET_UINT16.name, vrs, nValues) });
         fmi3SetInt32(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3Int32, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_INT32, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_INT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_INT32, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice(values, nValues, "values[]")?; variables::no_variables(SET_INT32.name, vrs, nValues) });
         fmi3SetUInt32(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3UInt32, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_UINT32, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_UINT32.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_UINT32, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice(values, nValues, "values[]")?; variables::no_variables(SET_UINT32.name, vrs, nValues) });
         fmi3SetInt64(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3Int64, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_INT64, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_INT64.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_INT64, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice(values, nValues, "values[]")?; variables::no_variables(SET_INT64.name, vrs, nValues) });
         fmi3SetUInt64(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3UInt64, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_UINT64, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_UINT64.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_UINT64, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice(values, nValues, "values[]")?; variables::no_variables(SET_UINT64.name, vrs, nValues) });
         fmi3SetBoolean(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3Boolean, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_BOOLEAN, |_| { slice(values as *const u8, nValues, "values[]")?; variables::no_variables(SET_BOOLEAN.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_BOOLEAN, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice(values as *const u8, nValues, "values[]")?; variables::no_variables(SET_BOOLEAN.name, vrs, nValues) });
         fmi3SetString(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3String, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_STRING, |_| { slice(values, nValues, "values[]")?; variables::no_variables(SET_STRING.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_STRING, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice(values, nValues, "values[]")?; variables::no_variables(SET_STRING.name, vrs, nValues) });
         fmi3SetBinary(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, valueSizes: *const usize, values: *const fmi3Binary, nValues: usize) -> fmi3Status
-            = guarded::<M>(instance, &SET_BINARY, |_| { slice(valueSizes, nValues, "valueSizes[]")?; slice(values, nValues, "values[]")?; variables::no_variables(SET_BINARY.name, slice(valueReferences, nValueReferences, "valueReferences[]")?, nValues) });
+            = guarded::<M>(instance, &SET_BINARY, |_| { let vrs = slice(valueReferences, nValueReferences, "valueReferences[]")?; slice(valueSizes, nValues, "valueSizes[]")?; slice(values, nValues, "values[]")?; variables::no_variables(SET_BINARY.name, vrs, nValues) });
         fmi3SetClock(instance: fmi3Instance, valueReferences: *const fmi3ValueReference, nValueReferences: usize, values: *const fmi3Clock) -> fmi3Status
             = guarded::<M>(instance, &SET_CLOCK, |_| api::unsupported("no clocks"));
         fmi3GetNumberOfVariableDependencies(instance: fmi3Instance, valueReference: fmi3ValueReference, nDependencies: *mut usize) -> fmi3Status

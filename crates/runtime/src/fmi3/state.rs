@@ -33,17 +33,8 @@ const LIVE: StateMask = mask(&[
     S::Terminated,
     S::Error,
 ]);
-/// Where variables may be read: start values from instantiation on.
-const READABLE: StateMask = mask(&[
-    S::Instantiated,
-    S::InitializationMode,
-    S::EventMode,
-    S::ContinuousTimeMode,
-    S::StepComplete,
-    S::StepFailed,
-    S::Terminated,
-    S::Error,
-]);
+/// Where variables may be read: start values from instantiation on, so in every state.
+const READABLE: StateMask = LIVE;
 const WRITABLE: StateMask = mask(&[
     S::Instantiated,
     S::InitializationMode,

@@ -103,8 +103,10 @@ pub fn set_float64<M: Mechanism>(
                 "time is the independent variable: it cannot be set (fmi3SetTime sets it in Model Exchange)",
             ));
         }
-        // One scalar at several places (a symmetric matrix's off-diagonal) takes one value.
-        if let Some((first, second)) = disagreeing(&scalars, values) {
+        // One scalar at several places of an array (a symmetric matrix's off-diagonal)
+        // takes one value. (The same variable twice in one call: the last value, as FMI
+        // 2.0's fmi2SetReal.)
+        if let Some((first, second)) = disagreeing(shapes, vrs, values) {
             return Err(error(format!(
                 "{} = {} and {} = {} are the same variable `{}`: they must be equal",
                 value_name(shapes, vrs, first),
@@ -120,15 +122,23 @@ pub fn set_float64<M: Mechanism>(
     set
 }
 
-/// The first two positions of the same scalar with different values, if any.
-fn disagreeing(scalars: &[u32], values: &[f64]) -> Option<(usize, usize)> {
-    let mut order: Vec<usize> = (0..scalars.len()).collect();
-    order.sort_by_key(|&i| (scalars[i], i));
-    order.windows(2).find_map(|w| {
-        let (a, b) = (w[0], w[1]);
-        (scalars[a] == scalars[b] && values[a].to_bits() != values[b].to_bits())
-            .then_some((a.min(b), a.max(b)))
-    })
+/// The first two places, among the values of `vrs`, of the same scalar of one array with
+/// different values, if any. Without allocating: the set of every step's inputs passes here.
+fn disagreeing(shapes: &Shapes, vrs: &[u32], values: &[f64]) -> Option<(usize, usize)> {
+    let mut at = 0;
+    for &vr in vrs {
+        let Some(shaped) = shapes.get(vr as usize) else {
+            at += 1; // the time
+            continue;
+        };
+        for &(i, j) in &shaped.mirrored {
+            if values[at + i].to_bits() != values[at + j].to_bits() {
+                return Some((at + i, at + j));
+            }
+        }
+        at += shaped.elements.len();
+    }
+    None
 }
 
 /// A get or set of a type this FMU has no variables of.

@@ -101,6 +101,9 @@ pub struct Shaped {
     pub dimensions: &'static [usize],
     /// The value references of its scalars, in row-major order (one for a scalar).
     pub elements: Vec<usize>,
+    /// The places of a scalar that stands at more than one (a symmetric matrix's mirrored
+    /// elements): (its first place, another), row-major positions. Empty for most.
+    pub mirrored: Vec<(usize, usize)>,
 }
 
 impl Shaped {
@@ -119,16 +122,32 @@ impl Shaped {
         if !self.is_array() {
             return self.name.to_string();
         }
-        let mut index = Vec::with_capacity(self.dimensions.len());
-        let mut rest = k;
-        for &d in self.dimensions.iter().rev() {
-            index.push(rest % d + 1);
-            rest /= d;
-        }
-        index.reverse();
-        let index: Vec<String> = index.iter().map(usize::to_string).collect();
-        format!("{}[{}]", self.name, index.join(","))
+        element_name(self.name, self.dimensions, k)
     }
+}
+
+/// `name[i,j]` (1-based, as FMI 3.0 and Modelica write an element) of element `k`
+/// (row-major) of an array of `dimensions`.
+pub fn element_name(name: &str, dimensions: &[usize], k: usize) -> String {
+    let mut index = Vec::with_capacity(dimensions.len());
+    let mut rest = k;
+    for &d in dimensions.iter().rev() {
+        index.push(rest % d.max(1) + 1);
+        rest /= d.max(1);
+    }
+    index.reverse();
+    let index: Vec<String> = index.iter().map(usize::to_string).collect();
+    format!("{name}[{}]", index.join(","))
+}
+
+/// The (first place, other place) pairs of the scalars that stand at several places.
+fn mirrored(elements: &[usize]) -> Vec<(usize, usize)> {
+    (0..elements.len())
+        .flat_map(|j| {
+            let first = elements.iter().position(|&e| e == elements[j]);
+            first.filter(|&i| i < j).map(|i| (i, j))
+        })
+        .collect()
 }
 
 /// The variables of a declaration as FMI 3.0 sees them, with its arrays.
@@ -226,6 +245,7 @@ impl Shapes {
                     description: v.description(),
                     dimensions: &[],
                     elements: vec![vr],
+                    mirrored: Vec::new(),
                 });
             } else if shapes.owner[vr] == NONE {
                 // The array's first element in declaration order: the array stands here.
@@ -239,6 +259,7 @@ impl Shapes {
                     description: arrays[a].description,
                     dimensions: arrays[a].dimensions,
                     elements: groups[a].clone(),
+                    mirrored: mirrored(&groups[a]),
                 });
             }
         }

@@ -10,7 +10,7 @@ mod scalar;
 mod values;
 mod variable;
 
-pub use arrays::{check_arrays, Array, Shaped, Shapes};
+pub use arrays::{check_arrays, element_name, Array, Shaped, Shapes};
 pub use layout::{check_declaration, check_event_indicators, event_indicator_references, Layout};
 #[doc(hidden)]
 pub use layout::{

@@ -10,12 +10,13 @@
 
 use super::{OdeSystem, StateVector};
 
-/// Halvings at most: from any step down to a few ulp of the time.
+/// Halvings at most: a step of size h is resolved to h·2⁻⁶⁴, or to one ulp of the time.
 const MAX_HALVINGS: u32 = 64;
 
-/// The last point in `[t0, t1)` where `sys` is valid (`t0`, whose states are `y0`, if
-/// there is none further): its time and states. `state_at(sys, t)` gives the states at
-/// `t` in `(t0, t1)`.
+/// A point in `[t0, t1)` where `sys` is valid next to one where it is not (within the
+/// resolution of [`MAX_HALVINGS`]): its time and states (`t0` and `y0` if none further).
+/// With a single crossing in the step, as within one accepted step of a limit's indicator,
+/// that is the crossing. `state_at(sys, t)` gives the states at `t` in `(t0, t1)`.
 pub fn last_valid_point<V: StateVector, S: OdeSystem + ?Sized>(
     sys: &mut S,
     (t0, y0): (f64, &V),

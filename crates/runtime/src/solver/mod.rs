@@ -198,8 +198,10 @@ pub trait OdeSystem {
     fn accepted(&mut self, _t: f64, _y: &[f64]) -> Result<(), String> {
         Ok(())
     }
-    /// Whether the system is valid at a point: what `accepted` decides, without its side
-    /// effects (the event location probes points out of order). Default: `accepted`'s.
+    /// Whether the system is valid at a point: what `accepted` decides. The event location
+    /// probes points out of order, so a system whose `accepted` has side effects (warnings
+    /// it records) overrides this with a check free of them. Default: `accepted`'s verdict,
+    /// side effects included.
     fn valid_at(&mut self, t: f64, y: &[f64]) -> bool {
         self.accepted(t, y).is_ok()
     }
