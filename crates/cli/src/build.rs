@@ -1,7 +1,7 @@
 //! `mechfmu build` and `mechfmu list`: compile mechanism crates and package their FMUs.
 
 use super::workspace::{cargo, mechanism_crates, MechanismCrate};
-use crate::package::Version;
+use crate::package::{Packaging, Version};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{BufRead, BufReader, IsTerminal};
 use std::path::{Path, PathBuf};
@@ -62,10 +62,7 @@ pub(crate) fn build(
             println!(
                 "{:<20} {:<8} {} ({} KiB)",
                 c.model,
-                match version {
-                    Version::Fmi2 => "FMI 2.0",
-                    Version::Fmi3 => "FMI 3.0",
-                },
+                version.name(),
                 path.display(),
                 size.div_ceil(1024)
             );
@@ -210,7 +207,7 @@ fn spinner(message: &str) -> Option<ProgressBar> {
     Some(p)
 }
 
-/// Packages one built library as an FMU of `version` (in [`Version::folder`] of `out`):
+/// Packages one built library as an FMU of `version` (in [`Packaging::folder`] of `out`):
 /// asks the binary for its own modelDescription of that version, so the XML and the binary
 /// can never disagree, and for its documentation; adds the reference results of the
 /// default experiment found in `<crate_dir>/reference/` (see [`crate::extras`]).

@@ -3,7 +3,7 @@
 //! the documented extras of `export_fmu!`), and the reference results of its default
 //! experiment committed beside its crate.
 
-use crate::package::Version;
+use crate::package::{Packaging, Version};
 use std::path::Path;
 
 /// Where reference results go inside the archive (the FMI layered standard's folder).

@@ -18,43 +18,47 @@ pub struct Contents<'a> {
     pub extra: Vec<(String, Vec<u8>)>,
 }
 
-/// The FMI version of an archive.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Version {
-    Fmi2,
-    Fmi3,
-}
+pub use mechfmu::contract::Version;
 
-impl Version {
+/// Where an FMU of each FMI version puts its binary, where `mechfmu build` writes it, and
+/// the exported extras it is packaged from.
+pub trait Packaging {
     /// The folder under `binaries/` of the binaries this machine builds: FMI 2.0's
     /// platform name, FMI 3.0's platform tuple.
-    pub fn platform(self) -> &'static str {
+    fn platform(self) -> &'static str;
+    /// Where the FMUs of this version go, under the build's output folder: FMI 2.0's in
+    /// it, FMI 3.0's in its `fmi3/` (the same file names, so an importer's instance names
+    /// do not depend on the version).
+    fn folder(self, out: &Path) -> std::path::PathBuf;
+    /// The exported extra that gives the binary's documentation page of this version.
+    fn documentation_symbol(self) -> &'static str;
+    /// The exported extra that gives the binary's model description of this version.
+    fn model_description_symbol(self) -> &'static str;
+}
+
+impl Packaging for Version {
+    fn platform(self) -> &'static str {
         match self {
             Version::Fmi2 => "linux64",
             Version::Fmi3 => "x86_64-linux",
         }
     }
 
-    /// Where the FMUs of this version go, under the build's output folder: FMI 2.0's in
-    /// it, FMI 3.0's in its `fmi3/` (the same file names, so an importer's instance names
-    /// do not depend on the version).
-    pub fn folder(self, out: &Path) -> std::path::PathBuf {
+    fn folder(self, out: &Path) -> std::path::PathBuf {
         match self {
             Version::Fmi2 => out.to_path_buf(),
             Version::Fmi3 => out.join("fmi3"),
         }
     }
 
-    /// The exported extra that gives the binary's documentation page of this version.
-    pub fn documentation_symbol(self) -> &'static str {
+    fn documentation_symbol(self) -> &'static str {
         match self {
             Version::Fmi2 => "mechfmu_documentation",
             Version::Fmi3 => "mechfmu_documentation_fmi3",
         }
     }
 
-    /// The exported extra that gives the binary's model description of this version.
-    pub fn model_description_symbol(self) -> &'static str {
+    fn model_description_symbol(self) -> &'static str {
         match self {
             Version::Fmi2 => "mechfmu_model_description",
             Version::Fmi3 => "mechfmu_model_description_fmi3",

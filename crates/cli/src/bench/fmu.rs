@@ -151,7 +151,7 @@ pub fn extract(fmu: &Path, dir: &Path) -> Result<(PathBuf, PathBuf), String> {
     let description = Description::parse(&String::from_utf8_lossy(&xml))?;
     let so_name = format!(
         "binaries/{}/{}.so",
-        crate::package::Version::Fmi2.platform(),
+        crate::package::Packaging::platform(crate::package::Version::Fmi2),
         description.model_identifier
     );
     let so = read(&so_name)?;
