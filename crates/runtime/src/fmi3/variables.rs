@@ -103,10 +103,9 @@ pub fn set_float64<M: Mechanism>(
                 "time is the independent variable: it cannot be set (fmi3SetTime sets it in Model Exchange)",
             ));
         }
-        // One scalar at several places of an array (a symmetric matrix's off-diagonal)
-        // takes one value. (The same variable twice in one call: the last value, as FMI
-        // 2.0's fmi2SetReal.)
-        if let Some((first, second)) = disagreeing(shapes, vrs, values) {
+        // One scalar at several places (a symmetric matrix's off-diagonal, or a variable
+        // named twice in one call) takes one value.
+        if let Some((first, second)) = disagreeing(&scalars, values) {
             return Err(error(format!(
                 "{} = {} and {} = {} are the same variable `{}`: they must be equal",
                 value_name(shapes, vrs, first),
@@ -122,23 +121,24 @@ pub fn set_float64<M: Mechanism>(
     set
 }
 
-/// The first two places, among the values of `vrs`, of the same scalar of one array with
-/// different values, if any. Without allocating: the set of every step's inputs passes here.
-fn disagreeing(shapes: &Shapes, vrs: &[u32], values: &[f64]) -> Option<(usize, usize)> {
-    let mut at = 0;
-    for &vr in vrs {
-        let Some(shaped) = shapes.get(vr as usize) else {
-            at += 1; // the time
-            continue;
-        };
-        for &(i, j) in &shaped.mirrored {
-            if values[at + i].to_bits() != values[at + j].to_bits() {
-                return Some((at + i, at + j));
-            }
-        }
-        at += shaped.elements.len();
+/// Up to this many values, pairs are compared in place (no allocation: every step's inputs
+/// pass here); beyond, through a sorted copy.
+const COMPARED_IN_PLACE: usize = 64;
+
+/// The first two positions of the same scalar with different values, if any.
+fn disagreeing(scalars: &[u32], values: &[f64]) -> Option<(usize, usize)> {
+    let differ =
+        |i: usize, j: usize| scalars[i] == scalars[j] && values[i].to_bits() != values[j].to_bits();
+    if scalars.len() <= COMPARED_IN_PLACE {
+        return (0..scalars.len())
+            .flat_map(|j| (0..j).map(move |i| (i, j)))
+            .find(|&(i, j)| differ(i, j));
     }
-    None
+    let mut order: Vec<usize> = (0..scalars.len()).collect();
+    order.sort_by_key(|&i| (scalars[i], i));
+    (order.windows(2))
+        .find(|w| differ(w[0], w[1]))
+        .map(|w| (w[0].min(w[1]), w[0].max(w[1])))
 }
 
 /// A get or set of a type this FMU has no variables of.

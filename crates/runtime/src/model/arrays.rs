@@ -101,9 +101,6 @@ pub struct Shaped {
     pub dimensions: &'static [usize],
     /// The value references of its scalars, in row-major order (one for a scalar).
     pub elements: Vec<usize>,
-    /// The places of a scalar that stands at more than one (a symmetric matrix's mirrored
-    /// elements): (its first place, another), row-major positions. Empty for most.
-    pub mirrored: Vec<(usize, usize)>,
 }
 
 impl Shaped {
@@ -138,16 +135,6 @@ pub fn element_name(name: &str, dimensions: &[usize], k: usize) -> String {
     index.reverse();
     let index: Vec<String> = index.iter().map(usize::to_string).collect();
     format!("{name}[{}]", index.join(","))
-}
-
-/// The (first place, other place) pairs of the scalars that stand at several places.
-fn mirrored(elements: &[usize]) -> Vec<(usize, usize)> {
-    (0..elements.len())
-        .flat_map(|j| {
-            let first = elements.iter().position(|&e| e == elements[j]);
-            first.filter(|&i| i < j).map(|i| (i, j))
-        })
-        .collect()
 }
 
 /// The variables of a declaration as FMI 3.0 sees them, with its arrays.
@@ -245,7 +232,6 @@ impl Shapes {
                     description: v.description(),
                     dimensions: &[],
                     elements: vec![vr],
-                    mirrored: Vec::new(),
                 });
             } else if shapes.owner[vr] == NONE {
                 // The array's first element in declaration order: the array stands here.
@@ -259,7 +245,6 @@ impl Shapes {
                     description: arrays[a].description,
                     dimensions: arrays[a].dimensions,
                     elements: groups[a].clone(),
-                    mirrored: mirrored(&groups[a]),
                 });
             }
         }

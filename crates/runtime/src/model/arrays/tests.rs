@@ -101,7 +101,6 @@ fn element_names_are_row_major_and_1_based() {
         description: "",
         dimensions: &[2, 3, 4],
         elements: vec![0; 24],
-        mirrored: Vec::new(),
     };
     assert_eq!(cube.element_name(5), "T[1,2,2]");
     assert_eq!(cube.element_name(23), "T[2,3,4]");
