@@ -1,12 +1,13 @@
 //! The interface page of a mechanism: Markdown, for the repository (`docs/mechanisms/`),
 //! where `documentation/index.html` is for the FMU. The same declaration, the same table
 //! (value references, causality, variability, the `initial` an importer sees, units, start
-//! values, bounds) and the same notes, without the plot and the capabilities.
+//! values, bounds; FMI 3.0's arrays) and the same notes, without the plot and the
+//! capabilities.
 
 use super::notes::dedent;
 use super::num;
 use super::tables::{shown_initial, shown_min};
-use crate::model::{Mechanism, Variable};
+use crate::model::{Mechanism, Shapes, Variable};
 use std::fmt::Write as _;
 
 /// The interface of mechanism `M` as a Markdown page: its description, default experiment,
@@ -41,6 +42,7 @@ pub fn interface<M: Mechanism>() -> Result<String, String> {
 
     md.push_str("## Variables\n\n");
     md.push_str(&variable_table(M::VARIABLES));
+    md.push_str(&fmi3_arrays::<M>()?);
 
     md.push_str("\n## Equations and notes\n\n");
     if M::NOTES.trim().is_empty() {
@@ -50,6 +52,44 @@ pub fn interface<M: Mechanism>() -> Result<String, String> {
     }
     md.push_str("\n## Events\n\n");
     md.push_str(&super::events::<M>());
+    Ok(md)
+}
+
+/// What differs in the FMI 3.0 FMU: the value reference of the independent `time`, and the
+/// arrays that replace the scalars they group.
+fn fmi3_arrays<M: Mechanism>() -> Result<String, String> {
+    let shapes = Shapes::new(M::VARIABLES, M::ARRAYS)?;
+    let mut md = format!(
+        "\nIn the FMI 3.0 FMU, the variables keep their value references; `time` is the \
+         independent variable, value reference {}.",
+        shapes.time_reference()
+    );
+    let arrays: Vec<_> = shapes.variables.iter().filter(|s| s.is_array()).collect();
+    if arrays.is_empty() {
+        md.push('\n');
+        return Ok(md);
+    }
+    md.push_str(
+        " These arrays replace the scalars they group (row-major), each with the value \
+         reference of its first element:\n\n\
+         | array | value ref. | dimensions | elements | description |\n\
+         |---|---:|---|---|---|\n",
+    );
+    for shaped in arrays {
+        let dimensions: Vec<String> = shaped.dimensions.iter().map(usize::to_string).collect();
+        let elements: Vec<String> = (shaped.elements.iter())
+            .map(|&e| format!("`{}`", M::VARIABLES[e].name))
+            .collect();
+        let _ = writeln!(
+            md,
+            "| `{}` | {} | {} | {} | {} |",
+            shaped.name,
+            shaped.reference,
+            dimensions.join(" × "),
+            elements.join(" "),
+            shaped.description
+        );
+    }
     Ok(md)
 }
 
