@@ -5,7 +5,7 @@
 //! Events: the importer's solver locates the sign changes of the mechanism's event
 //! indicators and enters event mode there; at every event (`fmi2NewDiscreteStates`) and
 //! every completed integrator step the mechanism's monitor is asked. A warning is logged
-//! once per episode (`WARNING`); a point where the model no longer holds ends the
+//! once per episode (a Warning status); a point where the model no longer holds ends the
 //! simulation (`terminateSimulation`, the reason logged). A mechanism that projects its
 //! states onto a manifold asks for a step event when they have drifted off it by more than
 //! the tolerance, and projects them there (`valuesOfContinuousStatesChanged`).
