@@ -32,9 +32,15 @@ enum State {
 }
 
 pub fn run(args: Args) -> Result<(), String> {
-    let built = built_libraries(&args.names, args.manifest_path.as_deref(), &Flavor::Shipped)?;
+    let built = built_libraries(
+        &args.names,
+        args.manifest_path.as_deref(),
+        &Flavor::Shipped,
+        &[],
+    )?;
     let mut not_current = Vec::new();
-    for (c, library) in &built {
+    for b in &built {
+        let (c, library) = (&b.krate, b.host_library());
         let page = interface_of(library)?;
         let path = args.out.join(format!("{}.md", c.model));
         let state = state_of(&path, &page)?;

@@ -1,15 +1,18 @@
-//! The `mechfmu` command. One module per subcommand (`build` with `list`, `new`,
+//! The `mechfmu` command. One module per subcommand (`build` with `list`, `inspect`, `new`,
 //! `validate`, `sweep`, `bench`, `interface` for `docs`); `workspace` finds mechanism crates,
 //! `package` writes the `.fmu` archive, `python` provisions the Python environment the
 //! validation and sweeps run in.
 
 mod bench;
+mod binaries;
 mod build;
 mod extras;
 mod fmi3_names;
+mod inspect;
 mod interface;
 mod new;
 mod package;
+mod platform;
 mod python;
 mod sweep;
 mod validate;
@@ -23,7 +26,7 @@ use std::process::ExitCode;
 #[command(
     name = "mechfmu",
     version,
-    about = "Turns mechanical models into FMI 2.0 Co-Simulation FMUs"
+    about = "Turns mechanical models into FMI 2.0 and FMI 3.0 FMUs for Linux, Windows and ARM Linux"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -42,10 +45,18 @@ enum Cmd {
         /// The Cargo.toml of the workspace or crate holding the mechanisms.
         #[arg(long)]
         manifest_path: Option<PathBuf>,
+        /// The platforms to carry binaries for, comma-separated: x86_64-linux (linux64),
+        /// x86_64-windows (win64), aarch64-linux, or all; a platform whose toolchain is
+        /// missing is then an error. Default: every platform this machine can build for
+        /// (those it cannot are named, with how to install their toolchains).
+        #[arg(long, value_name = "PLATFORMS")]
+        platform: Option<String>,
     },
     /// Write the interface page of each mechanism (variables, units, defaults, equations),
     /// rendered by its built binary: docs/mechanisms/<Name>.md.
     Docs(interface::Args),
+    /// Show the binaries of FMUs: platform, the libraries each loads, the functions it exports.
+    Inspect(inspect::Args),
     /// List the mechanisms of the workspace.
     List {
         #[arg(long)]
@@ -68,13 +79,22 @@ fn main() -> ExitCode {
             names,
             out,
             manifest_path,
-        } => build::build(
-            &names,
-            &out,
-            manifest_path.as_deref(),
-            build::Flavor::Shipped,
-        ),
+            platform,
+        } => platform
+            .as_deref()
+            .map(platform::parse_list)
+            .transpose()
+            .and_then(|chosen| {
+                build::build(
+                    &names,
+                    &out,
+                    manifest_path.as_deref(),
+                    build::Flavor::Shipped,
+                    chosen.map_or(build::Platforms::Available, build::Platforms::Chosen),
+                )
+            }),
         Cmd::Docs(args) => interface::run(args),
+        Cmd::Inspect(args) => inspect::run(args),
         Cmd::List { manifest_path } => build::list(manifest_path.as_deref()),
         Cmd::Bench(args) => bench::command::run(args),
         Cmd::New(args) => new::run(args),

@@ -1,4 +1,4 @@
-//! The `.fmu` archive: a deflated zip of modelDescription.xml, the binary and the
+//! The `.fmu` archive: a deflated zip of modelDescription.xml, the binaries and the
 //! documentation, byte-identical when rebuilt from the same inputs.
 
 use std::io::{Seek, Write};
@@ -8,24 +8,19 @@ use zip::{CompressionMethod, DateTime, ZipWriter};
 
 /// What goes into an FMU.
 pub struct Contents<'a> {
-    pub model_identifier: &'a str,
     pub model_description: &'a str,
-    /// The folder under `binaries/` of this machine's binary ([`Version::platform`]).
-    pub platform: &'a str,
-    /// The shared library for `binaries/<platform>/`.
-    pub binary: &'a [u8],
+    /// The shared libraries (path inside the archive, `binaries/<platform>/<id>.<ext>`, and
+    /// bytes).
+    pub binaries: Vec<(String, Vec<u8>)>,
     /// Extra files (path inside the archive, bytes), e.g. `documentation/index.html`.
     pub extra: Vec<(String, Vec<u8>)>,
 }
 
 pub use mechfmu::contract::Version;
 
-/// Where an FMU of each FMI version puts its binary, where `mechfmu build` writes it, and
-/// the exported extras it is packaged from.
+/// Where `mechfmu build` writes an FMU of each FMI version, and the exported extras it is
+/// packaged from (where each platform's binary goes: [`crate::platform::Platform::folder`]).
 pub trait Packaging {
-    /// The folder under `binaries/` of the binaries this machine builds: FMI 2.0's
-    /// platform name, FMI 3.0's platform tuple.
-    fn platform(self) -> &'static str;
     /// Where the FMUs of this version go, under the build's output folder: FMI 2.0's in
     /// it, FMI 3.0's in its `fmi3/` (the same file names, so an importer's instance names
     /// do not depend on the version).
@@ -37,13 +32,6 @@ pub trait Packaging {
 }
 
 impl Packaging for Version {
-    fn platform(self) -> &'static str {
-        match self {
-            Version::Fmi2 => "linux64",
-            Version::Fmi3 => "x86_64-linux",
-        }
-    }
-
     fn folder(self, out: &Path) -> std::path::PathBuf {
         match self {
             Version::Fmi2 => out.to_path_buf(),
@@ -83,23 +71,15 @@ fn write_archive<W: Write + Seek>(writer: W, contents: &Contents) -> std::io::Re
         .last_modified_time(DateTime::default())
         .unix_permissions(0o644);
     let dir = file.unix_permissions(0o755);
-    let mut entries: Vec<(String, &[u8])> = vec![
-        (
-            "modelDescription.xml".into(),
-            contents.model_description.as_bytes(),
-        ),
-        (
-            format!(
-                "binaries/{}/{}.so",
-                contents.platform, contents.model_identifier
-            ),
-            contents.binary,
-        ),
-    ];
+    let mut entries: Vec<(String, &[u8])> = vec![(
+        "modelDescription.xml".into(),
+        contents.model_description.as_bytes(),
+    )];
     entries.extend(
         contents
-            .extra
+            .binaries
             .iter()
+            .chain(&contents.extra)
             .map(|(p, b)| (p.clone(), b.as_slice())),
     );
     let mut dirs: Vec<String> = Vec::new();
@@ -133,10 +113,14 @@ mod tests {
     fn archive(xml: &str) -> Vec<u8> {
         let mut buf = std::io::Cursor::new(Vec::new());
         let contents = Contents {
-            model_identifier: "Test",
             model_description: xml,
-            platform: Version::Fmi2.platform(),
-            binary: b"\x7fELF binary",
+            binaries: vec![
+                (
+                    "binaries/linux64/Test.so".into(),
+                    b"\x7fELF binary".to_vec(),
+                ),
+                ("binaries/win64/Test.dll".into(), b"MZ binary".to_vec()),
+            ],
             extra: vec![("documentation/index.html".into(), b"<html/>".to_vec())],
         };
         write_archive(&mut buf, &contents).unwrap();
@@ -155,6 +139,7 @@ mod tests {
         for name in [
             "modelDescription.xml",
             "binaries/linux64/Test.so",
+            "binaries/win64/Test.dll",
             "documentation/index.html",
         ] {
             assert!(

@@ -13,22 +13,7 @@ pub struct MechanismCrate {
 
 /// The mechanism crates of the workspace (or crate) at `manifest_path`.
 pub fn mechanism_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCrate>, String> {
-    let mut cmd = Command::new(cargo());
-    cmd.args(["metadata", "--format-version", "1", "--no-deps"]);
-    if let Some(path) = manifest_path {
-        cmd.arg("--manifest-path").arg(path);
-    }
-    let output = cmd
-        .output()
-        .map_err(|e| format!("cannot run cargo metadata: {e}"))?;
-    if !output.status.success() {
-        return Err(format!(
-            "cargo metadata failed:\n{}",
-            String::from_utf8_lossy(&output.stderr).trim()
-        ));
-    }
-    let meta: serde_json::Value = serde_json::from_slice(&output.stdout)
-        .map_err(|e| format!("cannot read cargo metadata's output: {e}"))?;
+    let meta = metadata(manifest_path)?;
     let mut crates: Vec<MechanismCrate> = meta["packages"]
         .as_array()
         .into_iter()
@@ -44,6 +29,33 @@ pub fn mechanism_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCra
         .collect();
     crates.sort_by(|a, b| a.model.cmp(&b.model));
     Ok(crates)
+}
+
+/// Where cargo builds the workspace (or crate) at `manifest_path`.
+pub fn target_directory(manifest_path: Option<&Path>) -> Result<PathBuf, String> {
+    metadata(manifest_path)?["target_directory"]
+        .as_str()
+        .map(PathBuf::from)
+        .ok_or_else(|| "cargo metadata names no target directory".into())
+}
+
+fn metadata(manifest_path: Option<&Path>) -> Result<serde_json::Value, String> {
+    let mut cmd = Command::new(cargo());
+    cmd.args(["metadata", "--format-version", "1", "--no-deps"]);
+    if let Some(path) = manifest_path {
+        cmd.arg("--manifest-path").arg(path);
+    }
+    let output = cmd
+        .output()
+        .map_err(|e| format!("cannot run cargo metadata: {e}"))?;
+    if !output.status.success() {
+        return Err(format!(
+            "cargo metadata failed:\n{}",
+            String::from_utf8_lossy(&output.stderr).trim()
+        ));
+    }
+    serde_json::from_slice(&output.stdout)
+        .map_err(|e| format!("cannot read cargo metadata's output: {e}"))
 }
 
 pub(crate) fn cargo() -> String {

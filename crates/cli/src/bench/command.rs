@@ -140,6 +140,7 @@ pub fn run(args: Args) -> Result<(), String> {
             crate::build::Flavor::Bench {
                 target_dir: &target_dir,
             },
+            crate::build::Platforms::Host,
         )?;
     }
     let effort = if args.quick {

@@ -149,10 +149,12 @@ pub fn extract(fmu: &Path, dir: &Path) -> Result<(PathBuf, PathBuf), String> {
     };
     let xml = read("modelDescription.xml")?;
     let description = Description::parse(&String::from_utf8_lossy(&xml))?;
+    let host = crate::platform::Platform::host().ok_or("no FMU binary for this machine")?;
     let so_name = format!(
-        "binaries/{}/{}.so",
-        crate::package::Packaging::platform(crate::package::Version::Fmi2),
-        description.model_identifier
+        "binaries/{}/{}.{}",
+        host.folder(crate::package::Version::Fmi2),
+        description.model_identifier,
+        host.extension()
     );
     let so = read(&so_name)?;
     let xml_path = dir.join("modelDescription.xml");

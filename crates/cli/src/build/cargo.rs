@@ -1,0 +1,174 @@
+//! Running `cargo build` for the mechanism crates, one invocation for every platform (so
+//! cargo spreads the platforms' crates over the cores), and finding the shared libraries
+//! it wrote.
+
+use super::Flavor;
+use crate::platform::Platform;
+use crate::workspace::{cargo, MechanismCrate};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::{BufRead, BufReader, IsTerminal};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::Duration;
+
+/// A shared library cargo built.
+pub(super) struct Library {
+    pub package: String,
+    pub platform: Platform,
+    pub path: PathBuf,
+}
+
+/// Builds the crates' cdylibs in release mode for each of `platforms`.
+pub(super) fn build(
+    crates: &[MechanismCrate],
+    manifest_path: Option<&Path>,
+    flavor: &Flavor,
+    platforms: &[Platform],
+    target_dir: &Path,
+) -> Result<Vec<Library>, String> {
+    let mut cmd = Command::new(cargo());
+    cmd.args([
+        "build",
+        "--release",
+        "--lib",
+        "--message-format=json-render-diagnostics",
+    ]);
+    if let Flavor::Bench { target_dir } = flavor {
+        cmd.args(["--features", "mechfmu/bench", "--target-dir"])
+            .arg(target_dir);
+    }
+    if let Some(path) = manifest_path {
+        cmd.arg("--manifest-path").arg(path);
+    }
+    for c in crates {
+        cmd.args(["-p", &c.package]);
+    }
+    for p in platforms {
+        cmd.args(["--target", p.rust_target()]);
+        p.configure(&mut cmd, target_dir)?;
+    }
+    let tuples: Vec<&str> = platforms.iter().map(|p| p.tuple()).collect();
+    let progress = spinner(&format!(
+        "building {} crate(s) with cargo (release) for {}",
+        crates.len(),
+        tuples.join(", ")
+    ));
+    let mut child = cmd
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| format!("cannot run cargo build: {e}"))?;
+    let stderr = child.stderr.take().expect("piped");
+    let stderr_thread = std::thread::spawn(move || {
+        let mut lines = Vec::new();
+        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+            lines.push(line);
+        }
+        lines
+    });
+    let mut libraries = Vec::new();
+    for line in BufReader::new(child.stdout.take().expect("piped"))
+        .lines()
+        .map_while(Result::ok)
+    {
+        let Ok(msg) = serde_json::from_str::<serde_json::Value>(&line) else {
+            continue;
+        };
+        if msg["reason"] != "compiler-artifact" {
+            continue;
+        }
+        if let Some(p) = &progress {
+            p.set_message(format!(
+                "compiled {}",
+                msg["target"]["name"].as_str().unwrap_or("")
+            ));
+        }
+        let Some(package) = package_name(msg["package_id"].as_str().unwrap_or(""), crates) else {
+            continue;
+        };
+        for path in msg["filenames"].as_array().into_iter().flatten() {
+            let path = Path::new(path.as_str().unwrap_or(""));
+            if let Some(platform) = platform_of(path, platforms) {
+                libraries.push(Library {
+                    package: package.clone(),
+                    platform,
+                    path: path.to_path_buf(),
+                });
+            }
+        }
+    }
+    let status = child
+        .wait()
+        .map_err(|e| format!("cargo build did not finish: {e}"))?;
+    let stderr = stderr_thread.join().unwrap_or_default();
+    if let Some(p) = progress {
+        p.finish_and_clear();
+    }
+    if !status.success() {
+        return Err(format!("cargo build failed:\n{}", stderr.join("\n")));
+    }
+    Ok(libraries)
+}
+
+/// The platform a file cargo wrote is the shared library of: cargo puts each target's
+/// output under `<target dir>/<triple>/`; the extension tells the library from the import
+/// library and the like beside it.
+fn platform_of(path: &Path, platforms: &[Platform]) -> Option<Platform> {
+    let extension = path.extension()?.to_str()?;
+    platforms.iter().copied().find(|p| {
+        extension == p.extension() && path.components().any(|c| c.as_os_str() == p.rust_target())
+    })
+}
+
+/// Which of our crates a cargo package id belongs to (ids look like
+/// `path+file:///…/fmus/oscillator#oscillator-fmu@0.1.0`).
+fn package_name(package_id: &str, crates: &[MechanismCrate]) -> Option<String> {
+    crates
+        .iter()
+        .find(|c| {
+            let dir = c
+                .manifest
+                .parent()
+                .map(|d| d.display().to_string())
+                .unwrap_or_default();
+            package_id.contains(&format!("#{}@", c.package))
+                || (package_id.contains(&format!("{dir}#")) && !dir.is_empty())
+                || package_id.starts_with(&format!("{} ", c.package))
+        })
+        .map(|c| c.package.clone())
+}
+
+fn spinner(message: &str) -> Option<ProgressBar> {
+    if !std::io::stderr().is_terminal() {
+        eprintln!("{message} ...");
+        return None;
+    }
+    let p = ProgressBar::new_spinner();
+    p.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{elapsed}]").expect("valid template"),
+    );
+    p.set_message(message.to_string());
+    p.enable_steady_tick(Duration::from_millis(120));
+    Some(p)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn libraries_are_told_by_target_folder_and_extension() {
+        let all = Platform::ALL;
+        let at = |p: &str| platform_of(Path::new(p), &all);
+        assert_eq!(
+            at("/t/x86_64-pc-windows-gnu/release/crane.dll"),
+            Some(Platform::X86_64Windows)
+        );
+        assert_eq!(at("/t/x86_64-pc-windows-gnu/release/libcrane.dll.a"), None);
+        assert_eq!(
+            at("/t/aarch64-unknown-linux-gnu/release/libcrane.so"),
+            Some(Platform::Aarch64Linux)
+        );
+        assert_eq!(at("/t/release/libcrane.so"), None);
+    }
+}

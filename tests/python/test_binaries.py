@@ -1,0 +1,127 @@
+"""Every FMU carries a binary for each platform, each self-contained: `mechfmu inspect` lists
+what each binary loads and exports, and this test holds it to what a stock system has.
+
+The lists below are this test's own (what a fresh Windows 10 and a glibc Linux provide),
+written independently of the build's check in crates/cli/src/platform.rs."""
+
+import json
+import os
+import subprocess
+import zipfile
+
+import pytest
+
+from fmutest import FMU_DIR, REPO_ROOT
+
+MECHFMU = REPO_ROOT / "target" / "release" / "mechfmu"
+MODELS = ["Crane", "CraneDynamics", "Oscillator", "PendulumCart", "RigidBody", "TwoMassOscillator"]
+
+# binaries/<folder>: FMI 2.0 names the x86-64 platforms; FMI 2.0.5 says to use FMI 3.0's
+# platform tuple for any other, so ARM Linux is aarch64-linux in both.
+FOLDERS = {
+    "2.0": {"linux64": "x86_64-linux", "win64": "x86_64-windows", "aarch64-linux": "aarch64-linux"},
+    "3.0": {"x86_64-linux": "x86_64-linux", "x86_64-windows": "x86_64-windows", "aarch64-linux": "aarch64-linux"},
+}
+EXTENSION = {"x86_64-linux": "so", "x86_64-windows": "dll", "aarch64-linux": "so"}
+
+GLIBC = {"libc.so.6", "libm.so.6", "libdl.so.2", "libpthread.so.0", "librt.so.1"}
+STOCK = {
+    "x86_64-linux": GLIBC | {"ld-linux-x86-64.so.2"},
+    "aarch64-linux": GLIBC | {"ld-linux-aarch64.so.1"},
+    # in C:\Windows\System32 of every Windows 10
+    "x86_64-windows": {"kernel32.dll", "ntdll.dll", "msvcrt.dll", "userenv.dll", "ws2_32.dll", "advapi32.dll",
+                       "bcrypt.dll", "bcryptprimitives.dll", "api-ms-win-core-synch-l1-2-0.dll"},
+}
+
+MAX_FMU_BYTES = 2 * 1024 * 1024
+
+
+def fmu_files():
+    return [(FMU_DIR / f"{m}.fmu", "2.0") for m in MODELS] + [(FMU_DIR / "fmi3" / f"{m}.fmu", "3.0") for m in MODELS]
+
+
+@pytest.fixture(scope="module")
+def inspected():
+    """`mechfmu inspect --json` of every FMU, by path."""
+    paths = [p for p, _ in fmu_files()]
+    missing = [p for p in paths if not p.is_file()]
+    if missing or not MECHFMU.exists():
+        pytest.fail(f"missing {missing or MECHFMU}: run `cargo run --release -- build` first", pytrace=False)
+    done = subprocess.run([str(MECHFMU), "inspect", "--json", *map(str, paths)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    return {report["fmu"]: report for report in json.loads(done.stdout)}
+
+
+@pytest.mark.parametrize("path,version", fmu_files(), ids=lambda x: str(x).split("fmus/")[-1])
+def test_every_platform_is_there_and_self_contained(inspected, path, version):
+    binaries = inspected[str(path)]["binaries"]
+    model = path.stem
+    expected = {f"binaries/{folder}/{model}.{EXTENSION[p]}": p for folder, p in FOLDERS[version].items()}
+    assert {b["path"]: b["platform"] for b in binaries} == expected
+    exports = None
+    for b in binaries:
+        stock = STOCK[b["platform"]]
+        loads = [d.lower() if b["platform"] == "x86_64-windows" else d for d in b["dependencies"]]
+        print(f"{b['path']}: loads {', '.join(b['dependencies'])}")
+        assert set(loads) <= stock, f"{b['path']} loads {set(loads) - stock}"
+        assert not any(d.startswith(("libgcc", "libwinpthread", "libstdc++")) for d in loads)
+        assert b["foreign_dependencies"] == []
+        # the same functions on every platform: FMI 2.0's 44, FMI 3.0's 75, the 5 documented extras
+        if exports is None:
+            exports = b["exports"]
+            assert len([e for e in exports if e.startswith("fmi2")]) == 44
+            assert len([e for e in exports if e.startswith("fmi3")]) == 75
+            assert sorted(e for e in exports if not e.startswith(("fmi2", "fmi3"))) == [
+                "mechfmu_documentation", "mechfmu_documentation_fmi3", "mechfmu_interface",
+                "mechfmu_model_description", "mechfmu_model_description_fmi3"]
+        assert b["exports"] == exports, b["path"]
+
+
+@pytest.mark.parametrize("path,version", fmu_files(), ids=lambda x: str(x).split("fmus/")[-1])
+def test_fmu_size(path, version):
+    size = path.stat().st_size
+    assert size <= MAX_FMU_BYTES, f"{path} is {size / 2**20:.2f} MiB"
+    with zipfile.ZipFile(path) as z:
+        names = z.namelist()
+    assert "modelDescription.xml" in names
+
+
+def test_inspect_names_what_is_not_a_binary(tmp_path):
+    fmu = tmp_path / "Odd.fmu"
+    with zipfile.ZipFile(fmu, "w") as z:
+        z.writestr("modelDescription.xml", "<fmiModelDescription/>")
+        z.writestr("binaries/linux64/Odd.so", b"not a shared library")
+    done = subprocess.run([str(MECHFMU), "inspect", str(fmu)], capture_output=True, text=True)
+    assert done.returncode == 1
+    assert "problem: not a shared library we can read" in done.stdout
+    assert "1 binary with a problem" in done.stderr
+    (tmp_path / "not.fmu").write_text("plain text")
+    done = subprocess.run([str(MECHFMU), "inspect", str(tmp_path / "not.fmu")], capture_output=True, text=True)
+    assert done.returncode == 1 and "not a zip archive" in done.stderr
+
+
+def test_missing_toolchain_is_named_and_the_rest_is_built(tmp_path):
+    """Without the cross linkers on PATH, `mechfmu build` packages this machine's binary, says
+    which platforms it left out and how to install them; asked for one, it refuses."""
+    cargo_bin = os.path.dirname(subprocess.run(["rustup", "which", "cargo"], capture_output=True,
+                                               text=True).stdout.strip() or "/root/.cargo/bin/cargo")
+    env = {k: v for k, v in os.environ.items() if not k.startswith("CARGO_TARGET_")}
+    # only cargo and rustc: the host build is fresh (the build stage made it), so nothing links
+    env["PATH"] = str(cargo_bin)
+    done = subprocess.run([str(MECHFMU), "build", "Oscillator", "--out", str(tmp_path)], cwd=REPO_ROOT, env=env,
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert ("not built for x86_64-windows: the linker x86_64-w64-mingw32-gcc is missing "
+            "(install: apt-get install gcc-mingw-w64-x86-64)") in done.stdout
+    assert "not built for aarch64-linux: the linker aarch64-linux-gnu-gcc is missing" in done.stdout
+    assert "Oscillator.fmu (" in done.stdout and "): linux64\n" in done.stdout
+    with zipfile.ZipFile(tmp_path / "Oscillator.fmu") as z:
+        assert [n for n in z.namelist() if n.startswith("binaries/") and not n.endswith("/")] == [
+            "binaries/linux64/Oscillator.so"]
+    done = subprocess.run([str(MECHFMU), "build", "Oscillator", "--out", str(tmp_path), "--platform", "win64"],
+                          cwd=REPO_ROOT, env=env, capture_output=True, text=True)
+    assert done.returncode == 1
+    assert "error: no x86_64-windows binary: the linker x86_64-w64-mingw32-gcc is missing" in done.stderr
+    done = subprocess.run([str(MECHFMU), "build", "--platform", "darwin64"], cwd=REPO_ROOT, capture_output=True,
+                          text=True)
+    assert done.returncode != 0 and "unknown platform `darwin64`" in done.stderr
