@@ -3,7 +3,7 @@
 * ``fmpy validate``: FMPy's own validation of the FMI 3.0 archive (the schema, names,
   causality/variability/initial combinations, start values, units, ``ModelStructure``);
 * ``identifier = binary``: ``binaries/x86_64-linux/<modelIdentifier>.so`` is in the archive
-  (and no other binary), loads, exports the FMI 3.0 functions (those FMPy's FMI 3.0 binding
+  (and every other platform's binary is named after the model identifier too), loads, exports the FMI 3.0 functions (those FMPy's FMI 3.0 binding
   declares: Co-Simulation, Model Exchange and the common ones), and for a mechfmu binary
   carries exactly the archive's ``modelDescription.xml``;
 * ``instantiation token``: ``fmi3InstantiateCoSimulation`` (through FMPy) accepts the
@@ -57,9 +57,10 @@ def check_binary(f3: Fmi3) -> Check:
     if want not in names:
         c.problems.append(f"modelIdentifier {cs.modelIdentifier!r} but no {want} in the archive (it has {libs})")
         return c
-    others = [n for n in libs if n != want]
+    # one binary per platform folder, named after the model identifier
+    others = [n for n in libs if n != want and n.rsplit("/", 1)[1].rsplit(".", 1)[0] != cs.modelIdentifier]
     if others:
-        c.problems.append(f"other binaries beside {want}: {others}")
+        c.problems.append(f"binaries not named after the model identifier {cs.modelIdentifier!r}: {others}")
     try:
         lib = ctypes.CDLL(str(f3.fmu.directory / want), mode=ctypes.RTLD_LOCAL)
     except OSError as e:

@@ -34,6 +34,7 @@ from .loader import default_case, load_cases
 from .reference import write_references
 from .report import limit_text, result_text
 # the tolerances and the rows of one FMU (importable from here, as before)
+from .platform_rows import session as platform_session
 from .validation import FMI_CRATE, FMI_CRATE_TOLERANCE, LIBCOSIM_TOLERANCE, validate_fmu  # noqa: F401
 
 
@@ -175,18 +176,21 @@ def main(argv: list[str] | None = None) -> int:
     rows: list[dict] = []
     plots: list[dict] = []
     details: list[dict] = []
-    for path in args.fmus:
-        if not path.is_file():
-            print(f"mechfmu validate: {path} does not exist", file=sys.stderr)
-            return 2
-        md_model = None
-        try:
-            md_model = fmpy.read_model_description(str(path), validate=False).coSimulation.modelIdentifier
-        except Exception:
-            pass
-        validate_fmu(path, cases_map.get(md_model or path.stem), args.case, use_libcosim, rows, plots, details,
-                     use_fmi_crate=use_fmi_crate, use_model_exchange=not args.no_model_exchange,
-                     use_fmi3=not args.no_fmi3)
+    missing = [p for p in args.fmus if not p.is_file()]
+    if missing:
+        print(f"mechfmu validate: {missing[0]} does not exist", file=sys.stderr)
+        return 2
+    # the Windows binaries run under one wine session (when scripts/cross-runners prepared it)
+    with platform_session(use_fmi_crate):
+        for path in args.fmus:
+            md_model = None
+            try:
+                md_model = fmpy.read_model_description(str(path), validate=False).coSimulation.modelIdentifier
+            except Exception:
+                pass
+            validate_fmu(path, cases_map.get(md_model or path.stem), args.case, use_libcosim, rows, plots, details,
+                         use_fmi_crate=use_fmi_crate, use_model_exchange=not args.no_model_exchange,
+                         use_fmi3=not args.no_fmi3)
     header = dict(fmpy=fmpy.__version__, libcosim=libcosim_info, fmi_crate=fmi_crate_info,
                   python=platform.python_version())
     print_table(rows)

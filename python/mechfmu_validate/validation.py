@@ -24,6 +24,7 @@ from .checks import run_checks
 from .checks3 import run_checks3
 from .importers import (FMI_CRATE_NOTE, LIBCOSIM_NOTE, Fmu, agreement, run_fmi_crate, run_fmpy, run_libcosim)
 from .loader import default_case, load_cases
+from .platform_rows import Platforms
 
 __all__ = ["LIBCOSIM_TOLERANCE", "FMI_CRATE_TOLERANCE", "FMI_CRATE", "validate_fmu", "validate_fmi3"]
 
@@ -109,6 +110,10 @@ def validate_fmu(path: Path, cases_file: Path | None, only: list[str], use_libco
         if f3 is not None:
             rows.extend(_check_rows(name, run_checks3(f3)))
             rows.append(fmi3.agreement_row(f3, fmu))
+        binaries = [Platforms(path, name, FMI_CRATE, enabled=use_fmi_crate)]
+        if f3 is not None:
+            binaries.append(Platforms(f3.fmu.path, name, fmi3.FMI3_CRATE, names=f3.mapping, enabled=use_fmi_crate))
+        rows.extend(b.summary_row() for b in binaries)
         if cases_file is None:
             rows.append(dict(kind="note", fmu=name, case="(no validation/cases.py: no reference cases)",
                              importer="-", max_error=None, tolerance=None, passed=True, problems=[], notes=[]))
@@ -190,6 +195,11 @@ def validate_fmu(path: Path, cases_file: Path | None, only: list[str], use_libco
                     entry["passed"] = entry["passed"] and me_row["passed"]
             if f3 is not None:
                 _fmi3_rows(f3, case, entry, rows, use_fmi_crate, use_model_exchange)
+            for b, platform_fmu in zip(binaries, [fmu, f3.fmu if f3 is not None else None]):
+                _progress(f"{name}: {case.name} ({b.label} on other platforms)")
+                platform_rows = b.case_rows(platform_fmu, case)
+                rows.extend(platform_rows)
+                entry["passed"] = entry["passed"] and all(r["passed"] for r in platform_rows)
             if ev is not None and ev.signals:
                 plots.append(entry)
             details.append(dict(fmu=name, **describe(case)))
@@ -216,6 +226,8 @@ def validate_fmi3(path: Path, cases_file: Path | None, only: list[str], rows: li
         rows.extend(_check_rows(name, run_checks3(f3)))
         if fmu2 is not None:
             rows.append(fmi3.agreement_row(f3, fmu2))
+        binaries = Platforms(path, name, fmi3.FMI3_CRATE, names=f3.mapping, enabled=use_fmi_crate)
+        rows.append(binaries.summary_row())
         if cases_file is None:
             rows.append(dict(kind="note", fmu=name, case="(no validation/cases.py: no reference cases)",
                              importer="-", max_error=None, tolerance=None, passed=True, problems=[], notes=[]))
@@ -223,6 +235,7 @@ def validate_fmi3(path: Path, cases_file: Path | None, only: list[str], rows: li
         for case in selected:
             entry = dict(_entry(name, case, units), label="FMPy FMI 3.0 CS")
             _, result, ev = _fmi3_rows(f3, case, entry, rows, use_fmi_crate, use_model_exchange)
+            rows.extend(binaries.case_rows(f3.fmu, case))
             entry.update(evaluation=ev, result=result)
             if ev is not None and ev.signals:
                 plots.append(entry)

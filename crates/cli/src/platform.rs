@@ -7,7 +7,7 @@
 //! says to use FMI 3.0's platform tuple, so ARM Linux is `aarch64-linux` in both versions.
 
 use crate::package::Version;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -145,25 +145,14 @@ impl Platform {
         })
     }
 
-    /// Sets the environment of a `cargo build --target` for this platform: the cross
-    /// linker, and for Linux the unwinder linked in from libgcc's static archive (see
-    /// [`static_unwinder`]), so that the binary needs glibc only.
-    pub fn configure(self, cargo: &mut Command, target_dir: &Path) -> Result<(), String> {
+    /// Sets the environment of a `cargo build --target` for this platform: the cross linker
+    /// (the runtime's build script makes the binary carry libgcc's unwinder on Linux).
+    pub fn configure(self, cargo: &mut Command) {
         if Platform::host() != Some(self)
             && std::env::var_os(self.cargo_variable("LINKER")).is_none()
         {
             cargo.env(self.cargo_variable("LINKER"), self.cross_linker().0);
         }
-        if self != Platform::X86_64Windows
-            && std::env::var_os(self.cargo_variable("RUSTFLAGS")).is_none()
-        {
-            let dir = static_unwinder(target_dir)?;
-            cargo.env(
-                self.cargo_variable("RUSTFLAGS"),
-                format!("-L native={}", dir.display()),
-            );
-        }
-        Ok(())
     }
 
     /// The libraries a binary of this platform may depend on: those every installation of
@@ -199,22 +188,6 @@ impl Platform {
             ],
         }
     }
-}
-
-/// Rust's standard library unwinds through libgcc, which it links as `-lgcc_s`: a shared
-/// library outside glibc. A linker script of that name that pulls in libgcc's static
-/// unwinder (`libgcc_eh.a`, what `gcc -static-libgcc` uses) makes the binary carry the
-/// unwinder itself. Returns the folder holding the script (under the target directory).
-fn static_unwinder(target_dir: &Path) -> Result<PathBuf, String> {
-    let dir = target_dir.join("mechfmu-static-unwinder");
-    let script = dir.join("libgcc_s.so");
-    let text = "/* mechfmu: link libgcc's unwinder statically (see crates/cli/src/platform.rs) */\nINPUT(-lgcc_eh)\n";
-    if std::fs::read_to_string(&script).ok().as_deref() != Some(text) {
-        std::fs::create_dir_all(&dir)
-            .and_then(|()| std::fs::write(&script, text))
-            .map_err(|e| format!("cannot write {}: {e}", script.display()))?;
-    }
-    Ok(dir)
 }
 
 fn rust_target_installed(triple: &str) -> bool {

@@ -31,14 +31,6 @@ pub fn mechanism_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCra
     Ok(crates)
 }
 
-/// Where cargo builds the workspace (or crate) at `manifest_path`.
-pub fn target_directory(manifest_path: Option<&Path>) -> Result<PathBuf, String> {
-    metadata(manifest_path)?["target_directory"]
-        .as_str()
-        .map(PathBuf::from)
-        .ok_or_else(|| "cargo metadata names no target directory".into())
-}
-
 fn metadata(manifest_path: Option<&Path>) -> Result<serde_json::Value, String> {
     let mut cmd = Command::new(cargo());
     cmd.args(["metadata", "--format-version", "1", "--no-deps"]);

@@ -47,8 +47,8 @@ pub struct Args {
     /// Also count instructions with valgrind (repeatable on a busy machine; slower).
     #[arg(long)]
     instructions: bool,
-    /// Also time a clean release build of every FMU (`cargo run --release -- build` in a
-    /// fresh target directory; takes minutes).
+    /// Also time a clean release build of every FMU for every platform (`cargo run
+    /// --release -- build --platform all` in a fresh target directory; takes minutes).
     #[arg(long)]
     build_time: bool,
     /// The Cargo.toml of the workspace holding the mechanisms.
@@ -396,14 +396,22 @@ fn clean_build(root: &Path, names: &[String]) -> Result<Build, String> {
     let out = target.join("fmus");
     let _ = std::fs::remove_dir_all(&target);
     eprintln!(
-        "timing a clean release build in {} (cargo run --release -- build) ...",
+        "timing a clean release build in {} (cargo run --release -- build --platform all) ...",
         target.display()
     );
     let started = Instant::now();
     let output = Command::new(cargo())
         .current_dir(root)
         .env("CARGO_TARGET_DIR", &target)
-        .args(["run", "--release", "--", "build", "--out"])
+        .args([
+            "run",
+            "--release",
+            "--",
+            "build",
+            "--platform",
+            "all",
+            "--out",
+        ])
         .arg(&out)
         .output()
         .map_err(|e| format!("cannot run cargo: {e}"))?;
@@ -439,7 +447,7 @@ fn clean_build(root: &Path, names: &[String]) -> Result<Build, String> {
         return Err(format!("the clean build made no .fmu for {missing:?}"));
     }
     Ok(Build {
-        command: "cargo run --release -- build (fresh CARGO_TARGET_DIR)".into(),
+        command: "cargo run --release -- build --platform all (fresh CARGO_TARGET_DIR)".into(),
         seconds,
         fmus,
     })

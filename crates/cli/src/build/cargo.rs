@@ -1,6 +1,7 @@
-//! Running `cargo build` for the mechanism crates, one invocation for every platform (so
-//! cargo spreads the platforms' crates over the cores), and finding the shared libraries
-//! it wrote.
+//! Running `cargo build` for the mechanism crates and finding the shared libraries it
+//! wrote: this machine's in cargo's own target folder (sharing the dependencies the
+//! `mechfmu` command was built with), then the other platforms' in one invocation with a
+//! `--target` each (so cargo spreads their crates over the cores).
 
 use super::Flavor;
 use crate::platform::Platform;
@@ -24,7 +25,31 @@ pub(super) fn build(
     manifest_path: Option<&Path>,
     flavor: &Flavor,
     platforms: &[Platform],
-    target_dir: &Path,
+) -> Result<Vec<Library>, String> {
+    let host = Platform::host();
+    let mut libraries = Vec::new();
+    if let Some(host) = host.filter(|h| platforms.contains(h)) {
+        libraries.extend(invoke(crates, manifest_path, flavor, &[host], false)?);
+    }
+    let cross: Vec<Platform> = platforms
+        .iter()
+        .copied()
+        .filter(|p| Some(*p) != host)
+        .collect();
+    if !cross.is_empty() {
+        libraries.extend(invoke(crates, manifest_path, flavor, &cross, true)?);
+    }
+    Ok(libraries)
+}
+
+/// One `cargo build`: for this machine (`with_targets` false: `platforms` is the host alone)
+/// or with a `--target` for each of `platforms`.
+fn invoke(
+    crates: &[MechanismCrate],
+    manifest_path: Option<&Path>,
+    flavor: &Flavor,
+    platforms: &[Platform],
+    with_targets: bool,
 ) -> Result<Vec<Library>, String> {
     let mut cmd = Command::new(cargo());
     cmd.args([
@@ -43,9 +68,11 @@ pub(super) fn build(
     for c in crates {
         cmd.args(["-p", &c.package]);
     }
-    for p in platforms {
-        cmd.args(["--target", p.rust_target()]);
-        p.configure(&mut cmd, target_dir)?;
+    if with_targets {
+        for p in platforms {
+            cmd.args(["--target", p.rust_target()]);
+            p.configure(&mut cmd);
+        }
     }
     let tuples: Vec<&str> = platforms.iter().map(|p| p.tuple()).collect();
     let progress = spinner(&format!(
@@ -88,7 +115,15 @@ pub(super) fn build(
         };
         for path in msg["filenames"].as_array().into_iter().flatten() {
             let path = Path::new(path.as_str().unwrap_or(""));
-            if let Some(platform) = platform_of(path, platforms) {
+            let platform = if with_targets {
+                platform_of(path, platforms)
+            } else {
+                platforms.first().copied().filter(|p| {
+                    path.extension()
+                        .is_some_and(|e| e.to_str() == Some(p.extension()))
+                })
+            };
+            if let Some(platform) = platform {
                 libraries.push(Library {
                     package: package.clone(),
                     platform,

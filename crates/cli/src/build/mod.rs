@@ -8,7 +8,7 @@ pub use fmu::package_fmu;
 
 use crate::package::Version;
 use crate::platform::{MissingToolchain, Platform};
-use crate::workspace::{mechanism_crates, target_directory, MechanismCrate};
+use crate::workspace::{mechanism_crates, MechanismCrate};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -161,12 +161,8 @@ pub(crate) fn built_libraries(
         targets.push(host);
     }
     targets.sort();
-    let target_dir = match flavor {
-        Flavor::Bench { target_dir } => target_dir.to_path_buf(),
-        Flavor::Shipped => target_directory(manifest_path)?,
-    };
     let selected = select(mechanism_crates(manifest_path)?, names)?;
-    let libraries = cargo::build(&selected, manifest_path, flavor, &targets, &target_dir)?;
+    let libraries = cargo::build(&selected, manifest_path, flavor, &targets)?;
     selected
         .into_iter()
         .map(|krate| {

@@ -190,14 +190,24 @@ fn page<M: Mechanism>(version: Version) -> Result<String, String> {
     let _ = writeln!(
         h,
         "<li><code>modelDescription.xml</code>: the interface (generated from the same declaration as the binary)</li>\n\
-         <li><code>binaries/{platform}/{name}.so</code>: the FMU for Linux x86-64, Model Exchange and Co-Simulation</li>\n\
+         <li><code>binaries/</code>: the FMU's shared library, Model Exchange and Co-Simulation, for each platform \
+         it was built for: <code>{linux}/{name}.so</code> (Linux x86-64), <code>{windows}/{name}.dll</code> \
+         (Windows x86-64), <code>aarch64-linux/{name}.so</code> (Linux ARM 64-bit{arm_note})</li>\n\
          <li><code>documentation/index.html</code>: this page</li>\n\
          <li><code>extra/org.fmi-standard.fmi-ls-ref/</code> (when present): reference results of the default experiment \
          (<code>{name}_ref.csv</code>, with <code>{name}_in.csv</code> and <code>{name}_ref.opt</code> in the FMI \
          cross-check conventions), computed by an independent high-accuracy solution, not by this FMU</li>",
-        platform = match version {
+        linux = match version {
             Version::Fmi2 => "linux64",
             Version::Fmi3 => "x86_64-linux",
+        },
+        windows = match version {
+            Version::Fmi2 => "win64",
+            Version::Fmi3 => "x86_64-windows",
+        },
+        arm_note = match version {
+            Version::Fmi2 => ", FMI 3.0's platform name, as FMI 2.0.5 directs for platforms FMI 2.0 does not name",
+            Version::Fmi3 => "",
         },
     );
     h.push_str("</ul>\n</body>\n</html>\n");

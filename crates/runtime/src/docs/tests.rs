@@ -123,7 +123,8 @@ fn the_fmi3_page_shows_fmi3s_variables_calls_and_token() {
         html.contains("fmi3CompletedIntegratorStep")
             || html.contains("needsCompletedIntegratorStep")
     );
-    assert!(html.contains("binaries/x86_64-linux/Spring.so"));
+    assert!(html.contains("<code>x86_64-linux/Spring.so</code>"));
+    assert!(html.contains("<code>x86_64-windows/Spring.dll</code>"));
     assert!(
         !html.contains("fmi2"),
         "an FMI 2.0 name on the FMI 3.0 page"

@@ -1,0 +1,113 @@
+"""The rows of ``mechfmu validate`` for an FMU's binaries: the platforms it carries, which of
+them ran, and each reference case on each binary for another platform (Windows under
+wine64, ARM Linux under qemu-aarch64, through :mod:`.platforms`) against this machine's
+binary, both through the ``fmi`` crate's importer, to :data:`PLATFORM_TOLERANCE`.
+
+The foreign binaries run when ``scripts/cross-runners`` has prepared their runners
+(``target/cross-runners/runners.env``); otherwise the platform row says they were packaged
+and not run, and why."""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING, Iterator
+
+from .platforms import NATIVE, PLATFORMS, SCRIPT, NotPrepared, Runners, WineSession, binary_platforms, compare, run_case
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .case import Case
+    from .importers import Fmu
+
+__all__ = ["PLATFORM_TOLERANCE", "Platforms", "session"]
+
+#: a foreign binary's run must agree with this machine's to this, relative
+PLATFORM_TOLERANCE = 1e-12
+
+#: how each foreign platform's binary is run here
+HOW = {"x86_64-windows": "under wine64", "aarch64-linux": "under qemu-aarch64"}
+
+_runners: Runners | None = None
+_why_not: str | None = None
+
+
+def _load() -> tuple[Runners | None, str | None]:
+    global _runners, _why_not
+    if _runners is None and _why_not is None:
+        try:
+            _runners = Runners.load()
+        except NotPrepared as e:
+            _why_not = f"{e}"
+    return _runners, _why_not
+
+
+@contextlib.contextmanager
+def session(enabled: bool = True) -> Iterator[None]:
+    """One wine session for a whole validation (when the runners are prepared)."""
+    runners, _ = _load() if enabled else (None, None)
+    if runners is None:
+        yield
+        return
+    with WineSession(runners):
+        yield
+
+
+class Platforms:
+    """One FMU's binaries (``label``: the importer prefix of its rows, e.g. ``"fmi crate"``
+    or ``"fmi crate FMI3"``; ``names``: the FMI 3.0 FMU's array mapping, as
+    :func:`~.fmi3.run_crate3` passes it)."""
+
+    def __init__(self, path: Path, name: str, label: str, names=None, enabled: bool = True):
+        self.path, self.name, self.label, self.names = Path(path), name, label, names
+        self.found = binary_platforms(self.path)
+        self.runners, why_not = _load() if enabled else (None, "not asked for (--no-fmi-crate)")
+        self.why_not = why_not
+        self.foreign = [p for p in PLATFORMS if p in self.found and p != NATIVE]
+
+    def summary_row(self) -> dict:
+        """The platforms this FMU has binaries for and which of them run here."""
+        parts = []
+        for platform in sorted(self.found, key=lambda p: (p not in PLATFORMS, p)):
+            if platform == NATIVE:
+                parts.append(f"{platform}: run (every importer)")
+            elif platform in HOW and self.runners is not None:
+                parts.append(f"{platform}: run {HOW[platform]} (fmi crate)")
+            else:
+                parts.append(f"{platform}: packaged, not run")
+        missing = [p for p in PLATFORMS if p not in self.found]
+        notes = [f"binaries: {'; '.join(parts) or 'none'}"]
+        if missing:
+            notes.append(f"no binary for {', '.join(missing)}")
+        if self.foreign and self.runners is None:
+            notes.append(f"the other platforms' binaries were not run: {self.why_not} (run `{SCRIPT}`)")
+        return dict(kind="note", fmu=self.name, case=f"(platforms, {self.label})", importer=", ".join(self.found) or "-",
+                    max_error=None, tolerance=None, passed=NATIVE in self.found, problems=[] if NATIVE in self.found
+                    else [f"no {NATIVE} binary: nothing to run on this machine"], notes=notes,
+                    platforms=dict(found=sorted(self.found), run=[NATIVE] + (self.foreign if self.runners else [])))
+
+    def case_rows(self, fmu: Fmu, case: Case) -> list[dict]:
+        """The case on each foreign binary against this machine's."""
+        if self.runners is None or not self.foreign:
+            return []
+        rows = []
+        try:
+            native = run_case(fmu, case, NATIVE, self.runners, mapping=self.names)
+        except Exception as e:  # noqa: BLE001 (a row, not a crash)
+            native, native_error = None, f"{type(e).__name__}: {e}"
+        for platform in self.foreign:
+            row = dict(kind="case", fmu=self.name, case=case.name, importer=f"{self.label} {platform}",
+                       tolerance=PLATFORM_TOLERANCE, problems=[], notes=[])
+            try:
+                if native is None:
+                    raise RuntimeError(f"the {NATIVE} run failed: {native_error}")
+                other = run_case(fmu, case, platform, self.runners, mapping=self.names)
+                c = compare(native, other, [n for n in case.recorded() if n in native.columns])
+                row.update(max_error=c.max_relative, passed=bool(c.max_relative <= PLATFORM_TOLERANCE),
+                           notes=[f"{platform} binary {HOW[platform]} against the {NATIVE} binary: {c}"],
+                           bit_identical=c.bit_identical)
+            except Exception as e:  # noqa: BLE001 (a row, not a crash)
+                row.update(max_error=math.inf, passed=False,
+                           problems=[f"{platform} run failed: {type(e).__name__}: {e}"])
+            rows.append(row)
+        return rows

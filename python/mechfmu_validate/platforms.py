@@ -1,0 +1,337 @@
+"""An FMU's binaries for other platforms, run on this (x86-64 Linux) machine: the Windows one
+under ``wine64``, the ARM Linux one under ``qemu-aarch64``, each through ``mechfmu-fmi-run``
+(the ``fmi`` crate's importer, :mod:`.fmi_crate`) built for that platform, and compared with
+the native run.
+
+``scripts/cross-runners`` builds the three runners and writes ``target/cross-runners/
+runners.env`` (``KEY='value'`` lines), which :meth:`Runners.load` reads: the runners, a
+wrapper executable per platform taking the runner's own arguments (``mechfmu-fmi-run-
+x86_64-windows`` runs the ``.exe`` under wine64 with the prefix ``target/wine-prefix``;
+``mechfmu-fmi-run-aarch64-linux`` runs the ARM runner under qemu-aarch64 with
+``/usr/aarch64-linux-gnu`` as the sysroot).
+
+Platforms are named by FMI 3.0's platform tuples, :data:`PLATFORMS`. FMI 2.0 names the
+x86-64 ones ``linux64`` and ``win64`` and, per FMI 2.0.5, any other by its FMI 3.0 tuple:
+ARM Linux is ``binaries/aarch64-linux/`` in both versions.
+
+The importer convention this has to work around: the ``fmi`` crate 0.8 (as FMPy) looks for
+an FMI 2.0 binary on aarch64 Linux under ``binaries/linux64/``, not ``aarch64-linux``. So
+an FMI 2.0 FMU runs under qemu as a temporary copy whose ``linux64`` folder holds the
+``aarch64-linux`` binary (:func:`aarch64_fmi2_copy`); FMI 3.0 FMUs run as they are.
+
+* :func:`binary_platforms`: the platforms an FMU has binaries for (from the zip);
+* :func:`run_experiment`: one experiment as ``mechfmu-fmi-run`` takes it (the JSON of
+  :func:`~.fmi_crate.run_fmi_crate`) on a platform, returning the CSV's columns;
+* :func:`run_case`: a reference case, the experiment built by :func:`~.fmi_crate.run_fmi_crate`
+  itself (pointed at the platform's wrapper), returning its :class:`~.case.Result`;
+* :func:`compare`: the largest relative difference from the native result and whether the
+  two are bit for bit the same;
+* :class:`WineSession`: one persistent wineserver for many runs.
+
+Under wine, the runner gets Linux paths (the experiment, ``--out``, the FMU in the
+experiment) as they are: Windows resolves ``/tmp/x`` on the current drive, which wine makes
+``Z:`` (``/``) when the working directory is outside the prefix's ``drive_c``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import copy
+import csv
+import json
+import os
+import re
+import shlex
+import shutil
+import subprocess
+import tempfile
+import threading
+import xml.etree.ElementTree as ET
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Iterator, Mapping, Sequence
+
+import numpy as np
+
+from .case import Case, Result
+from .fmi_crate import FMI_RUN_ENV, run_fmi_crate
+from .importers import agreement
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .arrays import ArrayMap
+    from .importers import Fmu
+
+__all__ = ["PLATFORMS", "NATIVE", "SCRIPT", "ENV_FILE", "NotPrepared", "Runners", "WineSession", "fmi_version",
+           "binary_platforms", "aarch64_fmi2_copy", "cleanup_copies", "run_experiment", "run_case", "Comparison", "compare"]
+
+#: FMI 3.0's platform tuples of the platforms mechfmu builds FMUs for
+PLATFORMS = ("x86_64-linux", "x86_64-windows", "aarch64-linux")
+#: the platform this module runs on (the others are emulated)
+NATIVE = "x86_64-linux"
+#: FMI 2.0's names of platforms (any other is its FMI 3.0 tuple)
+FMI2_FOLDERS = {"linux64": "x86_64-linux", "win64": "x86_64-windows"}
+#: what prepares the runners
+SCRIPT = "scripts/cross-runners"
+#: the environment file it writes (``$MECHFMU_CROSS_RUNNERS_ENV`` overrides)
+ENV_FILE = Path(__file__).resolve().parents[2] / "target" / "cross-runners" / "runners.env"
+
+
+class NotPrepared(RuntimeError):
+    """The runners (or wine64, qemu-aarch64) are missing: run ``scripts/cross-runners``."""
+
+
+# ---------------------------------------------------------------------------------------
+# The runners
+
+
+def _key(platform: str) -> str:
+    return platform.upper().replace("-", "_")
+
+
+@dataclass(frozen=True)
+class Runners:
+    """What ``scripts/cross-runners`` prepared (its environment file's settings)."""
+
+    settings: Mapping[str, str]
+    source: Path
+
+    @classmethod
+    def load(cls, path: str | Path | None = None) -> Runners:
+        """Reads the environment file; raises :class:`NotPrepared` naming the script when it
+        or any executable it names is missing."""
+        path = Path(path or os.environ.get("MECHFMU_CROSS_RUNNERS_ENV") or ENV_FILE)
+        if not path.is_file():
+            raise NotPrepared(f"{path} does not exist: run `{SCRIPT}` (it builds mechfmu-fmi-run for "
+                              f"{', '.join(PLATFORMS)} and prepares wine64 and qemu-aarch64)")
+        settings = {}
+        for line in path.read_text().splitlines():
+            if line.strip() and not line.lstrip().startswith("#") and "=" in line:
+                key, value = line.split("=", 1)
+                settings[key.strip()] = shlex.split(value)[0] if value.strip() else ""
+        runners = cls(settings, path)
+        missing = [f"{k}={v}" for k, v in settings.items()
+                   if k.startswith(("MECHFMU_RUNNER_", "MECHFMU_WRAPPER_", "MECHFMU_WINE", "MECHFMU_QEMU"))
+                   and not (os.path.isfile(v) and os.access(v, os.X_OK))]
+        missing += [f"{k} (not in the file)" for k in (f"MECHFMU_WRAPPER_{_key(p)}" for p in PLATFORMS)
+                    if k not in settings]
+        if missing:
+            raise NotPrepared(f"{path} names what is not there: {', '.join(missing)}: run `{SCRIPT}` again "
+                              "(see its header for the apt packages and rustup targets it needs)")
+        return runners
+
+    def wrapper(self, platform: str) -> str:
+        """The executable running ``mechfmu-fmi-run`` for the platform (its arguments)."""
+        if platform not in PLATFORMS:
+            raise ValueError(f"unknown platform {platform!r}: one of {', '.join(PLATFORMS)}")
+        return self.settings[f"MECHFMU_WRAPPER_{_key(platform)}"]
+
+    def wine_env(self) -> dict[str, str]:
+        return {**os.environ, "WINEPREFIX": self.settings["WINEPREFIX"], "WINEARCH": "win64", "WINEDEBUG": "-all",
+                "WINEDLLOVERRIDES": "mscoree,mshtml=;winemenubuilder.exe=d"}
+
+
+class WineSession:
+    """A persistent wineserver (and the wine services, started once) for many runs under
+    wine: without it every run starts and stops them, and a caller reading the run's output
+    through a pipe (``subprocess.run(capture_output=True)``) waits until they exit, 3 s after
+    the run (they inherit its standard handles). Started with the handles on /dev/null.
+
+        with WineSession(runners):
+            ... run_case(..., "x86_64-windows") ...
+
+    On exit, ``wineserver -k`` ends that server (of this prefix only) and its processes."""
+
+    def __init__(self, runners: Runners):
+        self.runners = runners
+
+    def __enter__(self) -> WineSession:
+        env, s = self.runners.wine_env(), self.runners.settings
+        quiet = dict(stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd="/")
+        subprocess.run([s["MECHFMU_WINESERVER"], "-p"], env=env, check=True, timeout=60, **quiet)
+        # the runner without arguments prints its usage: starts the services, off any pipe
+        subprocess.run([s["MECHFMU_WINE64"], s["MECHFMU_RUNNER_X86_64_WINDOWS"]], env=env, timeout=120, **quiet)
+        return self
+
+    def __exit__(self, *exc) -> None:
+        subprocess.run([self.runners.settings["MECHFMU_WINESERVER"], "-k"], env=self.runners.wine_env(),
+                       stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=60)
+
+
+# ---------------------------------------------------------------------------------------
+# An FMU's platforms
+
+
+def fmi_version(fmu_path: str | Path) -> str:
+    """The ``fmiVersion`` of the FMU's model description."""
+    with zipfile.ZipFile(fmu_path) as z:
+        return ET.fromstring(z.read("modelDescription.xml")).get("fmiVersion", "")
+
+
+def binary_platforms(fmu_path: str | Path) -> dict[str, str]:
+    """The platforms the FMU has a binary for, as FMI 3.0 tuples (``win64`` is
+    ``x86_64-windows`` in an FMI 2.0 FMU), each with the binary's name in the zip
+    (``binaries/win64/Oscillator.dll``). Only binaries named after a model identifier count."""
+    with zipfile.ZipFile(fmu_path) as z:
+        md = ET.fromstring(z.read("modelDescription.xml"))
+        ids = {e.get("modelIdentifier") for e in md if e.get("modelIdentifier")}
+        fmi2 = md.get("fmiVersion", "").startswith("2.")
+        found = {}
+        for name in z.namelist():
+            m = re.fullmatch(r"binaries/([^/]+)/([^/]+)\.(so|dll|dylib)", name)
+            if m and m.group(2) in ids:
+                folder = m.group(1)
+                found.setdefault(FMI2_FOLDERS.get(folder, folder) if fmi2 else folder, name)
+        return found
+
+
+_copies_lock = threading.Lock()
+_copies: dict[tuple[str, float], Path] = {}
+_copies_dir: str | None = None
+
+
+def aarch64_fmi2_copy(fmu_path: str | Path) -> Path:
+    """A copy of an FMI 2.0 FMU whose ``binaries/linux64/`` holds its ``aarch64-linux``
+    binary (in place of the x86-64 one): where the ``fmi`` crate (and FMPy) look for an FMI
+    2.0 binary on aarch64 Linux. Made once per process and FMU (a temporary directory)."""
+    global _copies_dir
+    fmu_path = Path(fmu_path).resolve()
+    key = (str(fmu_path), fmu_path.stat().st_mtime)
+    with _copies_lock:
+        if key in _copies:
+            return _copies[key]
+        arm = {k: v for k, v in binary_platforms(fmu_path).items() if k == "aarch64-linux"}
+        if not arm:
+            raise FileNotFoundError(f"{fmu_path} has no binaries/aarch64-linux/ binary")
+        if _copies_dir is None:
+            _copies_dir = tempfile.mkdtemp(prefix="mechfmu-platforms-")
+        target = Path(_copies_dir) / str(len(_copies)) / fmu_path.name
+        target.parent.mkdir(parents=True)
+        binary = arm["aarch64-linux"]
+        with zipfile.ZipFile(fmu_path) as src, zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED) as dst:
+            for info in src.infolist():
+                if not info.filename.startswith("binaries/linux64/"):
+                    # a copy: writestr sets the ZipInfo's offset to the new archive's
+                    dst.writestr(copy.copy(info), src.read(info.filename))
+            dst.writestr("binaries/linux64/" + binary.rsplit("/", 1)[1], src.read(binary))
+        _copies[key] = target
+        return target
+
+
+def cleanup_copies() -> None:
+    """Removes this process's :func:`aarch64_fmi2_copy` copies."""
+    global _copies_dir
+    with _copies_lock:
+        if _copies_dir is not None:
+            shutil.rmtree(_copies_dir, ignore_errors=True)
+        _copies_dir = None
+        _copies.clear()
+
+
+def _fmu_for(fmu_path: str | Path, platform: str) -> Path:
+    """The file the platform's runner is given: the FMU, or its aarch64 FMI 2.0 copy."""
+    found = binary_platforms(fmu_path)
+    if platform not in found:
+        raise FileNotFoundError(f"{fmu_path} has no {platform} binary (it has: {', '.join(found) or 'none'})")
+    if platform == "aarch64-linux" and fmi_version(fmu_path).startswith("2."):
+        return aarch64_fmi2_copy(fmu_path)
+    return Path(fmu_path)
+
+
+# ---------------------------------------------------------------------------------------
+# Running
+
+
+def run_experiment(experiment: Mapping[str, Any], platform: str, runners: Runners | None = None,
+                   options: Sequence[str] = (), timeout: float = 600) -> dict[str, np.ndarray]:
+    """One experiment (the JSON ``mechfmu-fmi-run`` reads, as :func:`~.fmi_crate.run_fmi_crate`
+    writes it) on the platform's runner: the CSV's columns by name (``time`` first). The
+    experiment's ``fmu`` is replaced by the aarch64 copy for an FMI 2.0 FMU under qemu.
+    ``options``: the runner's, e.g. ``["--interface", "me"]``. Thread-safe. Raises
+    RuntimeError with the runner's last message when it fails."""
+    runners = runners or Runners.load()
+    experiment = dict(experiment, fmu=str(_fmu_for(experiment["fmu"], platform)))
+    with tempfile.TemporaryDirectory(prefix="mechfmu-platform-run-") as tmp:
+        spec, out = Path(tmp) / "experiment.json", Path(tmp) / "result.csv"
+        spec.write_text(json.dumps(experiment, allow_nan=False))
+        proc = subprocess.run([runners.wrapper(platform), str(spec), "--out", str(out), *options], cwd="/",
+                              stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=timeout)
+        if proc.returncode != 0:
+            log = [line for line in proc.stderr.splitlines() if line.strip()]
+            raise RuntimeError(f"mechfmu-fmi-run on {platform}: " +
+                               (log[-1] if log else f"exit status {proc.returncode}"))
+        with out.open(newline="") as f:
+            table = list(csv.reader(f))
+    data = np.array([[float(x) for x in row] for row in table[1:]], dtype=float).reshape(-1, len(table[0]))
+    return {name: data[:, i] for i, name in enumerate(table[0])}
+
+
+_env_lock = threading.Lock()
+
+
+def run_case(fmu: Fmu, case: Case, platform: str, runners: Runners | None = None, mapping: ArrayMap | None = None,
+             interface: str = "cs", step: float | None = None) -> Result:
+    """A reference case on the FMU's binary for ``platform``: exactly what
+    :func:`~.fmi_crate.run_fmi_crate` runs (it builds the experiment; ``mapping``: the FMI 3.0
+    FMU's names, as :func:`~.fmi3.run_crate3` passes them), with ``$MECHFMU_FMI_RUN`` pointed
+    at the platform's wrapper for the call.
+
+    As ``$MECHFMU_FMI_RUN`` is the process's, runs in one process are serialized (a lock):
+    run cases in parallel in several processes (each loads its FMUs), or use
+    :func:`run_experiment`. Under wine, have a :class:`WineSession` open."""
+    runners = runners or Runners.load()
+    path = _fmu_for(fmu.path, platform)
+    if path != fmu.path:
+        fmu = copy.copy(fmu)  # the same extracted model description, another file for the runner
+        fmu.path = path
+    with _env_lock:
+        before = os.environ.get(FMI_RUN_ENV)
+        os.environ[FMI_RUN_ENV] = runners.wrapper(platform)
+        try:
+            return run_fmi_crate(fmu, case, interface=interface, step=step, mapping=mapping)
+        finally:
+            if before is None:
+                os.environ.pop(FMI_RUN_ENV, None)
+            else:
+                os.environ[FMI_RUN_ENV] = before
+
+
+# ---------------------------------------------------------------------------------------
+# Comparing
+
+
+@dataclass
+class Comparison:
+    """A platform's result against the native one.
+
+    ``max_relative``: the largest ``|x - y| / scale`` over the compared columns and times,
+    ``y`` native, ``scale`` the native column's largest magnitude, or 1 for a column that is
+    zero throughout (then an absolute difference): :func:`~.importers.agreement`'s
+    definition, the one every importer comparison of ``mechfmu validate`` uses.
+    ``bit_identical``: every compared value has the same 64 bits (so ``-0.0`` differs
+    from ``0.0``); ``differing``: the columns that are not."""
+
+    max_relative: float
+    signal: str
+    time: float
+    bit_identical: bool
+    differing: list[str] = field(default_factory=list)
+
+    def __str__(self) -> str:
+        if self.bit_identical:
+            return "bit-identical"
+        return (f"max rel diff {self.max_relative:.3e} in {self.signal} at t = {self.time:g} "
+                f"({len(self.differing)} column(s) differ)")
+
+
+def compare(native: Result | Mapping[str, np.ndarray], other: Result | Mapping[str, np.ndarray],
+            names: Sequence[str] | None = None) -> Comparison:
+    """``other`` against ``native`` over ``names`` (default: every native column but
+    ``time``, which must be equal too for the results to be bit-identical)."""
+    a = other if isinstance(other, Result) else Result(dict(other))
+    b = native if isinstance(native, Result) else Result(dict(native))
+    names = list(names) if names is not None else [n for n in b.columns if n != "time"]
+    worst, signal, when, _ = agreement(a, b, names, None)
+    differing = [n for n in ["time", *names] if n not in a.columns or a[n].shape != b[n].shape
+                 or a[n].astype(np.float64).tobytes() != b[n].astype(np.float64).tobytes()]
+    return Comparison(worst, signal, when, not differing, differing)
