@@ -32,9 +32,9 @@ import fmpy
 from .importers import Fmu, capture_fmu_log, fmi_crate_available, libcosim_available
 from .loader import default_case, load_cases
 from .reference import write_references
-from .report import limit_text, result_text
-# the tolerances and the rows of one FMU (importable from here, as before)
 from .platform_rows import session as platform_session
+from .report import limit_text, platform_lines, result_text
+# the tolerances and the rows of one FMU (importable from here, as before)
 from .validation import FMI_CRATE, FMI_CRATE_TOLERANCE, LIBCOSIM_TOLERANCE, validate_fmu  # noqa: F401
 
 
@@ -194,6 +194,11 @@ def main(argv: list[str] | None = None) -> int:
     header = dict(fmpy=fmpy.__version__, libcosim=libcosim_info, fmi_crate=fmi_crate_info,
                   python=platform.python_version())
     print_table(rows)
+    platforms = platform_lines(rows)
+    if platforms:
+        print("\nplatforms:")
+        for line in platforms:
+            print(f"  {line}")
     if args.report:
         from .report import write_report
 

@@ -14,7 +14,8 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Iterator
 
-from .platforms import NATIVE, PLATFORMS, SCRIPT, NotPrepared, Runners, WineSession, binary_platforms, compare, run_case
+from .platforms import (NATIVE, PLATFORMS, SCRIPT, NotPrepared, Runners, WineSession, binary_platforms, compare,
+                        fmi_version, run_case)
 
 if TYPE_CHECKING:  # pragma: no cover
     from .case import Case
@@ -60,7 +61,11 @@ class Platforms:
 
     def __init__(self, path: Path, name: str, label: str, names=None, enabled: bool = True):
         self.path, self.name, self.label, self.names = Path(path), name, label, names
-        self.found = binary_platforms(self.path)
+        self.version = fmi_version(self.path)
+        found = binary_platforms(self.path)
+        # in the order of PLATFORMS, then any other
+        self.found = {p: found[p] for p in sorted(found, key=lambda p: (p not in PLATFORMS,
+                                                                       PLATFORMS.index(p) if p in PLATFORMS else 0, p))}
         self.runners, why_not = _load() if enabled else (None, "not asked for (--no-fmi-crate)")
         self.why_not = why_not
         self.foreign = [p for p in PLATFORMS if p in self.found and p != NATIVE]
@@ -68,7 +73,7 @@ class Platforms:
     def summary_row(self) -> dict:
         """The platforms this FMU has binaries for and which of them run here."""
         parts = []
-        for platform in sorted(self.found, key=lambda p: (p not in PLATFORMS, p)):
+        for platform in self.found:
             if platform == NATIVE:
                 parts.append(f"{platform}: run (every importer)")
             elif platform in HOW and self.runners is not None:
@@ -80,11 +85,11 @@ class Platforms:
         if missing:
             notes.append(f"no binary for {', '.join(missing)}")
         if self.foreign and self.runners is None:
-            notes.append(f"the other platforms' binaries were not run: {self.why_not} (run `{SCRIPT}`)")
-        return dict(kind="note", fmu=self.name, case=f"(platforms, {self.label})", importer=", ".join(self.found) or "-",
+            notes.append(f"the other platforms' binaries were not run: {self.why_not}")
+        return dict(kind="note", fmu=self.name, case=f"(platforms, FMI {self.version})", importer=", ".join(self.found) or "-",
                     max_error=None, tolerance=None, passed=NATIVE in self.found, problems=[] if NATIVE in self.found
                     else [f"no {NATIVE} binary: nothing to run on this machine"], notes=notes,
-                    platforms=dict(found=sorted(self.found), run=[NATIVE] + (self.foreign if self.runners else [])))
+                    platforms=dict(found=list(self.found), run=[NATIVE] + (self.foreign if self.runners else [])))
 
     def case_rows(self, fmu: Fmu, case: Case) -> list[dict]:
         """The case on each foreign binary against this machine's."""

@@ -187,6 +187,20 @@ def markdown_table(rows: list[dict[str, Any]]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def platform_lines(rows: list[dict[str, Any]]) -> list[str]:
+    """One line per FMU: the platforms it has binaries for, which of them ran here, and how
+    (the rows ``(platforms, ...)`` of :mod:`.platform_rows`)."""
+    lines = []
+    for r in rows:
+        if "platforms" in r:
+            found, run = r["platforms"]["found"], r["platforms"]["run"]
+            not_run = [p for p in found if p not in run]
+            lines.append(f"{r['fmu']} ({r['case'][len('(platforms, '):-1]}): binaries for {', '.join(found) or 'none'}; "
+                         f"run: {', '.join(run)}" + (f"; not run: {', '.join(not_run)}" if not_run else "")
+                         + "".join(f"; {n}" for n in r["notes"][1:]))
+    return lines
+
+
 def _html_table(rows: list[dict[str, Any]]) -> str:
     out = ["<table><tr><th>FMU</th><th>case</th><th>importer</th><th>max error</th><th>tolerance</th><th>result</th></tr>"]
     for r in rows:
@@ -233,7 +247,8 @@ def write_report(directory: Path, rows: list[dict[str, Any]], cases: list[dict[s
     md = [f"# mechfmu validate: {'PASS' if ok else 'FAIL'}", "",
           f"{summary}. FMPy {header['fmpy']}, {header['libcosim']}, {header.get('fmi_crate', '-')}, "
           f"Python {header['python']}.", "",
-          LEGEND, "", markdown_table(rows)]
+          LEGEND, "", markdown_table(rows), "## Platforms", "",
+          *[f"- {line}" for line in platform_lines(rows)], ""]
     for entry in cases:
         md += [f"## {entry['fmu']}: {entry['case']}", ""]
         if entry.get("description"):
@@ -245,7 +260,8 @@ def write_report(directory: Path, rows: list[dict[str, Any]], cases: list[dict[s
             f"<p>{html.escape(summary.replace('**', ''))}. FMPy {html.escape(header['fmpy'])}, "
             f"{html.escape(header['libcosim'])}, {html.escape(header.get('fmi_crate', '-'))}, "
             f"Python {html.escape(header['python'])}.</p>",
-            f"<p class=legend>{html.escape(LEGEND)}</p>", _html_table(rows)]
+            f"<p class=legend>{html.escape(LEGEND)}</p>", _html_table(rows), "<h2>Platforms</h2><ul>",
+            *[f"<li>{html.escape(line)}</li>" for line in platform_lines(rows)], "</ul>"]
     for entry in cases:
         body += [f"<h2 id=\"{entry['anchor']}\">{html.escape(entry['fmu'])}: {html.escape(entry['case'])}</h2>"]
         if entry.get("description"):

@@ -34,7 +34,9 @@ from mechfmu_validate.model_exchange import CVODE, EULER, RK4
 from test_model_exchange import KNOWN_LIMITS
 
 REPO = fmutest.REPO_ROOT
-IMPORTERS = {"FMPy", "libcosim", "fmi crate", CVODE, EULER, RK4, *FMI3_IMPORTERS}
+#: the other platforms' binaries (scripts/cross-runners, run by the test command, prepared them)
+PLATFORM_IMPORTERS = {f"{label} {p}" for label in ("fmi crate", FMI3_CRATE) for p in ("x86_64-windows", "aarch64-linux")}
+IMPORTERS = {"FMPy", "libcosim", "fmi crate", CVODE, EULER, RK4, *FMI3_IMPORTERS, *PLATFORM_IMPORTERS}
 #: the LIMIT rows: the FMI 2.0 ones, and the same cases' FMI 3.0 Model Exchange rows (one
 #: binary: the same numbers)
 LIMITS = {*KNOWN_LIMITS,
@@ -79,6 +81,16 @@ def test_validate_passes_on_every_fmu_and_writes_the_report(tmp_path):
     by = {(r["fmu"], r["case"], r["importer"]): r for r in rows if r["kind"] == "case"}
     for fmu, case in cases:
         assert by[(fmu, case, FMI3_CS)]["max_error"] == by[(fmu, case, "FMPy")]["max_error"], (fmu, case)
+    # every FMU's platforms listed, all three run here, each foreign run bit for bit the native one
+    platforms = [r for r in rows if r["case"].startswith("(platforms, FMI ")]
+    assert len(platforms) == 12, [r["case"] for r in platforms]
+    for r in platforms:
+        assert r["platforms"] == {"found": ["x86_64-linux", "x86_64-windows", "aarch64-linux"],
+                                  "run": ["x86_64-linux", "x86_64-windows", "aarch64-linux"]}, r
+    foreign = [r for r in rows if r["importer"] in PLATFORM_IMPORTERS]
+    assert len(foreign) == 4 * len(cases) and all(r["bit_identical"] and r["max_error"] == 0 for r in foreign)
+    assert "binaries for x86_64-linux, x86_64-windows, aarch64-linux; run: x86_64-linux, x86_64-windows, " \
+           "aarch64-linux" in proc.stdout
     assert re.search(rf"^\d+ passed, 0 failed, {len(limited)} at the importer's limit$", proc.stdout, re.M), \
         proc.stdout[-2000:]
     index = (report / "index.html").read_text()
@@ -103,8 +115,9 @@ def broken_oscillator(tmp_path_factory) -> Path:
                   lambda m: f'path = "{(REPO / "fmus/oscillator" / m.group(1)).resolve().as_posix()}"', text)
     # a workspace of its own, with the repository's release profile and lock file, so that the
     # shared target directory's compiled dependencies are reused
-    profile = re.search(r"\[profile\.release\][^\[]*", (REPO / "Cargo.toml").read_text())
-    text += "\n[workspace]\n\n" + (profile.group(0) if profile else "")
+    # (its per-package settings too: other settings would rebuild, and overwrite, the dependencies)
+    profiles = re.findall(r"\[profile\.release(?:\.package\.[^\]]+)?\][^\[]*", (REPO / "Cargo.toml").read_text())
+    text += "\n[workspace]\n\n" + "".join(profiles)
     manifest.write_text(text)
     shutil.copy(REPO / "Cargo.lock", root / "Cargo.lock")
     lib = root / "src/lib.rs"
@@ -114,7 +127,7 @@ def broken_oscillator(tmp_path_factory) -> Path:
     lib.write_text(flipped)
     env = dict(os.environ, CARGO_TARGET_DIR=str(REPO / "target"))
     proc = subprocess.run(["cargo", "run", "--release", "--quiet", "--", "build", "--manifest-path", str(manifest),
-                           "--out", str(root / "out")], cwd=REPO, capture_output=True, text=True, timeout=1800,
+                           "--out", str(root / "out"), "--platform", "x86_64-linux"], cwd=REPO, capture_output=True, text=True, timeout=1800,
                           env=env)
     assert proc.returncode == 0, f"building the broken copy failed:\n{proc.stdout}\n{proc.stderr[-4000:]}"
     assert (root / "out/Oscillator.fmu").is_file()
