@@ -120,16 +120,21 @@ pub(crate) fn build(
     Ok(())
 }
 
-/// The platforms to build for, and the toolchains missing for those left out.
-fn resolve(platforms: Platforms) -> Result<(Vec<Platform>, Vec<MissingToolchain>), String> {
-    let host = Platform::host().ok_or_else(|| {
+/// This machine's platform: the one whose binary the command loads.
+fn host() -> Result<Platform, String> {
+    Platform::host().ok_or_else(|| {
         format!(
             "mechfmu builds FMUs on {} only (this machine is {}-{})",
             Platform::ALL.map(Platform::tuple).join(", "),
             std::env::consts::ARCH,
             std::env::consts::OS
         )
-    })?;
+    })
+}
+
+/// The platforms to build for, and the toolchains missing for those left out.
+fn resolve(platforms: Platforms) -> Result<(Vec<Platform>, Vec<MissingToolchain>), String> {
+    let host = host()?;
     let (wanted, chosen) = match platforms {
         Platforms::Host => (vec![host], true),
         Platforms::Available => (Platform::ALL.to_vec(), false),
@@ -155,7 +160,7 @@ pub(crate) fn built_libraries(
     flavor: &Flavor,
     platforms: &[Platform],
 ) -> Result<Vec<Built>, String> {
-    let host = Platform::host().ok_or("mechfmu builds FMUs on x86-64 or ARM Linux and Windows")?;
+    let host = host()?;
     let mut targets = platforms.to_vec();
     if !targets.contains(&host) {
         targets.push(host);
