@@ -51,6 +51,12 @@ def test_scaffold_refuses_bad_names_and_existing_dirs(tmp_path):
     for bad in ["doublePendulum", "Double-Pendulum"]:
         done = subprocess.run([str(MECHFMU), "new", bad, "--path", str(tmp_path / bad)], capture_output=True, text=True)
         assert done.returncode != 0 and "UpperCamelCase" in done.stderr
+    # names the crate's own code or cargo already takes: refused before anything is written
+    for taken in ["Self", "Fn", "Test", "Mechanism"]:
+        done = subprocess.run([str(MECHFMU), "new", taken, "--path", str(tmp_path / taken)], capture_output=True,
+                              text=True)
+        assert done.returncode != 0 and f"`{taken}` cannot name a mechanism" in done.stderr, done.stderr
+        assert not (tmp_path / taken).exists()
     (tmp_path / "taken").mkdir()
     (tmp_path / "taken" / "file").write_text("x")
     done = subprocess.run([str(MECHFMU), "new", "Taken", "--path", str(tmp_path / "taken")], capture_output=True, text=True)

@@ -113,8 +113,145 @@ fn check_name(name: &str) -> Result<(), String> {
             "`{name}` is not a valid mechanism name: use UpperCamelCase letters and digits, e.g. DoublePendulum"
         ));
     }
+    if TAKEN_TYPE_NAMES.contains(&name) {
+        return Err(format!(
+            "`{name}` cannot name a mechanism: the crate's code already uses it (a Rust keyword, a \
+             name of Rust's prelude or one the scaffold imports); choose another, e.g. My{name}"
+        ));
+    }
+    let snake = snake_case(name);
+    if TAKEN_CRATE_NAMES.contains(&snake.as_str())
+        || (snake.len() == 4
+            && ["com", "lpt"].contains(&&snake[..3])
+            && snake.as_bytes()[3].is_ascii_digit())
+    {
+        return Err(format!(
+            "`{name}` cannot name a mechanism: its crate would be `{snake}`, which cargo or \
+             Windows reserves (a Rust keyword, a built-in crate, a build directory or a device \
+             name); choose another, e.g. My{name}"
+        ));
+    }
     Ok(())
 }
+
+/// Type names a mechanism's struct cannot take: `Self`, the names Rust's prelude brings into
+/// every module (the struct would shadow them in the code `mechanism!` generates) and the
+/// ones the scaffold's `lib.rs` imports.
+const TAKEN_TYPE_NAMES: &[&str] = &[
+    "Self",
+    "Box",
+    "Vec",
+    "String",
+    "Option",
+    "Some",
+    "None",
+    "Result",
+    "Ok",
+    "Err",
+    "Send",
+    "Sync",
+    "Sized",
+    "Unpin",
+    "Copy",
+    "Clone",
+    "Default",
+    "Drop",
+    "Eq",
+    "PartialEq",
+    "Ord",
+    "PartialOrd",
+    "Fn",
+    "FnMut",
+    "FnOnce",
+    "Iterator",
+    "IntoIterator",
+    "DoubleEndedIterator",
+    "ExactSizeIterator",
+    "Extend",
+    "ToOwned",
+    "ToString",
+    "From",
+    "Into",
+    "TryFrom",
+    "TryInto",
+    "AsRef",
+    "AsMut",
+    "FromIterator",
+    "Experiment",
+    "Mechanism",
+    "Scalar",
+    "Variable",
+];
+
+/// Crate names cargo refuses or that cannot be a folder on Windows: Rust's keywords (a
+/// lower-case mechanism name becomes one), its built-in crates, cargo's build folders and
+/// Windows' device names (and `com1`–`com9`, `lpt1`–`lpt9`, checked apart).
+const TAKEN_CRATE_NAMES: &[&str] = &[
+    "as",
+    "async",
+    "await",
+    "box",
+    "break",
+    "const",
+    "continue",
+    "crate",
+    "do",
+    "dyn",
+    "else",
+    "enum",
+    "extern",
+    "false",
+    "final",
+    "fn",
+    "for",
+    "gen",
+    "if",
+    "impl",
+    "in",
+    "let",
+    "loop",
+    "macro",
+    "match",
+    "mod",
+    "move",
+    "mut",
+    "override",
+    "priv",
+    "pub",
+    "ref",
+    "return",
+    "self",
+    "static",
+    "struct",
+    "super",
+    "trait",
+    "true",
+    "try",
+    "type",
+    "typeof",
+    "unsafe",
+    "unsized",
+    "use",
+    "virtual",
+    "where",
+    "while",
+    "yield",
+    "abstract",
+    "become",
+    "core",
+    "std",
+    "alloc",
+    "proc_macro",
+    "test",
+    "build",
+    "deps",
+    "examples",
+    "incremental",
+    "con",
+    "prn",
+    "aux",
+    "nul",
+];
 
 /// `DoublePendulum` → `double_pendulum`.
 fn snake_case(name: &str) -> String {
@@ -130,6 +267,30 @@ fn snake_case(name: &str) -> String {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn names_rust_cargo_or_windows_take_are_refused() {
+        for taken in [
+            "Self",
+            "Fn",
+            "Test",
+            "Std",
+            "Mechanism",
+            "Option",
+            "Con",
+            "Com1",
+            "Build",
+        ] {
+            let err = super::check_name(taken).unwrap_err();
+            assert!(
+                err.contains(&format!("`{taken}` cannot name a mechanism")),
+                "{err}"
+            );
+        }
+        for fine in ["DoublePendulum", "Tester", "Com", "Com10", "Pendulum2"] {
+            assert_eq!(super::check_name(fine), Ok(()), "{fine}");
+        }
+    }
+
     use super::*;
 
     #[test]
