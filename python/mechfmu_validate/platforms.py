@@ -20,8 +20,6 @@ an FMI 2.0 FMU runs under qemu as a temporary copy whose ``linux64`` folder hold
 ``aarch64-linux`` binary (:func:`aarch64_fmi2_copy`); FMI 3.0 FMUs run as they are.
 
 * :func:`binary_platforms`: the platforms an FMU has binaries for (from the zip);
-* :func:`run_experiment`: one experiment as ``mechfmu-fmi-run`` takes it (the JSON of
-  :func:`~.fmi_crate.run_fmi_crate`) on a platform, returning the CSV's columns;
 * :func:`run_case`: a reference case, the experiment built by :func:`~.fmi_crate.run_fmi_crate`
   itself (pointed at the platform's wrapper), returning its :class:`~.case.Result`;
 * :func:`compare`: the largest relative difference from the native result and whether the
@@ -35,10 +33,7 @@ experiment) as they are: Windows resolves ``/tmp/x`` on the current drive, which
 
 from __future__ import annotations
 
-import contextlib
 import copy
-import csv
-import json
 import os
 import re
 import shlex
@@ -50,7 +45,7 @@ import xml.etree.ElementTree as ET
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Iterator, Mapping, Sequence
+from typing import TYPE_CHECKING, Mapping, Sequence
 
 import numpy as np
 
@@ -63,7 +58,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .importers import Fmu
 
 __all__ = ["PLATFORMS", "NATIVE", "SCRIPT", "ENV_FILE", "NotPrepared", "Runners", "WineSession", "fmi_version",
-           "binary_platforms", "aarch64_fmi2_copy", "cleanup_copies", "run_experiment", "run_case", "Comparison", "compare"]
+           "binary_platforms", "aarch64_fmi2_copy", "cleanup_copies", "run_case", "Comparison", "compare"]
 
 #: FMI 3.0's platform tuples of the platforms mechfmu builds FMUs for
 PLATFORMS = ("x86_64-linux", "x86_64-windows", "aarch64-linux")
@@ -242,30 +237,6 @@ def _fmu_for(fmu_path: str | Path, platform: str) -> Path:
 # Running
 
 
-def run_experiment(experiment: Mapping[str, Any], platform: str, runners: Runners | None = None,
-                   options: Sequence[str] = (), timeout: float = 600) -> dict[str, np.ndarray]:
-    """One experiment (the JSON ``mechfmu-fmi-run`` reads, as :func:`~.fmi_crate.run_fmi_crate`
-    writes it) on the platform's runner: the CSV's columns by name (``time`` first). The
-    experiment's ``fmu`` is replaced by the aarch64 copy for an FMI 2.0 FMU under qemu.
-    ``options``: the runner's, e.g. ``["--interface", "me"]``. Thread-safe. Raises
-    RuntimeError with the runner's last message when it fails."""
-    runners = runners or Runners.load()
-    experiment = dict(experiment, fmu=str(_fmu_for(experiment["fmu"], platform)))
-    with tempfile.TemporaryDirectory(prefix="mechfmu-platform-run-") as tmp:
-        spec, out = Path(tmp) / "experiment.json", Path(tmp) / "result.csv"
-        spec.write_text(json.dumps(experiment, allow_nan=False))
-        proc = subprocess.run([runners.wrapper(platform), str(spec), "--out", str(out), *options], cwd="/",
-                              stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=timeout)
-        if proc.returncode != 0:
-            log = [line for line in proc.stderr.splitlines() if line.strip()]
-            raise RuntimeError(f"mechfmu-fmi-run on {platform}: " +
-                               (log[-1] if log else f"exit status {proc.returncode}"))
-        with out.open(newline="") as f:
-            table = list(csv.reader(f))
-    data = np.array([[float(x) for x in row] for row in table[1:]], dtype=float).reshape(-1, len(table[0]))
-    return {name: data[:, i] for i, name in enumerate(table[0])}
-
-
 _env_lock = threading.Lock()
 
 
@@ -277,8 +248,8 @@ def run_case(fmu: Fmu, case: Case, platform: str, runners: Runners | None = None
     at the platform's wrapper for the call.
 
     As ``$MECHFMU_FMI_RUN`` is the process's, runs in one process are serialized (a lock):
-    run cases in parallel in several processes (each loads its FMUs), or use
-    :func:`run_experiment`. Under wine, have a :class:`WineSession` open."""
+    run cases in parallel in several processes (each loads its FMUs). Under wine, have a
+    :class:`WineSession` open."""
     runners = runners or Runners.load()
     path = _fmu_for(fmu.path, platform)
     if path != fmu.path:
