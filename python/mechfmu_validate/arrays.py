@@ -163,13 +163,16 @@ def _listed_scalars(fmu3) -> dict[str, list[str]]:
 def derive(fmu3) -> ArrayMap:
     """The FMI 2.0 names of the FMI 3.0 FMU ``fmu3`` (an :class:`~.importers.Fmu`): its
     scalars are FMI 2.0's, and each array's annotation ``org.mechfmu.scalars`` names the FMI
-    2.0 variable of every element. An FMU without arrays needs none."""
+    2.0 variable of every element. An FMU without arrays needs none; another exporter's
+    without annotations has its elements named as FMI 3.0 writes them (``y[2]``)."""
     variables = fmu3.md.modelVariables
     arrays = [v for v in variables if v.shape]
     scalars = {v.name for v in variables if v.causality != "independent" and not v.shape}
     if not arrays:
         return ArrayMap(scalars)
     listed = _listed_scalars(fmu3)
+    if not listed and not fmu3.by_mechfmu:
+        listed = {v.name: [element_name(v.name, tuple(v.shape), k) for k in range(prod(v.shape))] for v in arrays}
     problems = []
     for v in arrays:
         names = listed.get(v.name)

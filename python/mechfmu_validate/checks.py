@@ -11,6 +11,11 @@
 * the files every mechfmu FMU carries: ``documentation/index.html``, and the reference
   results of the default experiment in ``extra/org.fmi-standard.fmi-ls-ref/`` in the FMI
   cross-check CSV conventions (checked against the case's reference when there is one).
+
+An FMU built by another exporter is held to the standard, not to mechfmu's own rules: a Real
+variable without a unit, a unit without ``<BaseUnit>``, other libraries beside the binary and
+a missing ``documentation/index.html`` are notes, and its reference files are read by
+:mod:`.embedded_reference` (whose rows say whether they can be).
 """
 
 from __future__ import annotations
@@ -19,7 +24,6 @@ import ctypes
 import xml.etree.ElementTree as ET
 import zipfile
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
@@ -146,9 +150,11 @@ def check_model_description(fmu: Fmu) -> list[Check]:
             bounds.problems.append(f"{sv.get('name')}: start {start} > max {hi}")
 
     un = Check("units declared and defined")
+    # mechfmu's rules, beyond the standard's: problems for its own FMUs, notes for others'
+    policy = un.problems if fmu.by_mechfmu else un.notes
     for name, u in units.items():
         if u.find("BaseUnit") is None:
-            un.problems.append(f"unit {name} has no <BaseUnit>")
+            policy.append(f"unit {name} has no <BaseUnit>")
     for tname, e in types.items():
         if e.tag == "Real" and e.get("unit") is not None and e.get("unit") not in units:
             un.problems.append(f"type {tname} uses unit {e.get('unit')}, not in <UnitDefinitions>")
@@ -162,7 +168,7 @@ def check_model_description(fmu: Fmu) -> list[Check]:
         unit = e.get("unit") or (dt.get("unit") if dt is not None else None)
         display = e.get("displayUnit") or (dt.get("displayUnit") if dt is not None else None)
         if unit is None:
-            un.problems.append(f"{sv.get('name')} declares no unit (use \"1\" for a dimensionless quantity)")
+            policy.append(f"{sv.get('name')} declares no unit (use \"1\" for a dimensionless quantity)")
             continue
         if unit not in units:
             un.problems.append(f"{sv.get('name')}: unit {unit} is not in <UnitDefinitions>")
@@ -191,7 +197,7 @@ def check_binary(fmu: Fmu) -> Check:
         return c
     others = [n for n in libs if n != want]
     if others:
-        c.problems.append(f"other binaries beside {want}: {others}")
+        (c.problems if fmu.by_mechfmu else c.notes).append(f"other binaries beside {want}: {others}")
     try:
         lib = ctypes.CDLL(str(fmu.directory / want), mode=ctypes.RTLD_LOCAL)
     except OSError as e:
@@ -274,6 +280,11 @@ def check_files(fmu: Fmu, default_case: Case | None) -> Check:
     ident = fmu.model
     with zipfile.ZipFile(fmu.path) as z:
         names = set(z.namelist())
+        if not fmu.by_mechfmu:
+            c.notes.append("documentation/index.html: " + ("there" if "documentation/index.html" in names else "none"))
+            carried = sorted(n for n in names if n.startswith(REFERENCE_DIR + "/") and not n.endswith("/"))
+            c.notes.append(f"{REFERENCE_DIR}/: {', '.join(n.rsplit('/', 1)[1] for n in carried) or 'none'}")
+            return c
 
         def read(n):
             return z.read(n).decode("utf-8")

@@ -1,8 +1,8 @@
 """``python -m mechfmu_validate`` (what ``mechfmu validate`` runs).
 
     python -m mechfmu_validate FMU [FMU ...] [--cases MODEL=cases.py ...] [--case TEXT ...]
-                               [--report DIR] [--json FILE] [--readme DIR] [--no-libcosim]
-                               [--no-fmi-crate] [--no-model-exchange] [--no-fmi3]
+                               [--report DIR] [--json FILE] [--junit FILE] [--readme DIR]
+                               [--no-libcosim] [--no-fmi-crate] [--no-model-exchange] [--no-fmi3]
     python -m mechfmu_validate references FMU [FMU ...] --cases MODEL=cases.py ...
 
 Each case runs under FMPy (against the case's reference), then under libcosim and under the
@@ -11,9 +11,12 @@ with FMPy to 1e-9, relative, at the same settings; then in Model Exchange under 
 and Euler and the fmi crate's RK4, against the reference (:mod:`.model_exchange`); then, when
 the FMI 3.0 FMU is beside the FMI 2.0 one (``<dir>/fmi3/<Name>.fmu``; ``--no-fmi3`` leaves it
 out), under FMPy's and the fmi crate's FMI 3.0 (:mod:`.fmi3`). An FMI 3.0 FMU given on the
-command line gets its checks and the FMI 3.0 rows alone (:mod:`.validation`).
+command line gets its checks and the FMI 3.0 rows alone (:mod:`.validation`). An FMU without
+cases is run against the reference results it carries, if any (:mod:`.embedded_reference`);
+one that cannot be opened is one FAIL row saying why (:mod:`.opening`).
 
-Exit status: 0 when everything passes, 1 when a check or a case fails, 2 for a usage error.
+Exit status: 0 when everything passes, 1 when a row fails (the table is printed), 2 for a
+usage error, 3 when the validator itself failed (a bug of mechfmu's: the traceback says where).
 """
 
 from __future__ import annotations
@@ -23,6 +26,7 @@ import json
 import math
 import platform
 import sys
+import traceback
 from pathlib import Path
 
 import numpy as np
@@ -30,6 +34,7 @@ import numpy as np
 import fmpy
 
 from .importers import Fmu, capture_fmu_log, fmi_crate_available, libcosim_available
+from .junit import write_junit
 from .loader import default_case, load_cases
 from .reference import write_references
 from .platform_rows import session as platform_session
@@ -47,6 +52,7 @@ def make_parser() -> argparse.ArgumentParser:
                    help="only the cases whose name contains TEXT (repeatable)")
     p.add_argument("--report", type=Path, metavar="DIR", help="write DIR/index.md, DIR/index.html and the plots")
     p.add_argument("--json", type=Path, metavar="FILE", help="write the results as JSON")
+    p.add_argument("--junit", type=Path, metavar="FILE", help="write the results as JUnit XML (one testcase per row)")
     p.add_argument("--readme", type=Path, metavar="DIR",
                    help="write DIR/validation.md and the highlighted cases' plots (README material)")
     p.add_argument("--no-libcosim", action="store_true", help="do not run the cases under libcosim")
@@ -188,9 +194,16 @@ def main(argv: list[str] | None = None) -> int:
                 md_model = fmpy.read_model_description(str(path), validate=False).coSimulation.modelIdentifier
             except Exception:
                 pass
-            validate_fmu(path, cases_map.get(md_model or path.stem), args.case, use_libcosim, rows, plots, details,
-                         use_fmi_crate=use_fmi_crate, use_model_exchange=not args.no_model_exchange,
-                         use_fmi3=not args.no_fmi3)
+            try:
+                validate_fmu(path, cases_map.get(md_model or path.stem), args.case, use_libcosim, rows, plots,
+                             details, use_fmi_crate=use_fmi_crate, use_model_exchange=not args.no_model_exchange,
+                             use_fmi3=not args.no_fmi3)
+            except Exception as e:  # noqa: BLE001 (a bug of ours on this FMU: its row, and on to the next)
+                where = traceback.extract_tb(e.__traceback__)[-1]
+                rows.append(dict(kind="check", fmu=md_model or path.name, case="(validation stopped)", importer="-",
+                                 max_error=math.inf, tolerance=None, passed=False, notes=[], problems=[
+                                     f"mechfmu validate failed on {path}: {type(e).__name__}: {e} "
+                                     f"(at {Path(where.filename).name}:{where.lineno}: a bug of mechfmu's)"]))
     header = dict(fmpy=fmpy.__version__, libcosim=libcosim_info, fmi_crate=fmi_crate_info,
                   python=platform.python_version())
     print_table(rows)
@@ -215,4 +228,18 @@ def main(argv: list[str] | None = None) -> int:
         args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps(_jsonable(dict(header=header, rows=rows, cases=details)), indent=2) + "\n")
         print(f"json: {args.json}")
+    if args.junit:
+        write_junit(args.junit, rows)
+        print(f"junit: {args.junit}")
     return 0 if all(r["passed"] for r in rows) else 1
+
+
+def run(argv: list[str] | None = None) -> int:
+    """:func:`main`, with the exit status 3 (and the traceback) when the validator itself
+    fails: status 1 always means FAIL rows in a printed table."""
+    try:
+        return main(argv)
+    except Exception:  # noqa: BLE001
+        traceback.print_exc()
+        print("mechfmu validate: the validator failed (the traceback above): a bug of mechfmu's", file=sys.stderr)
+        return 3

@@ -71,8 +71,12 @@ class Fmu:
     def __post_init__(self):
         self.path = Path(self.path).resolve()
         self.directory = Path(tempfile.mkdtemp(prefix=f"mechfmu-validate-{self.path.stem}-"))
-        fmpy.extract(str(self.path), str(self.directory))
-        self.md = read_model_description(str(self.directory), validate=False)
+        try:
+            fmpy.extract(str(self.path), str(self.directory))
+            self.md = read_model_description(str(self.directory), validate=False)
+        except BaseException:
+            self.cleanup()
+            raise
 
     @property
     def model(self) -> str:
@@ -94,8 +98,19 @@ class Fmu:
     def outputs(self) -> list[str]:
         return [v.name for v in self.md.modelVariables if v.causality == "output"]
 
+    @property
+    def by_mechfmu(self) -> bool:
+        """Built by mechfmu (whose own rules the checks then hold it to), not by another exporter."""
+        return (self.md.generationTool or "").startswith("mechfmu")
+
     def cleanup(self) -> None:
         shutil.rmtree(self.directory, ignore_errors=True)
+
+    def __enter__(self) -> Fmu:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.cleanup()
 
 
 # ---------------------------------------------------------------------------------------

@@ -14,8 +14,8 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Iterator
 
-from .platforms import (NATIVE, PLATFORMS, SCRIPT, NotPrepared, Runners, WineSession, binary_platforms, compare,
-                        fmi_version, run_case)
+from .platforms import (NATIVE, PLATFORMS, NotPrepared, Runners, WineSession, binary_platforms,
+                        cleanup_copies, compare, fmi_version, run_case)
 
 if TYPE_CHECKING:  # pragma: no cover
     from .case import Case
@@ -45,13 +45,17 @@ def _load() -> tuple[Runners | None, str | None]:
 
 @contextlib.contextmanager
 def session(enabled: bool = True) -> Iterator[None]:
-    """One wine session for a whole validation (when the runners are prepared)."""
+    """One wine session for a whole validation (when the runners are prepared); the copies of
+    FMUs the ARM runs were given are removed at its end."""
     runners, _ = _load() if enabled else (None, None)
-    if runners is None:
-        yield
-        return
-    with WineSession(runners):
-        yield
+    try:
+        if runners is None:
+            yield
+            return
+        with WineSession(runners):
+            yield
+    finally:
+        cleanup_copies()
 
 
 class Platforms:

@@ -122,8 +122,9 @@ class Runners:
         return self.settings[f"MECHFMU_WRAPPER_{_key(platform)}"]
 
     def wine_env(self) -> dict[str, str]:
+        session = {"TMPDIR": WineSession.tmpdir} if WineSession.tmpdir else {}
         return {**os.environ, "WINEPREFIX": self.settings["WINEPREFIX"], "WINEARCH": "win64", "WINEDEBUG": "-all",
-                "WINEDLLOVERRIDES": "mscoree,mshtml=;winemenubuilder.exe=d"}
+                "WINEDLLOVERRIDES": "mscoree,mshtml=;winemenubuilder.exe=d", **session}
 
 
 class WineSession:
@@ -135,22 +136,40 @@ class WineSession:
         with WineSession(runners):
             ... run_case(..., "x86_64-windows") ...
 
-    On exit, ``wineserver -k`` ends that server (of this prefix only) and its processes."""
+    On exit, ``wineserver -k`` ends that server (of this prefix only) and its processes.
+
+    wine keeps its server's socket in ``$TMPDIR/wine-*/``, and leaves that folder behind: the
+    session gives wine a temporary directory of its own (every run under wine meanwhile, as
+    :func:`run_case` passes ``$TMPDIR`` on), and removes it."""
+
+    #: the temporary directory of the open session's wine, if one is open
+    tmpdir: str | None = None
 
     def __init__(self, runners: Runners):
         self.runners = runners
 
     def __enter__(self) -> WineSession:
-        env, s = self.runners.wine_env(), self.runners.settings
-        quiet = dict(stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd="/")
-        subprocess.run([s["MECHFMU_WINESERVER"], "-p"], env=env, check=True, timeout=60, **quiet)
-        # the runner without arguments prints its usage: starts the services, off any pipe
-        subprocess.run([s["MECHFMU_WINE64"], s["MECHFMU_RUNNER_X86_64_WINDOWS"]], env=env, timeout=120, **quiet)
+        WineSession.tmpdir = tempfile.mkdtemp(prefix="mechfmu-wine-")
+        try:
+            env, s = self.runners.wine_env(), self.runners.settings
+            quiet = dict(stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd="/")
+            subprocess.run([s["MECHFMU_WINESERVER"], "-p"], env=env, check=True, timeout=60, **quiet)
+            # the runner without arguments prints its usage: starts the services, off any pipe
+            subprocess.run([s["MECHFMU_WINE64"], s["MECHFMU_RUNNER_X86_64_WINDOWS"]], env=env, timeout=120, **quiet)
+        except BaseException:
+            self.__exit__()
+            raise
         return self
 
     def __exit__(self, *exc) -> None:
-        subprocess.run([self.runners.settings["MECHFMU_WINESERVER"], "-k"], env=self.runners.wine_env(),
-                       stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=60)
+        try:
+            quiet = dict(stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=60)
+            server, env = self.runners.settings["MECHFMU_WINESERVER"], self.runners.wine_env()
+            subprocess.run([server, "-k"], env=env, **quiet)
+            subprocess.run([server, "-w"], env=env, **quiet)  # until it has exited
+        finally:
+            shutil.rmtree(WineSession.tmpdir or "", ignore_errors=True)
+            WineSession.tmpdir = None
 
 
 # ---------------------------------------------------------------------------------------
@@ -255,16 +274,20 @@ def run_case(fmu: Fmu, case: Case, platform: str, runners: Runners | None = None
     if path != fmu.path:
         fmu = copy.copy(fmu)  # the same extracted model description, another file for the runner
         fmu.path = path
+    settings = {FMI_RUN_ENV: runners.wrapper(platform)}
+    if platform == "x86_64-windows" and WineSession.tmpdir:
+        settings["TMPDIR"] = WineSession.tmpdir  # where the session's wineserver is
     with _env_lock:
-        before = os.environ.get(FMI_RUN_ENV)
-        os.environ[FMI_RUN_ENV] = runners.wrapper(platform)
+        before = {k: os.environ.get(k) for k in settings}
+        os.environ.update(settings)
         try:
             return run_fmi_crate(fmu, case, interface=interface, step=step, mapping=mapping)
         finally:
-            if before is None:
-                os.environ.pop(FMI_RUN_ENV, None)
-            else:
-                os.environ[FMI_RUN_ENV] = before
+            for k, v in before.items():
+                if v is None:
+                    os.environ.pop(k, None)
+                else:
+                    os.environ[k] = v
 
 
 # ---------------------------------------------------------------------------------------

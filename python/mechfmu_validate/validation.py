@@ -13,29 +13,21 @@ from __future__ import annotations
 
 import math
 import sys
-import time
 from pathlib import Path
 from typing import Any
 
-from . import fmi3, model_exchange
-from .arrays import fmi2_sibling
-from .case import Case, describe, evaluate
+from . import cs_rows, embedded_reference, fmi3, model_exchange
+from .arrays import MappingError, fmi2_sibling, fmi3_sibling
+from .case import Case, describe
 from .checks import run_checks
 from .checks3 import run_checks3
-from .importers import (FMI_CRATE_NOTE, LIBCOSIM_NOTE, Fmu, agreement, run_fmi_crate, run_fmpy, run_libcosim)
+from .cs_rows import FMI_CRATE, FMI_CRATE_TOLERANCE, LIBCOSIM_TOLERANCE
+from .importers import Fmu
 from .loader import default_case, load_cases
+from .opening import OPENS, BrokenFmu, open_fmu
 from .platform_rows import Platforms
 
 __all__ = ["LIBCOSIM_TOLERANCE", "FMI_CRATE_TOLERANCE", "FMI_CRATE", "validate_fmu", "validate_fmi3"]
-
-#: libcosim must agree with FMPy to this, relative (max |a - b| / max |b|), at the same settings
-LIBCOSIM_TOLERANCE = 1e-9
-
-#: the fmi crate must agree with FMPy to this, relative, both at the case's tolerance
-FMI_CRATE_TOLERANCE = 1e-9
-
-#: the importer column of the fmi crate's rows
-FMI_CRATE = "fmi crate"
 
 
 def _progress(msg: str) -> None:
@@ -90,20 +82,106 @@ def _fmi3_rows(f3, case: Case, entry: dict, rows: list[dict], use_fmi_crate: boo
     return out
 
 
+def _broken_row(path: Path, problem: str, name: str | None = None) -> dict:
+    """The one row of an FMU that cannot be opened (:mod:`.opening`)."""
+    return dict(kind="check", fmu=name or path.name, case=OPENS, importer="mechfmu", max_error=1.0, tolerance=0.0,
+                passed=False, problems=[f"{path}: {problem}"], notes=[])
+
+
+def _note_row(name: str, text: str) -> dict:
+    return dict(kind="note", fmu=name, case=text, importer="-", max_error=None, tolerance=None, passed=True,
+                problems=[], notes=[])
+
+
+def _load_cases(cases_file: Path | None, name: str, rows: list[dict]) -> list[Case]:
+    """The cases of the FMU's cases file; a file that does not load is a FAIL row."""
+    if cases_file is None:
+        return []
+    try:
+        return load_cases(cases_file, name)
+    except Exception as e:  # noqa: BLE001 (the user's file: a row, not a crash)
+        rows.append(dict(_note_row(name, f"check: {cases_file} loads"), kind="check", importer="mechfmu",
+                         max_error=1.0, tolerance=0.0, passed=False, problems=[f"{type(e).__name__}: {e}"]))
+        return []
+
+
+def _unknown_row(fmu: Fmu, case: Case, cases_file: Path | None, unknown: list[str]) -> dict:
+    return dict(kind="case", fmu=fmu.model, case=case.name, importer="FMPy", max_error=math.inf, tolerance=None,
+                passed=False, notes=[], problems=[
+                    f"the case {case.name!r} of {cases_file} names {', '.join(unknown)}, which "
+                    f"{fmu.path.name} does not have (not a variable of its modelDescription.xml)"])
+
+
+def _reference_rows(fmu: Fmu, rows: list[dict], plots: list[dict] | None, use_libcosim: bool,
+                    use_fmi_crate: bool) -> bool:
+    """The reference the FMU carries (:mod:`.embedded_reference`) under FMPy (plotted when
+    ``plots`` is given), and under libcosim and the fmi crate when ``use_libcosim``/
+    ``use_fmi_crate``; False when it carries none."""
+    name = fmu.model
+    try:
+        ref = embedded_reference.read(fmu)
+    except embedded_reference.Unsupported as e:
+        rows.append(dict(_note_row(name, embedded_reference.CASE_NAME), kind="reference", importer="FMPy",
+                         skipped=True, problems=[str(e)]))
+        return True
+    except embedded_reference.ReferenceProblem as e:
+        rows.append(dict(_note_row(name, embedded_reference.CASE_NAME), kind="reference", importer="FMPy",
+                         max_error=math.inf, passed=False, problems=[str(e)]))
+        return True
+    if ref is None:
+        return False
+    case = ref.case
+    _progress(f"{name}: {case.name} (FMPy)")
+    entry = _entry(name, case, _units(fmu.md))
+    anchor = entry["anchor"] if plots is not None else ""
+    row, result, ev = cs_rows.fmpy_row(fmu, case, anchor, kind="reference", problems=ref.problems)
+    row["notes"] = [*row["notes"], *ref.notes]
+    rows.append(row)
+    entry.update(evaluation=ev, result=result, passed=row["passed"])
+    runs = [("libcosim", cs_rows.libcosim_row)] if use_libcosim else []
+    runs += [(FMI_CRATE, cs_rows.fmi_crate_row)] if use_fmi_crate else []
+    real, why = cs_rows.real_signals(case, fmu)
+    for importer, run in runs:
+        _progress(f"{name}: {case.name} ({importer})")
+        if real is None:
+            rows.append(dict(_note_row(name, case.name), kind="reference", importer=importer, skipped=True,
+                             problems=[why]))
+            continue
+        other, plotted = run(fmu, real, result, ev, anchor, kind="reference")
+        if why:
+            other["notes"] = [*other["notes"], why]
+        rows.append(other)
+        if plotted is not None:
+            entry["libcosim" if importer == "libcosim" else "fmi_crate"] = plotted
+        entry["passed"] = entry["passed"] and other["passed"]
+    if plots is not None and ev is not None and ev.signals:
+        plots.append(entry)
+    return True
+
+
 def validate_fmu(path: Path, cases_file: Path | None, only: list[str], use_libcosim: bool,
                  rows: list[dict], plots: list[dict], details: list[dict], use_fmi_crate: bool = True,
                  use_model_exchange: bool = True, use_fmi3: bool = True) -> None:
     """An FMI 2.0 FMU's rows, and its FMI 3.0 FMU's (``<dir>/fmi3/<Name>.fmu``, when built and
-    ``use_fmi3``); an FMI 3.0 FMU given alone: :func:`validate_fmi3`."""
-    fmu = Fmu(path)
+    ``use_fmi3``); an FMI 3.0 FMU given alone: :func:`validate_fmi3`. An FMU that cannot be
+    opened is one FAIL row saying why."""
+    try:
+        fmu = open_fmu(path)
+    except BrokenFmu as e:
+        rows.append(_broken_row(path, str(e)))
+        return
     if fmu.fmi3:
         fmu.cleanup()
         return validate_fmi3(path, cases_file, only, rows, plots, details, use_fmi_crate, use_model_exchange)
     name = fmu.model
     f3 = None
     try:
-        f3 = fmi3.Fmi3.beside(fmu) if use_fmi3 else None
-        cases: list[Case] = load_cases(cases_file, name) if cases_file else []
+        if use_fmi3 and fmi3_sibling(fmu.path) is not None:
+            try:
+                f3 = fmi3.Fmi3.open(fmi3_sibling(fmu.path))
+            except BrokenFmu as e:
+                rows.append(_broken_row(fmi3_sibling(fmu.path), str(e), name))
+        cases = _load_cases(cases_file, name, rows)
         selected = [c for c in cases if not only or any(o in c.name for o in only)]
         _progress(f"{name}: checks")
         rows.extend(_check_rows(name, run_checks(fmu, default_case(cases))))
@@ -114,80 +192,35 @@ def validate_fmu(path: Path, cases_file: Path | None, only: list[str], use_libco
         if f3 is not None:
             binaries.append(Platforms(f3.fmu.path, name, fmi3.FMI3_CRATE, names=f3.mapping, enabled=use_fmi_crate))
         rows.extend(b.summary_row() for b in binaries)
-        if cases_file is None:
-            rows.append(dict(kind="note", fmu=name, case="(no validation/cases.py: no reference cases)",
-                             importer="-", max_error=None, tolerance=None, passed=True, problems=[], notes=[]))
+        # the reference the FMU carries: beside a mechanism's cases, a cheap extra row under FMPy
+        # (its default-experiment case already runs under every importer, and is plotted); alone,
+        # under each importer, plotted
+        alone = cases_file is None
+        if not _reference_rows(fmu, rows, plots if alone else None, use_libcosim and alone, use_fmi_crate and alone) \
+                and alone:
+            rows.append(_note_row(name, f"(no validation/cases.py and no {embedded_reference.REFERENCE_DIR}/: "
+                                        "nothing simulated)"))
         units = _units(fmu.md)
         for case in selected:
+            unknown = cs_rows.unknown_names(case, fmu)
+            if unknown:
+                rows.append(_unknown_row(fmu, case, cases_file, unknown))
+                continue
             _progress(f"{name}: {case.name} (FMPy)")
             entry = _entry(name, case, units)
             anchor = entry["anchor"]
-            t0 = time.perf_counter()
-            fmpy_result = None
-            try:
-                fmpy_result = run_fmpy(fmu, case)
-                ev = evaluate(case, fmpy_result)
-            except Exception as e:
-                ev = None
-                problem = f"FMPy run failed: {type(e).__name__}: {e}"
-            if ev is not None:
-                problem = ev.problem
-                worst = ev.worst
-                rows.append(dict(kind="case", fmu=name, case=case.name, importer="FMPy", anchor=anchor,
-                                 max_error=None if worst is None else worst.max_error,
-                                 tolerance=None if worst is None else worst.tolerance,
-                                 passed=ev.passed, problems=[problem] if problem else [],
-                                 notes=[f"worst signal {worst.name} at t = {worst.at_time:g}"] if worst else [],
-                                 signals={s.name: dict(max_error=s.max_error, at_time=s.at_time, scale=s.scale,
-                                                       tolerance=s.tolerance, passed=s.passed) for s in ev.signals},
-                                 seconds=time.perf_counter() - t0,
-                                 log=fmpy_result.log[-20:] if fmpy_result else []))
-            else:
-                rows.append(dict(kind="case", fmu=name, case=case.name, importer="FMPy", anchor=anchor,
-                                 max_error=math.inf, tolerance=None, passed=False, problems=[problem], notes=[]))
-            entry["evaluation"] = ev
-            entry["result"] = fmpy_result
-            entry["passed"] = ev is not None and ev.passed
-            if use_libcosim:
-                _progress(f"{name}: {case.name} (libcosim)")
-                lc_row = dict(kind="case", fmu=name, case=case.name, importer="libcosim", anchor=anchor,
-                              tolerance=LIBCOSIM_TOLERANCE, problems=[], notes=[LIBCOSIM_NOTE])
-                try:
-                    same = fmpy_result if (case.relative_tolerance is None and fmpy_result is not None) \
-                        else run_fmpy(fmu, case, relative_tolerance=None)
-                    lc = run_libcosim(fmu, case)
-                    floors = {s.name: s.scale for s in ev.signals} if ev is not None else {}
-                    worst, where, when, over_time = agreement(lc, same, case.recorded(), floors)
-                    lc_row.update(max_error=worst, passed=bool(worst <= LIBCOSIM_TOLERANCE),
-                                  notes=[f"worst signal {where} at t = {when:g}", LIBCOSIM_NOTE])
-                    entry["libcosim"] = dict(time=lc.time, error_over_time=over_time, tolerance=LIBCOSIM_TOLERANCE,
-                                             max_error=worst)
-                except Exception as e:
-                    lc_row.update(max_error=math.inf, passed=False,
-                                  problems=[f"libcosim run failed: {type(e).__name__}: {e}"])
-                rows.append(lc_row)
-                entry["passed"] = entry["passed"] and lc_row["passed"]
-            if use_fmi_crate:
-                _progress(f"{name}: {case.name} (fmi crate)")
-                fc_row = dict(kind="case", fmu=name, case=case.name, importer=FMI_CRATE, anchor=anchor,
-                              tolerance=FMI_CRATE_TOLERANCE, problems=[], notes=[FMI_CRATE_NOTE])
-                t1 = time.perf_counter()
-                try:
-                    fc = run_fmi_crate(fmu, case)
-                    if fmpy_result is None:
-                        raise RuntimeError("the FMPy run failed: nothing to compare with")
-                    floors = {s.name: s.scale for s in ev.signals} if ev is not None else {}
-                    worst, where, when, over_time = agreement(fc, fmpy_result, case.recorded(), floors)
-                    fc_row.update(max_error=worst, passed=bool(worst <= FMI_CRATE_TOLERANCE),
-                                  notes=[f"worst signal {where} at t = {when:g}", FMI_CRATE_NOTE],
-                                  seconds=time.perf_counter() - t1, log=fc.log[-20:])
-                    entry["fmi_crate"] = dict(time=fc.time, error_over_time=over_time,
-                                              tolerance=FMI_CRATE_TOLERANCE, max_error=worst)
-                except Exception as e:
-                    fc_row.update(max_error=math.inf, passed=False,
-                                  problems=[f"fmi crate run failed: {type(e).__name__}: {e}"])
-                rows.append(fc_row)
-                entry["passed"] = entry["passed"] and fc_row["passed"]
+            row, fmpy_result, ev = cs_rows.fmpy_row(fmu, case, anchor)
+            rows.append(row)
+            entry.update(evaluation=ev, result=fmpy_result, passed=row["passed"])
+            for importer, run, key, wanted in (("libcosim", cs_rows.libcosim_row, "libcosim", use_libcosim),
+                                               (FMI_CRATE, cs_rows.fmi_crate_row, "fmi_crate", use_fmi_crate)):
+                if wanted:
+                    _progress(f"{name}: {case.name} ({importer})")
+                    other, plotted = run(fmu, case, fmpy_result, ev, anchor)
+                    rows.append(other)
+                    if plotted is not None:
+                        entry[key] = plotted
+                    entry["passed"] = entry["passed"] and other["passed"]
             if use_model_exchange:
                 for me_row in model_exchange.rows(fmu, case, anchor, entry, use_fmi_crate,
                                                   lambda what: _progress(f"{name}: {case.name} ({what})")):
@@ -215,12 +248,21 @@ def validate_fmi3(path: Path, cases_file: Path | None, only: list[str], rows: li
     """An FMI 3.0 FMU given alone: its checks, the agreement with the FMI 2.0 FMU beside it
     (``<dir>/../<Name>.fmu``) if there is one, and the cases under the FMI 3.0 importers
     (FMPy's Co-Simulation being the plotted run)."""
-    sibling = fmi2_sibling(path)
-    fmu2 = Fmu(sibling) if sibling is not None else None
-    f3 = fmi3.Fmi3.open(path)
-    name = f3.fmu.model
     try:
-        cases: list[Case] = load_cases(cases_file, name) if cases_file else []
+        f3 = fmi3.Fmi3.open(path)
+    except BrokenFmu as e:
+        rows.append(_broken_row(path, str(e)))
+        return
+    name = f3.fmu.model
+    fmu2 = None
+    try:
+        sibling = fmi2_sibling(path)
+        if sibling is not None:
+            try:
+                fmu2 = open_fmu(sibling)
+            except BrokenFmu as e:
+                rows.append(_broken_row(sibling, str(e), name))
+        cases = _load_cases(cases_file, name, rows)
         selected = [c for c in cases if not only or any(o in c.name for o in only)]
         _progress(f"{name}: checks (FMI 3.0)")
         rows.extend(_check_rows(name, run_checks3(f3)))
@@ -228,9 +270,10 @@ def validate_fmi3(path: Path, cases_file: Path | None, only: list[str], rows: li
             rows.append(fmi3.agreement_row(f3, fmu2))
         binaries = Platforms(path, name, fmi3.FMI3_CRATE, names=f3.mapping, enabled=use_fmi_crate)
         rows.append(binaries.summary_row())
-        if cases_file is None:
-            rows.append(dict(kind="note", fmu=name, case="(no validation/cases.py: no reference cases)",
-                             importer="-", max_error=None, tolerance=None, passed=True, problems=[], notes=[]))
+        alone = cases_file is None
+        if not _reference_rows3(f3, rows, plots if alone else None, use_fmi_crate and alone) and alone:
+            rows.append(_note_row(name, f"(no validation/cases.py and no {embedded_reference.REFERENCE_DIR}/: "
+                                        "nothing simulated)"))
         units = _units(f3.fmu.md, f3.mapping) if f3.mapping is not None else {}
         for case in selected:
             entry = dict(_entry(name, case, units), label="FMPy FMI 3.0 CS")
@@ -245,3 +288,39 @@ def validate_fmi3(path: Path, cases_file: Path | None, only: list[str], rows: li
         if fmu2 is not None:
             fmu2.cleanup()
         _progress("")
+
+
+def _reference_rows3(f3: fmi3.Fmi3, rows: list[dict], plots: list[dict] | None, use_fmi_crate: bool) -> bool:
+    """The reference an FMI 3.0 FMU carries, under FMPy's FMI 3.0 Co-Simulation (plotted when
+    ``plots`` is given; and the fmi crate's, against it, when ``use_fmi_crate``); False when it
+    carries none."""
+    name = f3.fmu.model
+    failed = dict(_note_row(name, embedded_reference.CASE_NAME), kind="reference", importer=fmi3.FMI3_CS)
+    try:
+        ref = embedded_reference.read(f3.fmu, f3.names)
+    except embedded_reference.Unsupported as e:
+        rows.append(dict(failed, skipped=True, problems=[str(e)]))
+        return True
+    except (embedded_reference.ReferenceProblem, MappingError) as e:
+        rows.append(dict(failed, max_error=math.inf, passed=False, problems=[str(e)]))
+        return True
+    if ref is None:
+        return False
+    _progress(f"{name}: {ref.case.name} ({fmi3.FMI3_CS})")
+    entry = dict(_entry(name, ref.case, _units(f3.fmu.md, f3.mapping)), label="FMPy FMI 3.0 CS")
+    anchor = entry["anchor"] if plots is not None else ""
+    row, result, ev = fmi3.cs_row(f3, ref.case, anchor)
+    row.update(kind="reference", notes=[*row["notes"], *ref.notes], problems=[*ref.problems, *row["problems"]],
+               passed=row["passed"] and not ref.problems)
+    rows.append(row)
+    if plots is not None and ev is not None and ev.signals:
+        plots.append(dict(entry, evaluation=ev, result=result, passed=row["passed"]))
+    if use_fmi_crate:
+        real, why = cs_rows.real_signals(ref.case, f3.fmu)
+        if real is None:
+            rows.append(dict(failed, importer=fmi3.FMI3_CRATE, skipped=True, problems=[why]))
+        else:
+            crate = fmi3.crate_row(f3, real, result, ev, anchor)
+            crate.update(kind="reference", notes=[*crate["notes"], *([why] if why else [])])
+            rows.append(crate)
+    return True

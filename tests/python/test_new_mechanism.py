@@ -1,11 +1,14 @@
 """A new user's first mechanism, as they would go through it, outside the repository:
-`mechfmu new DoublePendulum`, replace the example with a double pendulum, build, validate,
-and check the physics (energy conserved to 1e-8 relative over 10 s at rtol 1e-10)."""
+`mechfmu new` as created (its tests, build and validation pass; renaming the example's
+variable fails both with a message naming it), then `mechfmu new DoublePendulum`, replace the
+example with a double pendulum, build, validate, and check the physics (energy conserved to
+1e-8 relative over 10 s at rtol 1e-10)."""
 
 import os
 import re
 import shutil
 import subprocess
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -40,11 +43,47 @@ def double_pendulum(tmp_path_factory):
     # The scaffold's own tests are about the example pendulum; the user replaces them.
     for test in (crate / "tests").glob("*.rs"):
         test.write_text("#[test]\nfn conforms() {\n    mechfmu_testkit::conformance::check::<double_pendulum::DoublePendulum>();\n}\n")
-    # Share compiled dependencies with the repository's build: same compiler, same flags.
-    env = dict(os.environ, CARGO_TARGET_DIR=str(REPO_ROOT / "target" / "user-crates"))
+    env = user_crate_env()
     run([MECHFMU, "build", "--manifest-path", crate / "Cargo.toml", "--out", crate / "fmu"], cwd=home, env=env)
     run(["cargo", "test", "-q", "--manifest-path", crate / "Cargo.toml"], cwd=home, env=env)
     return crate / "fmu" / "DoublePendulum.fmu"
+
+
+def user_crate_env():
+    """Share compiled dependencies with the repository's build: same compiler, same flags."""
+    return dict(os.environ, CARGO_TARGET_DIR=str(REPO_ROOT / "target" / "user-crates"))
+
+
+def test_scaffold_as_created_passes_and_a_renamed_variable_is_named(tmp_path):
+    """The tutorial's first commands on the scaffold as written: its tests pass, it builds,
+    `mechfmu validate` passes its cases. Then the user renames the example's `theta`: the Rust
+    tests stop compiling, and validation fails, each naming `theta`."""
+    crate = tmp_path / "spinner"
+    run([MECHFMU, "new", "Spinner", "--path", crate], cwd=tmp_path)
+    env = user_crate_env()
+    lib = (crate / "src" / "lib.rs").read_text()
+    assert "const NOTES" in lib and "fn outputs" in lib and "sin(v.theta)" in lib
+    run(["cargo", "test", "-q", "--manifest-path", crate / "Cargo.toml"], cwd=crate, env=env)
+    build = [MECHFMU, "build", "--manifest-path", crate / "Cargo.toml", "--out", crate / "fmu",
+             "--platform", "x86_64-linux"]
+    run(build, cwd=crate, env=env)
+    validate = [MECHFMU, "validate", "--manifest-path", crate / "Cargo.toml", "--fmu-dir", crate / "fmu",
+                "--no-fmi-crate"]
+    done = run(validate, cwd=crate)
+    assert re.search(r"^Spinner\s+small_swings\s+FMPy\s.*PASS$", done.stdout, re.M), done.stdout
+    page = zipfile.ZipFile(crate / "fmu" / "Spinner.fmu").read("documentation/index.html").decode()
+    assert "Moments about the pivot" in page, "the scaffold's NOTES reach the FMU's page"
+
+    (crate / "src" / "lib.rs").write_text(re.sub(r"\btheta\b", "phi", lib))
+    tests = subprocess.run(["cargo", "test", "--no-run", "--manifest-path", str(crate / "Cargo.toml")], cwd=crate,
+                           env=env, capture_output=True, text=True)
+    assert tests.returncode != 0 and "no field `theta`" in tests.stderr, tests.stderr[-2000:]
+    run(build, cwd=crate, env=env)
+    done = subprocess.run([str(a) for a in validate], cwd=crate, capture_output=True, text=True)
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert "Traceback" not in done.stderr and "KeyError" not in done.stdout + done.stderr, done.stderr
+    assert re.search(r"^Spinner\s+small_swings\s.*FAIL$", done.stdout, re.M), done.stdout
+    assert re.search(r"names .?theta.?, which Spinner.fmu does not have", done.stdout), done.stdout
 
 
 def test_scaffold_refuses_bad_names_and_existing_dirs(tmp_path):
@@ -52,7 +91,7 @@ def test_scaffold_refuses_bad_names_and_existing_dirs(tmp_path):
         done = subprocess.run([str(MECHFMU), "new", bad, "--path", str(tmp_path / bad)], capture_output=True, text=True)
         assert done.returncode != 0 and "UpperCamelCase" in done.stderr
     # names the crate's own code or cargo already takes: refused before anything is written
-    for taken in ["Self", "Fn", "Test", "Mechanism"]:
+    for taken in ["Self", "Fn", "Test", "Mechanism", "Harness"]:
         done = subprocess.run([str(MECHFMU), "new", taken, "--path", str(tmp_path / taken)], capture_output=True,
                               text=True)
         assert done.returncode != 0 and f"`{taken}` cannot name a mechanism" in done.stderr, done.stderr

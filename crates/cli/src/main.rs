@@ -1,13 +1,15 @@
 //! The `mechfmu` command. One module per subcommand (`build` with `list`, `inspect`, `new`,
 //! `validate`, `sweep`, `bench`, `interface` for `docs`); `workspace` finds mechanism crates,
 //! `package` writes the `.fmu` archive, `python` provisions the Python environment the
-//! validation and sweeps run in.
+//! validation and sweeps run in, `home` finds mechfmu's own files (the checkout's, or the
+//! copies an installed command carries).
 
 mod bench;
 mod binaries;
 mod build;
 mod extras;
 mod fmi3_names;
+mod home;
 mod inspect;
 mod interface;
 mod new;

@@ -20,7 +20,6 @@ pub struct Args {
 const CARGO_TOML: &str = include_str!("templates/Cargo.toml.tmpl");
 const LIB_RS: &str = include_str!("templates/lib.rs.tmpl");
 const TEST_RS: &str = include_str!("templates/test.rs.tmpl");
-const TEST_FMPY: &str = include_str!("templates/test_fmpy.py.tmpl");
 const CASES: &str = include_str!("templates/cases.py.tmpl");
 
 pub fn run(args: Args) -> Result<(), String> {
@@ -34,14 +33,14 @@ pub fn run(args: Args) -> Result<(), String> {
         ));
     }
     // The runtime and the test kit, from a git repository (cargo finds each package by
-    // name) or from the `crates/` of a checkout.
+    // name), from the `crates/` of a checkout, or from the installed command's copy of them.
     let dependency = |package: &str, folder: &str| -> Result<String, String> {
         Ok(match (&args.git, &args.mechfmu_path) {
             (Some(url), _) => format!("git = \"{url}\""),
             (None, _) => {
                 let tree = match &args.mechfmu_path {
                     Some(path) => absolute(path)?,
-                    None => crate::workspace::source_tree(),
+                    None => crate::home::root()?,
                 };
                 let crate_dir = tree.join("crates").join(folder);
                 if !crate_dir.join("Cargo.toml").is_file() {
@@ -64,11 +63,10 @@ pub fn run(args: Args) -> Result<(), String> {
             .replace("{{mechfmu_dependency}}", &runtime)
             .replace("{{testkit_dependency}}", &testkit)
     };
-    let files: [(PathBuf, String); 6] = [
+    let files: [(PathBuf, String); 5] = [
         (dir.join("Cargo.toml"), fill(CARGO_TOML)),
         (dir.join("src/lib.rs"), fill(LIB_RS)),
         (dir.join(format!("tests/{snake}.rs")), fill(TEST_RS)),
-        (dir.join("tests/test_fmpy.py"), fill(TEST_FMPY)),
         (dir.join("validation/cases.py"), fill(CASES)),
         (
             dir.join(".gitignore"),
@@ -81,13 +79,19 @@ pub fn run(args: Args) -> Result<(), String> {
     println!("created {} ({})", args.name, dir.display());
     println!("next:");
     println!("  cd {}", dir.display());
-    println!(
-        "  cargo test                                       # physics and conformance, in-process"
-    );
-    println!(
-        "  mechfmu build --manifest-path Cargo.toml --out fmu  # -> fmu/{}.fmu",
-        args.name
-    );
+    for (command, what) in [
+        ("cargo test", "physics and conformance, in-process"),
+        (
+            "mechfmu build --manifest-path Cargo.toml --out fmu",
+            &format!("fmu/{0}.fmu, fmu/fmi3/{0}.fmu", args.name),
+        ),
+        (
+            "mechfmu validate --manifest-path Cargo.toml --fmu-dir fmu",
+            "validation/cases.py under FMPy and others",
+        ),
+    ] {
+        println!("  {command:<58} # {what}");
+    }
     Ok(())
 }
 
@@ -136,7 +140,7 @@ fn check_name(name: &str) -> Result<(), String> {
 
 /// Type names a mechanism's struct cannot take: `Self`, the names Rust's prelude brings into
 /// every module (the struct would shadow them in the code `mechanism!` generates) and the
-/// ones the scaffold's `lib.rs` imports.
+/// ones the scaffold's `lib.rs` and tests import.
 const TAKEN_TYPE_NAMES: &[&str] = &[
     "Self",
     "Box",
@@ -181,6 +185,7 @@ const TAKEN_TYPE_NAMES: &[&str] = &[
     "Mechanism",
     "Scalar",
     "Variable",
+    "Harness",
 ];
 
 /// Crate names cargo refuses or that cannot be a folder on Windows: Rust's keywords (a

@@ -1,13 +1,20 @@
-//! The Python environment validation and sweeps run in: a venv under `target/venv` with
-//! the pinned packages of `tests/python/requirements.txt` and mechfmu's own Python packages
-//! (`python/`: `mechfmu_validate`, `mechfmu_sweep`) installed editable, created on first use.
+//! The Python environment validation and sweeps run in: a venv under `target/venv` of
+//! mechfmu's files ([`crate::home::root`]: the checkout, or the installed command's copy)
+//! with the pinned packages of `tests/python/requirements.txt` and mechfmu's own Python
+//! packages (`python/`: `mechfmu_validate`, `mechfmu_sweep`) installed editable, created on
+//! first use.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The venv's interpreter, under the workspace's `target/`.
 pub fn venv_python(workspace: &Path) -> PathBuf {
-    workspace.join("target/venv/bin/python")
+    let venv = workspace.join("target/venv");
+    if cfg!(windows) {
+        venv.join("Scripts/python.exe")
+    } else {
+        venv.join("bin/python")
+    }
 }
 
 /// Creates or updates the venv when its requirements or `python/pyproject.toml` changed (the
@@ -36,13 +43,13 @@ pub fn ensure_venv(workspace: &Path) -> Result<PathBuf, String> {
         return Ok(python);
     }
     eprintln!(
-        "setting up the Python environment in {} (first use; takes a minute) ...",
+        "setting up mechfmu's Python environment in {} (first use, about a minute) ...",
         venv.display()
     );
     if !python.exists() {
         run(
             Command::new("python3").arg("-m").arg("venv").arg(&venv),
-            "create the venv",
+            "create the venv with python3 (Python 3.11 or newer, with its venv module)",
         )?;
     }
     run(

@@ -122,13 +122,11 @@ pub fn run(args: Args) -> Result<(), String> {
     }
 }
 
-/// The repository holding `python/mechfmu_sweep` and `tests/python/requirements.txt` (whose
-/// venv gets the package installed): `MECHFMU_ROOT` if set, else the source tree this
-/// binary was built from.
+/// mechfmu's files holding `python/mechfmu_sweep` and `tests/python/requirements.txt` (whose
+/// venv gets the package installed): the checkout, the installed command's copy, or
+/// `MECHFMU_ROOT` if set.
 fn project_root() -> Result<PathBuf, String> {
-    let root = std::env::var_os("MECHFMU_ROOT")
-        .map(PathBuf::from)
-        .unwrap_or_else(crate::workspace::source_tree);
+    let root = crate::home::root()?;
     let package = root.join("python/mechfmu_sweep/__main__.py");
     if package.is_file() {
         Ok(root)

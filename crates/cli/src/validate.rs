@@ -9,11 +9,12 @@
 //! FMI 3.0 `.fmu` given on the command line is validated as such (its checks and the cases).
 //!
 //! The work is done by the Python package `mechfmu_validate` (in `python/` of mechfmu's
-//! source tree), installed in the venv that [`ensure_venv`](super::python::ensure_venv)
+//! files, [`crate::home::root`]: the checkout, or the installed command's copy), installed in
+//! the venv that [`ensure_venv`](super::python::ensure_venv)
 //! provisions (editable, so the venv's interpreter imports it as is). The
 //! fmi-crate importer is a separate executable, `mechfmu-fmi-run` (`tools/fmi-run`), which
-//! this command builds first (`cargo build --release -p mechfmu-fmi-run` in mechfmu's source
-//! tree; it needs libclang) and names to the Python side in `MECHFMU_FMI_RUN`. If it cannot
+//! this command builds first (`cargo build --release -p mechfmu-fmi-run` in mechfmu's files,
+//! a few minutes the first time; it needs libclang) and names to the Python side in `MECHFMU_FMI_RUN`. If it cannot
 //! be built, the command says why and goes on: the fmi-crate rows then fail.
 
 use super::workspace::{mechanism_crates, MechanismCrate};
@@ -38,6 +39,9 @@ pub struct Args {
     /// Write the results as JSON.
     #[arg(long, value_name = "FILE")]
     json: Option<PathBuf>,
+    /// Write the results as JUnit XML (one testcase per row of the table).
+    #[arg(long, value_name = "FILE")]
+    junit: Option<PathBuf>,
     /// Only the cases whose name contains this text (repeatable).
     #[arg(long = "case", value_name = "TEXT")]
     cases: Vec<String>,
@@ -57,13 +61,14 @@ pub struct Args {
     no_fmi3: bool,
 }
 
-/// mechfmu's own source tree: where `python/mechfmu_validate` and the pinned requirements are.
-fn home() -> PathBuf {
-    crate::workspace::source_tree()
+/// mechfmu's own files: where `python/mechfmu_validate`, the pinned requirements and
+/// `tools/fmi-run` are (the checkout, or the installed command's copy).
+fn home() -> Result<PathBuf, String> {
+    crate::home::root()
 }
 
 pub fn run(args: Args) -> Result<(), String> {
-    let home = home();
+    let home = home()?;
     if !home.join("python/mechfmu_validate/__init__.py").is_file() {
         return Err(format!(
             "mechfmu's Python package is not at {}/python/mechfmu_validate (run a mechfmu built from its source tree)",
@@ -125,6 +130,7 @@ pub fn run(args: Args) -> Result<(), String> {
         for (flag, value) in [
             ("--report", &args.report),
             ("--json", &args.json),
+            ("--junit", &args.junit),
             ("--readme", &args.readme),
         ] {
             if let Some(v) = value {
@@ -169,11 +175,18 @@ pub fn run(args: Args) -> Result<(), String> {
     let status = command
         .status()
         .map_err(|e| format!("cannot run {}: {e}", python.display()))?;
+    // the Python side's exit status: 1 after printing a table with FAIL rows (an FMU that
+    // cannot be opened is one of them), 3 when the validator itself failed
     match status.code() {
         Some(0) => Ok(()),
         Some(1) if !args.write_references => {
-            Err("validation failed (see FAIL in the table above)".into())
+            Err("validation failed (see the FAIL rows in the table above)".into())
         }
+        Some(1) => Err("writing the references failed (see the messages above)".into()),
+        Some(3) => Err(
+            "the validator failed (the traceback above): a bug of mechfmu's, not of the FMUs"
+                .into(),
+        ),
         _ => Err(format!("python -m mechfmu_validate ended with {status}")),
     }
 }
@@ -181,16 +194,28 @@ pub fn run(args: Args) -> Result<(), String> {
 /// The environment variable that names `mechfmu-fmi-run` to the Python side.
 const FMI_RUN_ENV: &str = "MECHFMU_FMI_RUN";
 
-/// Builds `mechfmu-fmi-run` (the fmi-crate importer, `tools/fmi-run`) in mechfmu's source
-/// tree, in release mode; returns the executable's path. A no-op when it is up to date.
+/// Builds `mechfmu-fmi-run` (the fmi-crate importer, `tools/fmi-run`) in mechfmu's files,
+/// in release mode; returns the executable's path. In a checkout, a no-op when it is up to
+/// date. The installed command's copy of the files never changes, so the importer built
+/// from it is kept where [`crate::home::kept_importer`] says and the build's own files
+/// (some 350 MB) are removed.
 fn build_fmi_run(home: &Path) -> Result<PathBuf, String> {
     let manifest = home.join("Cargo.toml");
-    let exe = target_dir(home)?
+    let kept = crate::home::kept_importer(home);
+    if let Some(kept) = kept.as_ref().filter(|k| k.is_file()) {
+        return Ok(kept.clone());
+    }
+    let target = if kept.is_some() {
+        home.join("target/fmi-run")
+    } else {
+        target_dir(home)?
+    };
+    let exe = target
         .join("release")
         .join(format!("mechfmu-fmi-run{}", std::env::consts::EXE_SUFFIX));
     if !exe.is_file() {
         eprintln!(
-            "building the fmi-crate importer (tools/fmi-run, first use; takes a minute or two) ..."
+            "building the fmi-crate importer (tools/fmi-run, first use; takes a few minutes) ..."
         );
     }
     let out = Command::new(super::workspace::cargo())
@@ -203,6 +228,8 @@ fn build_fmi_run(home: &Path) -> Result<PathBuf, String> {
             "--manifest-path",
         ])
         .arg(&manifest)
+        .arg("--target-dir")
+        .arg(&target)
         .current_dir(home)
         .output()
         .map_err(|e| format!("cannot run cargo to build the fmi-crate importer: {e}"))?;
@@ -230,7 +257,15 @@ fn build_fmi_run(home: &Path) -> Result<PathBuf, String> {
             exe.display()
         ));
     }
-    Ok(exe)
+    let Some(kept) = kept else {
+        return Ok(exe);
+    };
+    std::fs::create_dir_all(kept.parent().expect("in a folder"))
+        .and_then(|()| std::fs::rename(&exe, &kept))
+        .map_err(|e| format!("cannot move {} to {}: {e}", exe.display(), kept.display()))?;
+    // what is left is cargo's intermediate files, of no use for a copy that never changes
+    let _ = std::fs::remove_dir_all(&target);
+    Ok(kept)
 }
 
 /// The target directory of mechfmu's workspace: `$CARGO_TARGET_DIR` (relative to `home`

@@ -54,8 +54,8 @@ pub(crate) fn cargo() -> String {
     std::env::var("CARGO").unwrap_or_else(|_| "cargo".into())
 }
 
-/// The mechfmu source tree this binary was built from: the checkout holding `crates/` (the
-/// runtime and the test kit a new mechanism depends on) and `python/`.
+/// The mechfmu source tree this binary was built from (which may be gone since: where the
+/// command finds mechfmu's files is [`crate::home::root`]'s to say).
 pub(crate) fn source_tree() -> PathBuf {
     let tree = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     std::fs::canonicalize(&tree).unwrap_or(tree)

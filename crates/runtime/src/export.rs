@@ -18,8 +18,8 @@ use std::panic::catch_unwind;
 
 /// Exports a mechanism as an FMU: the 44 FMI 2.0 functions and the 75 FMI 3.0 functions
 /// (Model Exchange and Co-Simulation) under their C names, plus the extras of
-/// [`export`](crate::export). Checks the mechanism's event indicators and arrays at
-/// compile time.
+/// [`export`](crate::export). Checks the mechanism's event indicators, arrays and moving
+/// case at compile time.
 ///
 /// ```ignore
 /// mechfmu::export_fmu!(Oscillator);
@@ -34,6 +34,11 @@ macro_rules! export_fmu {
         const _: () = $crate::model::check_arrays(
             <$mechanism as $crate::model::Declaration>::VARIABLES,
             <$mechanism as $crate::model::Mechanism>::ARRAYS,
+        );
+        const _: () = $crate::model::check_moving_case(
+            <$mechanism as $crate::model::Declaration>::VARIABLES,
+            <$mechanism as $crate::model::Mechanism>::EXPERIMENT,
+            <$mechanism as $crate::model::Mechanism>::MOVING_CASE,
         );
 
         /// The C functions of this FMU.

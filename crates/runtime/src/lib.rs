@@ -35,5 +35,11 @@ pub mod simulation;
 pub mod solver;
 pub mod xml;
 
+/// What [`mechanism!`] reports its declaration errors with (at the variable's line, once).
+#[doc(hidden)]
+pub use mechfmu_macros::{
+    at_span as __at_span, source_text as __source_text, unique_variables as __unique_variables,
+};
+
 /// nalgebra, re-exported so mechanism crates use the same version as the runtime.
 pub use nalgebra;

@@ -79,6 +79,20 @@ fn interface_is_current() {
     mechfmu_testkit::golden::interface::<Crane>(env!("CARGO_MANIFEST_DIR"), env!("CARGO_PKG_NAME"));
 }
 
+/// The documentation says the default experiment stands still and plots the moving case
+/// instead: both must stay true of the declaration.
+#[test]
+fn the_default_experiment_stands_still_and_the_documented_case_moves() {
+    use mechfmu::model::Mechanism;
+    assert!(mechfmu::docs::default_experiment::<Crane>()
+        .unwrap()
+        .stands_still());
+    let case = Crane::MOVING_CASE.expect("a moving case");
+    let run = mechfmu::docs::moving_case::<Crane>(&case).unwrap();
+    assert!(!run.stands_still());
+    assert_eq!(run.stopped, None);
+}
+
 #[test]
 fn still_drives_swing_with_the_exact_pendulum_period() {
     for phi0_deg in [5.0f64, 45.0, 90.0] {

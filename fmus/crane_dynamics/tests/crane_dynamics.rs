@@ -34,6 +34,20 @@ fn interface_is_current() {
     );
 }
 
+/// The documentation says the default experiment stands still and plots the moving case
+/// instead: both must stay true of the declaration.
+#[test]
+fn the_default_experiment_stands_still_and_the_documented_case_moves() {
+    use mechfmu::model::Mechanism;
+    assert!(mechfmu::docs::default_experiment::<CraneDynamics>()
+        .unwrap()
+        .stands_still());
+    let case = CraneDynamics::MOVING_CASE.expect("a moving case");
+    let run = mechfmu::docs::moving_case::<CraneDynamics>(&case).unwrap();
+    assert!(!run.stands_still());
+    assert_eq!(run.stopped, None);
+}
+
 #[test]
 fn static_loads_hold_the_crane_at_rest() {
     for (x, theta) in [(10.0, 0.5), (4.0, -0.3), (17.0, 1.1)] {

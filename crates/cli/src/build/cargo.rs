@@ -6,11 +6,9 @@
 use super::Flavor;
 use crate::platform::Platform;
 use crate::workspace::{cargo, MechanismCrate};
-use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{BufRead, BufReader, IsTerminal};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
-use std::time::Duration;
 
 /// A shared library cargo built.
 pub(super) struct Library {
@@ -75,23 +73,31 @@ fn invoke(
         }
     }
     let tuples: Vec<&str> = platforms.iter().map(|p| p.tuple()).collect();
-    let progress = spinner(&format!(
-        "building {} crate(s) with cargo (release) for {}",
+    eprintln!(
+        "building {} crate(s) with cargo (release) for {} ...",
         crates.len(),
         tuples.join(", ")
-    ));
+    );
+    // On a terminal, cargo's own progress (its `Compiling` lines and status bar) shows what
+    // a first build spends its minutes on; elsewhere its messages are kept for a failure, so
+    // what this command prints stays the same from run to run.
+    let cargo_stderr = if std::io::stderr().is_terminal() {
+        Stdio::inherit()
+    } else {
+        Stdio::piped()
+    };
     let mut child = cmd
         .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
+        .stderr(cargo_stderr)
         .spawn()
         .map_err(|e| format!("cannot run cargo build: {e}"))?;
-    let stderr = child.stderr.take().expect("piped");
-    let stderr_thread = std::thread::spawn(move || {
-        let mut lines = Vec::new();
-        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
-            lines.push(line);
-        }
-        lines
+    let stderr_thread = child.stderr.take().map(|stderr| {
+        std::thread::spawn(move || {
+            BufReader::new(stderr)
+                .lines()
+                .map_while(Result::ok)
+                .collect::<Vec<String>>()
+        })
     });
     let mut libraries = Vec::new();
     for line in BufReader::new(child.stdout.take().expect("piped"))
@@ -103,12 +109,6 @@ fn invoke(
         };
         if msg["reason"] != "compiler-artifact" {
             continue;
-        }
-        if let Some(p) = &progress {
-            p.set_message(format!(
-                "compiled {}",
-                msg["target"]["name"].as_str().unwrap_or("")
-            ));
         }
         let Some(package) = package_name(msg["package_id"].as_str().unwrap_or(""), crates) else {
             continue;
@@ -135,12 +135,12 @@ fn invoke(
     let status = child
         .wait()
         .map_err(|e| format!("cargo build did not finish: {e}"))?;
-    let stderr = stderr_thread.join().unwrap_or_default();
-    if let Some(p) = progress {
-        p.finish_and_clear();
-    }
+    let stderr = stderr_thread.map(|t| t.join().unwrap_or_default());
     if !status.success() {
-        return Err(format!("cargo build failed:\n{}", stderr.join("\n")));
+        return Err(match stderr {
+            Some(lines) => format!("cargo build failed:\n{}", lines.join("\n")),
+            None => "cargo build failed (its messages are above)".into(),
+        });
     }
     Ok(libraries)
 }
@@ -171,20 +171,6 @@ fn package_name(package_id: &str, crates: &[MechanismCrate]) -> Option<String> {
                 || package_id.starts_with(&format!("{} ", c.package))
         })
         .map(|c| c.package.clone())
-}
-
-fn spinner(message: &str) -> Option<ProgressBar> {
-    if !std::io::stderr().is_terminal() {
-        eprintln!("{message} ...");
-        return None;
-    }
-    let p = ProgressBar::new_spinner();
-    p.set_style(
-        ProgressStyle::with_template("{spinner} {msg} [{elapsed}]").expect("valid template"),
-    );
-    p.set_message(message.to_string());
-    p.enable_steady_tick(Duration::from_millis(120));
-    Some(p)
 }
 
 #[cfg(test)]

@@ -1,11 +1,14 @@
 //! The documentation every FMU carries: `documentation/index.html`, rendered by the FMU's
 //! own binary (so the page and the binary cannot disagree) and packaged by `mechfmu build`.
 //!
-//! The page holds the mechanism's description, its equations and the notes on where it
-//! departs from the course notes ([`Mechanism::NOTES`]), the variable table (units,
+//! The page holds the mechanism's description, its equations (MathML) and the notes on
+//! where it departs from the course notes ([`Mechanism::NOTES`]), the variable table (units,
 //! defaults, bounds, causality), the Co-Simulation capabilities and a plot of the default
-//! experiment, run on the mechanism's [`Simulation`] (the steps `fmi2DoStep` takes) and
-//! drawn as inline SVG. Everything is deterministic: the same source gives the same bytes.
+//! experiment, run on the mechanism's [`Simulation`](crate::simulation::Simulation) (the
+//! steps `fmi2DoStep` takes) and drawn as inline SVG; when the default experiment stands
+//! still, the page says why and plots the mechanism's
+//! [`MovingCase`](crate::model::MovingCase) instead. Everything is deterministic: the same
+//! source gives the same bytes.
 //! The binary hands the page out through the `mechfmu_documentation` symbol
 //! ([`export`](crate::export)).
 //!
@@ -14,87 +17,20 @@
 //! (symbol `mechfmu_interface`).
 
 mod events;
+mod experiment;
 mod interface;
+mod math;
 mod notes;
 mod svg;
 mod tables;
 
 pub use events::{events, events_for};
-
+pub use experiment::{default_experiment, moving_case, Trajectory};
 pub use interface::interface;
 
 use crate::contract::{Version, CAPABILITIES};
-use crate::model::{Causality, Layout, Mechanism, Variable};
-use crate::simulation::{Simulation, StepFailure};
+use crate::model::Mechanism;
 use std::fmt::Write as _;
-
-/// The default experiment as run for the plot: times and the output variables' values.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Trajectory {
-    pub time: Vec<f64>,
-    /// (variable, values at `time`), in value-reference order.
-    pub signals: Vec<(&'static Variable, Vec<f64>)>,
-    /// Why the run ended before the stop time, if it did.
-    pub stopped: Option<String>,
-}
-
-/// Runs the default experiment of `M` on its simulation (start values as declared, inputs
-/// at their start values, the steps `fmi2DoStep` takes) and records the states it outputs
-/// (every output when it has no state) at every communication point.
-pub fn default_experiment<M: Mechanism>() -> Result<Trajectory, String> {
-    let e = M::EXPERIMENT;
-    let mut sim = Simulation::<M>::new(Layout::new(M::VARIABLES)?);
-    sim.setup(Some(e.tolerance), e.start)?;
-    sim.update()
-        .map_err(|m| format!("initialization failed: {m}"))?;
-    // the states an importer sees (outputs with a derivative); every output if there are none
-    let is_state = |v: &Variable| v.causality == Causality::Output && v.derivative.is_some();
-    let any_state = M::VARIABLES.iter().any(is_state);
-    let outputs: Vec<(u32, &'static Variable)> = M::VARIABLES
-        .iter()
-        .enumerate()
-        .filter(|(_, v)| {
-            if any_state {
-                is_state(v)
-            } else {
-                v.causality == Causality::Output
-            }
-        })
-        .map(|(i, v)| (i as u32, v))
-        .collect();
-    let vrs: Vec<u32> = outputs.iter().map(|(vr, _)| *vr).collect();
-    let mut row = vec![0.0; vrs.len()];
-    let mut time = Vec::new();
-    let mut columns: Vec<Vec<f64>> = vec![Vec::new(); vrs.len()];
-    let mut record = |sim: &mut Simulation<M>, t: f64| -> Result<(), String> {
-        sim.get_real(&vrs, &mut row)?;
-        time.push(t);
-        for (c, v) in columns.iter_mut().zip(&row) {
-            c.push(*v);
-        }
-        Ok(())
-    };
-    record(&mut sim, e.start)?;
-    let mut stopped = None;
-    let n = ((e.stop - e.start) / e.step).round() as u64;
-    for k in 0..n {
-        let t = e.start + k as f64 * e.step;
-        let h = (e.start + (k + 1) as f64 * e.step).min(e.stop) - t;
-        match sim.step(t, h) {
-            Ok(_) => record(&mut sim, t + h)?,
-            Err(StepFailure::Rejected(message)) => return Err(message),
-            Err(StepFailure::Stopped { time, message, .. }) => {
-                stopped = Some(format!("stopped at t = {time}: {message}"));
-                break;
-            }
-        }
-    }
-    Ok(Trajectory {
-        time,
-        signals: outputs.into_iter().map(|(_, v)| v).zip(columns).collect(),
-        stopped,
-    })
-}
 
 /// `documentation/index.html` of mechanism `M`'s FMI 2.0 FMU.
 pub fn documentation<M: Mechanism>() -> Result<String, String> {
@@ -108,7 +44,6 @@ pub fn documentation_fmi3<M: Mechanism>() -> Result<String, String> {
 }
 
 fn page<M: Mechanism>(version: Version) -> Result<String, String> {
-    let e = M::EXPERIMENT;
     let mut h = String::new();
     let name = escape(M::NAME);
     let (what, token) = match version {
@@ -147,32 +82,7 @@ fn page<M: Mechanism>(version: Version) -> Result<String, String> {
     h.push_str(&notes::render(&events_for::<M>(version)));
 
     h.push_str("<h2 id=\"experiment\">Default experiment</h2>\n");
-    let _ = writeln!(
-        h,
-        "<p>Start {} s, stop {} s, communication step {} s, relative tolerance {} \
-         (the <code>DefaultExperiment</code>); every parameter, start value and input at its \
-         default. The curves below are this FMU's own states, recorded at every \
-         communication point.</p>",
-        num(e.start),
-        num(e.stop),
-        num(e.step),
-        num(e.tolerance)
-    );
-    match default_experiment::<M>() {
-        Ok(run) => {
-            if let Some(why) = &run.stopped {
-                let _ = writeln!(h, "<p class=\"warn\">The run {}</p>", escape(why));
-            }
-            h.push_str(&svg::plot(&run));
-        }
-        Err(e) => {
-            let _ = writeln!(
-                h,
-                "<p class=\"warn\">The default experiment did not run: {}</p>",
-                escape(&e)
-            );
-        }
-    }
+    h.push_str(&experiment::section::<M>());
 
     h.push_str("<h2 id=\"variables\">Variables</h2>\n");
     match version {
@@ -222,6 +132,8 @@ pre { background: #f6f8fa; padding: 0.6rem 0.8rem; overflow-x: auto; border-radi
 table { border-collapse: collapse; font-size: 0.92em; } th, td { border: 1px solid #d0d7de; padding: 0.25rem 0.5rem; text-align: left; vertical-align: top; }
 th { background: #f6f8fa; } td.num { text-align: right; font-variant-numeric: tabular-nums; }
 .warn { color: #9a6700; } svg { width: 100%; max-width: 60rem; height: auto; }
+math[display=\"block\"] { margin: 0.8rem 0; overflow-x: auto; overflow-y: hidden; }
+mtable.equations > mtr > mtd { padding: 0.2em 0; } mtd.lhs { text-align: right; } mtd.rhs { text-align: left; }
 ";
 
 /// A number as Rust prints it (shortest round trip; exponent form when tiny or huge).

@@ -1,9 +1,11 @@
 //! A small Markdown subset for [`Mechanism::NOTES`](crate::model::Mechanism::NOTES) and
 //! descriptions: paragraphs (separated by a blank line), `## headings`, `- ` list items,
-//! code blocks (fenced with three backticks, or lines indented by four spaces: equations)
-//! and inline `code`, *emphasis* and **strong**. Everything else is text, HTML-escaped.
+//! code blocks fenced with three backticks, equations (lines indented by four spaces) and
+//! inline `code`, *emphasis* and **strong**. Equations, and inline code that reads as
+//! mathematics, become MathML ([`math`](super::math)); what it cannot read stays plain text
+//! (`<pre>`, `<code>`). Everything else is text, HTML-escaped.
 
-use super::escape;
+use super::{escape, math};
 
 /// HTML of `text`.
 pub fn render(text: &str) -> String {
@@ -38,6 +40,12 @@ pub fn render(text: &str) -> String {
         out.push_str(&escape(lines.join("\n").trim_end()));
         out.push_str("</pre>\n");
     }
+    fn flush_equations(out: &mut String, lines: &[&str]) {
+        match math::block(&lines.join("\n")) {
+            Some(mathml) => out.push_str(&mathml),
+            None => flush_code(out, lines),
+        }
+    }
 
     let text = dedent(text);
     for line in text.lines() {
@@ -59,7 +67,7 @@ pub fn render(text: &str) -> String {
                 indented.push("");
                 continue;
             }
-            flush_code(&mut out, &indented);
+            flush_equations(&mut out, &indented);
             indented.clear();
         }
         let t = line.trim();
@@ -93,7 +101,7 @@ pub fn render(text: &str) -> String {
         flush_code(&mut out, &block);
     }
     if !indented.is_empty() {
-        flush_code(&mut out, &indented);
+        flush_equations(&mut out, &indented);
     }
     flush_para(&mut out, &mut para);
     flush_list(&mut out, &mut list);
@@ -121,16 +129,14 @@ pub(super) fn dedent(text: &str) -> String {
         .join("\n")
 }
 
-/// Inline markup: `code`, **strong**, *emphasis*.
+/// Inline markup: `code` (an equation as MathML), **strong**, *emphasis*.
 fn inline(text: &str) -> String {
     let mut out = String::new();
     let mut rest = text;
     while !rest.is_empty() {
         if let Some(after) = rest.strip_prefix('`') {
             if let Some(end) = after.find('`') {
-                out.push_str("<code>");
-                out.push_str(&escape(&after[..end]));
-                out.push_str("</code>");
+                out.push_str(&code_span(&after[..end]));
                 rest = &after[end + 1..];
                 continue;
             }
@@ -160,4 +166,12 @@ fn inline(text: &str) -> String {
         rest = &rest[c.len_utf8()..];
     }
     out
+}
+
+/// An inline `code` span: inline MathML when it reads as mathematics, else `<code>`.
+fn code_span(code: &str) -> String {
+    math::is_math(code)
+        .then(|| math::inline(code))
+        .flatten()
+        .unwrap_or_else(|| format!("<code>{}</code>", escape(code)))
 }

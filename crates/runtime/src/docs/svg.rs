@@ -19,8 +19,9 @@ const COLORS: [&str; 10] = [
     "#bcbd22", "#17becf",
 ];
 
-/// The SVG of a run (an empty note when there is nothing to plot).
-pub fn plot(run: &Trajectory) -> String {
+/// The SVG of a run (an empty note when there is nothing to plot); `title` names it for
+/// assistive technology.
+pub fn plot(run: &Trajectory, title: &str) -> String {
     if run.time.len() < 2 || run.signals.is_empty() {
         return "<p><em>Nothing to plot.</em></p>\n".into();
     }
@@ -45,7 +46,8 @@ pub fn plot(run: &Trajectory) -> String {
     let _ = writeln!(
         s,
         "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 {WIDTH} {height:.0}\" width=\"{WIDTH}\" height=\"{height:.0}\" \
-         font-family=\"system-ui, sans-serif\" font-size=\"12\" role=\"img\" aria-label=\"Outputs of the default experiment\">"
+         font-family=\"system-ui, sans-serif\" font-size=\"12\" role=\"img\" aria-label=\"{}\">",
+        escape(title)
     );
     let _ = writeln!(s, "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>");
     let (x_ticks, x_dec) = ticks(t0, t1);

@@ -1,5 +1,5 @@
 use super::*;
-use crate::model::{Experiment, Scalar};
+use crate::model::{Experiment, MovingCase, Scalar, Variable};
 
 crate::mechanism! {
     /// A mass on a spring: m x'' + k x = 0.
@@ -61,7 +61,7 @@ fn documentation_is_complete_and_deterministic() {
         "<h1>Spring</h1>",
         "<svg",
         "</svg>",
-        "<pre>m x'' + k x = F</pre>",
+        "<math display=\"block\" alttext=\"m x'' + k x = F\"><mi>m</mi><msup><mi>x</mi><mo>″</mo></msup><mo>+</mo>",
         "<li>no damping;</li>",
         "<li><code>F</code> is held over a step.</li>",
         "<h3>Departures</h3>",
@@ -129,4 +129,166 @@ fn the_fmi3_page_shows_fmi3s_variables_calls_and_token() {
         !html.contains("fmi2"),
         "an FMI 2.0 name on the FMI 3.0 page"
     );
+}
+
+crate::mechanism! {
+    /// A pendulum: l φ'' = -g sin φ.
+    pub struct Pendulum / PendulumValues {
+        /// Length
+        l: Variable::parameter("m", 1.0).positive(),
+        /// Gravitational acceleration
+        g: Variable::parameter("m/s2", 9.81),
+        /// Angle from the downward vertical
+        phi: Variable::state("rad", 0.0, "phi_dot"),
+        /// Angular velocity
+        phi_dot: Variable::state("rad/s", 0.0, "phi_ddot"),
+        /// Angular acceleration
+        phi_ddot: Variable::output("rad/s2"),
+    }
+}
+
+const SWING: MovingCase = MovingCase {
+    name: "swing",
+    at_rest: "the pendulum hangs at rest",
+    shows: "the pendulum released from rest at 0.5 rad",
+    values: &[("phi", 0.5), ("l", 2.0)],
+    stop: None,
+};
+
+impl Mechanism for Pendulum {
+    const EXPERIMENT: Experiment = Experiment {
+        start: 0.0,
+        stop: 5.0,
+        step: 0.01,
+        tolerance: 1e-8,
+    };
+    const MOVING_CASE: Option<MovingCase> = Some(SWING);
+    fn evaluate<S: Scalar>(v: &mut PendulumValues<S>) {
+        v.phi_ddot = -v.g * crate::model::sin(v.phi) / v.l;
+    }
+}
+
+crate::mechanism! {
+    /// A free mass at rest: m x'' = F.
+    pub struct Rest / RestValues {
+        /// Push
+        F: Variable::input("N", 0.0),
+        /// Position
+        x: Variable::state("m", 0.0, "v"),
+        /// Velocity
+        v: Variable::state("m/s", 0.0, "a"),
+        /// Acceleration
+        a: Variable::output("m/s2"),
+    }
+}
+
+impl Mechanism for Rest {
+    const EXPERIMENT: Experiment = Experiment {
+        start: 0.0,
+        stop: 1.0,
+        step: 0.1,
+        tolerance: 1e-8,
+    };
+    fn evaluate<S: Scalar>(v: &mut RestValues<S>) {
+        v.a = v.F;
+    }
+}
+
+/// The `points` of every polyline of a page's plot.
+fn polylines(html: &str) -> Vec<Vec<(f64, f64)>> {
+    html.split("<polyline ")
+        .skip(1)
+        .map(|line| {
+            let points = line.split("points=\"").nth(1).expect("points");
+            points[..points.find('"').expect("closed")]
+                .split(' ')
+                .map(|p| {
+                    let (x, y) = p.split_once(',').expect("x,y");
+                    (x.parse().expect("x"), y.parse().expect("y"))
+                })
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn a_default_experiment_at_an_equilibrium_stands_still_to_the_last_bit() {
+    assert!(default_experiment::<Pendulum>().unwrap().stands_still());
+    assert!(default_experiment::<Rest>().unwrap().stands_still());
+    assert!(!default_experiment::<Spring>().unwrap().stands_still());
+    // one bit off is motion
+    let mut run = default_experiment::<Pendulum>().unwrap();
+    let last = run.signals[0].1.last_mut().unwrap();
+    *last = f64::from_bits(last.to_bits() + 1);
+    assert!(!run.stands_still());
+}
+
+#[test]
+fn the_moving_case_runs_on_the_simulation_with_its_values() {
+    let run = moving_case::<Pendulum>(&SWING).unwrap();
+    assert!(!run.stands_still());
+    let phi = &run.signals[0].1;
+    assert_eq!(phi[0], 0.5);
+    // it swings from 0.5 rad to -0.5 rad (between communication points) and back
+    let lowest = phi.iter().copied().fold(f64::INFINITY, f64::min);
+    assert!((lowest + 0.5).abs() < 1e-4, "{lowest}");
+    // a misspelled name is an error, not a silent default
+    let misspelled = MovingCase {
+        values: &[("ph", 0.5)],
+        ..SWING
+    };
+    let error = moving_case::<Pendulum>(&misspelled).unwrap_err();
+    assert!(error.contains("`ph` names no variable"), "{error}");
+    // its own stop time
+    let short = MovingCase {
+        stop: Some(1.0),
+        ..SWING
+    };
+    let run = moving_case::<Pendulum>(&short).unwrap();
+    assert_eq!((run.time.len(), run.time.last()), (101, Some(&1.0)));
+    let sentence = super::experiment::why_the_case::<Pendulum>(&short);
+    assert!(
+        sentence.ends_with("<code>l</code> = 2 m and stops at 1 s."),
+        "{sentence}"
+    );
+}
+
+#[test]
+fn a_page_whose_default_experiment_stands_still_says_why_and_plots_the_moving_case() {
+    let html = documentation::<Pendulum>().unwrap();
+    assert!(
+        html.contains(
+            "<p>In the default experiment the pendulum hangs at rest; this is an equilibrium, \
+             so every state keeps its start value. The plot below shows the case \
+             <code>swing</code> instead: the pendulum released from rest at 0.5 rad. It differs \
+             from the default experiment in <code>phi</code> = 0.5 rad and <code>l</code> = 2 m \
+             only."
+        ),
+        "{html}"
+    );
+    assert!(html.contains("aria-label=\"Outputs of the case swing\""));
+    let lines = polylines(&html);
+    assert_eq!(lines.len(), 2, "phi and phi_dot");
+    for line in &lines {
+        assert!(
+            line.iter().any(|p| p.1 != line[0].1),
+            "a flat line: {line:?}"
+        );
+    }
+    assert_eq!(html, documentation::<Pendulum>().unwrap(), "deterministic");
+}
+
+#[test]
+fn a_page_that_stands_still_without_a_moving_case_says_so() {
+    let html = documentation::<Rest>().unwrap();
+    assert!(html
+        .contains("<p>In the default experiment nothing moves: every state keeps its start value"));
+    assert!(html.contains("aria-label=\"Outputs of the default experiment\""));
+    assert!(polylines(&html)
+        .iter()
+        .all(|line| line.iter().all(|p| p.1 == line[0].1)));
+    // a page that moves says nothing of the kind
+    let html = documentation::<Spring>().unwrap();
+    assert!(!html.contains("In the default experiment"));
+    assert!(html.contains("The curves are this FMU's own states"));
 }

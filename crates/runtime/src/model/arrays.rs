@@ -9,6 +9,7 @@
 //! those of its other elements are then not variables of FMI 3.0.
 
 use super::layout::str_eq;
+use super::message::ConstMessage;
 use super::Variable;
 
 /// An array variable made of declared scalar variables.
@@ -69,11 +70,17 @@ pub const fn check_arrays(variables: &[Variable], arrays: &[Array]) {
     let mut a = 0;
     while a < arrays.len() {
         let array = &arrays[a];
+        let mut m = ConstMessage::new();
+        m.push("Mechanism::ARRAYS: array ")
+            .quoted(array.name)
+            .push(" ");
         if array.dimensions.is_empty() || array.is_empty() {
-            panic!("Mechanism::ARRAYS: an array has no dimension, or a dimension of 0");
+            m.push("has no dimension, or a dimension of 0");
+            panic!("{}", m.as_str());
         }
         if array.len() != array.elements.len() {
-            panic!("Mechanism::ARRAYS: an array's elements are not as many as its dimensions say");
+            m.push("lists a number of elements its dimensions do not give");
+            panic!("{}", m.as_str());
         }
         let mut e = 0;
         while e < array.elements.len() {
@@ -82,7 +89,10 @@ pub const fn check_arrays(variables: &[Variable], arrays: &[Array]) {
                 j += 1;
             }
             if j == variables.len() {
-                panic!("Mechanism::ARRAYS: an array element names no declared variable");
+                m.push("names ")
+                    .quoted(array.elements[e])
+                    .push(" as an element, but no variable has that name");
+                panic!("{}", m.as_str());
             }
             e += 1;
         }

@@ -1,5 +1,6 @@
 //! Where each kind of variable sits, derived once from a declaration.
 
+use super::checks::variable_mistake;
 use super::{Causality, Variability, Variable};
 
 /// The value references of each kind of variable, in declaration order.
@@ -16,8 +17,8 @@ pub struct Layout {
 }
 
 impl Layout {
-    /// Resolves a declaration; `Err` names the first problem (the macro also checks these at
-    /// compile time, see [`check_declaration`]).
+    /// Resolves a declaration; `Err` names the first problem (a name declared twice, or a
+    /// [`variable_mistake`], which the macro reports at compile time).
     pub fn new(variables: &[Variable]) -> Result<Self, String> {
         let mut layout = Layout {
             states: Vec::new(),
@@ -31,22 +32,14 @@ impl Layout {
             if variables[..vr].iter().any(|w| w.name == v.name) {
                 return Err(format!("variable `{}` is declared twice", v.name));
             }
+            if let Some(mistake) = variable_mistake(variables, vr, "") {
+                return Err(mistake.as_str().to_string());
+            }
             if let Some(der) = v.derivative {
-                let Some(d) = variables.iter().position(|w| w.name == der) else {
-                    return Err(format!(
-                        "state `{}` names `{der}` as its derivative, but no variable has that name",
-                        v.name
-                    ));
-                };
-                if d == vr {
-                    return Err(format!("state `{}` is its own derivative", v.name));
-                }
-                if variables[d].variability != Variability::Continuous {
-                    return Err(format!(
-                        "the derivative `{der}` of state `{}` must be continuous",
-                        v.name
-                    ));
-                }
+                let d = variables
+                    .iter()
+                    .position(|w| w.name == der)
+                    .expect("variable_mistake checked the derivative");
                 layout.states.push(vr);
                 layout.derivatives.push(d);
             }
@@ -67,7 +60,8 @@ impl Layout {
     }
 }
 
-pub(crate) const fn str_eq(a: &str, b: &str) -> bool {
+#[doc(hidden)]
+pub const fn str_eq(a: &str, b: &str) -> bool {
     let (a, b) = (a.as_bytes(), b.as_bytes());
     if a.len() != b.len() {
         return false;
@@ -98,10 +92,9 @@ pub const fn derivative_references<const N: usize>(variables: &[Variable]) -> [u
         while j < variables.len() && (j == i || !str_eq(variables[j].name, der)) {
             j += 1;
         }
-        if j == variables.len() {
-            panic!("mechanism!: a state's derivative names no other declared variable");
-        }
-        out[k] = j;
+        // a derivative that names no other variable is `check_variable`'s to report (once):
+        // the state itself stands in for it here
+        out[k] = if j == variables.len() { i } else { j };
         k += 1;
     }
     out
@@ -209,69 +202,6 @@ pub const fn selected_references<const N: usize>(
         panic!("mechanism!: variable count mismatch");
     }
     out
-}
-
-/// Compile-time check of a declaration, run by the `mechanism!` macro: a state must name an
-/// existing derivative variable, and every start value must satisfy its bounds.
-pub const fn check_declaration(variables: &[Variable]) {
-    let mut i = 0;
-    while i < variables.len() {
-        let v = &variables[i];
-        if let Some(der) = v.derivative {
-            let mut found = false;
-            let mut j = 0;
-            while j < variables.len() {
-                if str_eq(variables[j].name, der) && j != i {
-                    found = true;
-                }
-                j += 1;
-            }
-            if !found {
-                panic!("mechanism!: a state's derivative names no other declared variable");
-            }
-        }
-        if let (Some(start), Some(min)) = (v.start, v.min) {
-            if start < min || (v.positive && start <= min) {
-                panic!("mechanism!: a start value is below its variable's minimum");
-            }
-        }
-        if let (Some(start), Some(max)) = (v.start, v.max) {
-            if start > max {
-                panic!("mechanism!: a start value is above its variable's maximum");
-            }
-        }
-        i += 1;
-    }
-}
-
-/// Compile-time check of a mechanism's event indicators, run by `export_fmu!`: each names a
-/// declared continuous variable, once.
-pub const fn check_event_indicators(variables: &[Variable], indicators: &[&str]) {
-    let mut k = 0;
-    while k < indicators.len() {
-        let mut found = false;
-        let mut j = 0;
-        while j < variables.len() {
-            if str_eq(variables[j].name, indicators[k]) {
-                found = true;
-                if !matches!(variables[j].variability, Variability::Continuous) {
-                    panic!("Mechanism::EVENT_INDICATORS: an event indicator is not a continuous variable");
-                }
-            }
-            j += 1;
-        }
-        if !found {
-            panic!("Mechanism::EVENT_INDICATORS: an event indicator names no declared variable");
-        }
-        let mut i = 0;
-        while i < k {
-            if str_eq(indicators[i], indicators[k]) {
-                panic!("Mechanism::EVENT_INDICATORS: an event indicator is listed twice");
-            }
-            i += 1;
-        }
-        k += 1;
-    }
 }
 
 /// The value references of the event indicators `names`, in their order; `Err` names the

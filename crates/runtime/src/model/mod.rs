@@ -5,17 +5,28 @@
 //! references, GUID, FMI functions and documentation are all generated from these two.
 
 mod arrays;
+mod case;
+mod checks;
+mod declare;
 mod layout;
+mod message;
 mod scalar;
+pub mod units;
 mod values;
 mod variable;
 
 pub use arrays::{check_arrays, element_name, Array, Shaped, Shapes};
-pub use layout::{check_declaration, check_event_indicators, event_indicator_references, Layout};
+pub use case::{check_moving_case, MovingCase};
+pub use checks::{
+    check_declaration, check_event_indicators, check_variable, declaration_error, variable_mistake,
+};
 #[doc(hidden)]
 pub use layout::{
-    count_selected, derivative_references, derivatives_among_states, selected_references, Selection,
+    count_selected, derivative_references, derivatives_among_states, selected_references, str_eq,
+    Selection,
 };
+pub use layout::{event_indicator_references, Layout};
+pub use message::ConstMessage;
 pub use scalar::{cos, lit, sin, sin_cos, Scalar};
 #[doc(hidden)]
 pub use values::{copy_one_by_one, get_one_by_one, Fields};
@@ -186,6 +197,31 @@ pub trait Mechanism: Declaration {
     /// An array of states needs the array of their derivatives, in the same order. See
     /// [`Array`].
     const ARRAYS: &'static [Array] = &[];
+
+    /// A case that moves, for a mechanism whose default experiment stands still (an
+    /// equilibrium): the documentation says why it does ([`MovingCase::at_rest`]) and plots
+    /// this case instead of flat lines. A name that is not a variable settable before
+    /// initialization does not compile.
+    const MOVING_CASE: Option<MovingCase> = None;
+}
+
+/// The variable whose field `select` picks from a mechanism's values (`|v| &v.theta`). Tests
+/// and tools that name variables this way name them through the declaration: a misspelled or
+/// renamed variable does not compile, and rustc's error names it.
+///
+/// Panics when `select` returns a reference to something other than a variable's field.
+pub fn variable_of<M: Declaration>(
+    select: impl FnOnce(&M::Values<f64>) -> &f64,
+) -> &'static Variable {
+    let values = M::zeros::<f64>();
+    let field = select(&values);
+    let vr = values::reference_of(&values, field).unwrap_or_else(|| {
+        panic!(
+            "variable_of::<{}>: the selected value is not a variable of its values",
+            M::NAME
+        )
+    });
+    &M::VARIABLES[vr]
 }
 
 /// A complete evaluation at the point the values hold: [`Mechanism::evaluate`] (the
@@ -195,261 +231,4 @@ pub trait Mechanism: Declaration {
 pub fn evaluate_all<M: Mechanism, S: Scalar>(values: &mut M::Values<S>) {
     M::evaluate(values);
     M::outputs(values);
-}
-
-/// Declares a mechanism's variables: a unit struct implementing [`Declaration`] and a
-/// generic struct of named values for the equations.
-///
-/// Each field is one variable; its name is the variable name, its doc comment the
-/// description, its value a [`Variable`] constructor. Value references follow the order of
-/// declaration. A duplicate name does not compile.
-///
-/// ```
-/// use mechfmu::model::{Experiment, Mechanism, Scalar, Variable};
-///
-/// mechfmu::mechanism! {
-///     /// A mass falling under gravity.
-///     pub struct Fall / FallValues {
-///         /// Gravity
-///         g: Variable::parameter("m/s2", 9.81),
-///         /// Height
-///         h: Variable::state("m", 10.0, "v"),
-///         /// Vertical velocity
-///         v: Variable::state("m/s", 0.0, "a"),
-///         /// Vertical acceleration
-///         a: Variable::output("m/s2"),
-///     }
-/// }
-///
-/// impl Mechanism for Fall {
-///     const EXPERIMENT: Experiment = Experiment { start: 0.0, stop: 1.0, step: 0.01, tolerance: 1e-8 };
-///     fn evaluate<S: Scalar>(v: &mut FallValues<S>) {
-///         v.a = -v.g;
-///     }
-/// }
-/// ```
-///
-/// Mistakes in a declaration do not compile. A duplicate variable:
-///
-/// ```compile_fail
-/// use mechfmu::model::Variable;
-/// mechfmu::mechanism! {
-///     /// Twice x.
-///     pub struct Twice / TwiceValues {
-///         /// x
-///         x: Variable::parameter("m", 1.0),
-///         /// x again
-///         x: Variable::parameter("m", 2.0),
-///     }
-/// }
-/// ```
-///
-/// A state whose derivative names no variable:
-///
-/// ```compile_fail
-/// use mechfmu::model::Variable;
-/// mechfmu::mechanism! {
-///     /// A state without its rate.
-///     pub struct Lost / LostValues {
-///         /// Position
-///         x: Variable::state("m", 1.0, "x_dot"),
-///     }
-/// }
-/// ```
-///
-/// A start value outside its bounds:
-///
-/// ```compile_fail
-/// use mechfmu::model::Variable;
-/// mechfmu::mechanism! {
-///     /// A negative mass.
-///     pub struct Negative / NegativeValues {
-///         /// Mass
-///         m: Variable::parameter("kg", -1.0).positive(),
-///     }
-/// }
-/// ```
-#[macro_export]
-macro_rules! mechanism {
-    (
-        $(#[doc = $doc:literal])*
-        $vis:vis struct $name:ident / $values:ident {
-            $(
-                $(#[doc = $vdoc:literal])*
-                $var:ident : $decl:expr
-            ),* $(,)?
-        }
-    ) => {
-        $(#[doc = $doc])*
-        #[derive(Clone, Copy, Debug, Default)]
-        $vis struct $name;
-
-        #[doc = concat!("The values of every variable of [`", stringify!($name), "`], and the time.")]
-        #[derive(Clone, Copy, Debug, Default, PartialEq)]
-        #[allow(non_snake_case)]
-        // repr(C): the time, then the variables in value-reference order, without padding
-        // (all fields have the same type), so value reference `vr` is element `vr + 1`
-        // (`model::Fields`).
-        #[repr(C)]
-        $vis struct $values<S> {
-            /// Simulation time (s).
-            pub time: S,
-            $( $(#[doc = $vdoc])* pub $var: S, )*
-        }
-
-        const _: () = {
-            /// The time plus one value per variable.
-            const LEN: usize = 1 + <[&str]>::len(&[$(stringify!($var)),*]);
-
-            // SAFETY: `$values` is the repr(C) struct declared above: the time and one field
-            // per variable, every one of type S (`_fields_are_scalars` would not compile
-            // otherwise), LEN in all.
-            unsafe impl<S: $crate::model::Scalar> $crate::model::Fields<S> for $values<S> {
-                const LEN: usize = LEN;
-            }
-            #[allow(dead_code)]
-            fn _fields_are_scalars<S: $crate::model::Scalar>(v: $values<S>) -> [S; LEN] {
-                [v.time $(, v.$var)*]
-            }
-
-            impl<S: $crate::model::Scalar> $crate::model::ValueSet<S> for $values<S> {
-                #[inline]
-                fn time(&self) -> S { self.time }
-                #[inline]
-                fn set_time(&mut self, t: S) { self.time = t; }
-            }
-
-            const VARIABLES: &[$crate::model::Variable] = &[
-                $( $crate::model::Variable::named($decl, stringify!($var), concat!("" $(, $vdoc)*)), )*
-            ];
-            const _: () = $crate::model::check_declaration(VARIABLES);
-            const N_STATES: usize =
-                $crate::model::count_selected(VARIABLES, $crate::model::Selection::States);
-            const N_CONTINUOUS: usize =
-                $crate::model::count_selected(VARIABLES, $crate::model::Selection::Continuous);
-            const N_INPUTS: usize =
-                $crate::model::count_selected(VARIABLES, $crate::model::Selection::Inputs);
-            const N_CONTINUOUS_UNCHECKED: usize = $crate::model::count_selected(
-                VARIABLES,
-                $crate::model::Selection::ContinuousUnchecked,
-            );
-
-            impl $crate::model::Declaration for $name {
-                const NAME: &'static str = stringify!($name);
-                const DESCRIPTION: &'static str = concat!("" $(, $doc)*);
-                const VARIABLES: &'static [$crate::model::Variable] = VARIABLES;
-                type Values<S: $crate::model::Scalar> = $values<S>;
-                type State = [f64; N_STATES];
-                const STATES: &'static [usize] = &$crate::model::selected_references::<N_STATES>(
-                    VARIABLES,
-                    $crate::model::Selection::States,
-                );
-                const DERIVATIVES: &'static [usize] =
-                    &$crate::model::derivative_references::<N_STATES>(VARIABLES);
-                const DERIVATIVES_AMONG_STATES: &'static [Option<usize>] =
-                    &$crate::model::derivatives_among_states::<N_STATES>(VARIABLES);
-                const CONTINUOUS: &'static [usize] = &$crate::model::selected_references::<
-                    N_CONTINUOUS,
-                >(
-                    VARIABLES,
-                    $crate::model::Selection::Continuous,
-                );
-                const CONTINUOUS_UNCHECKED: &'static [usize] =
-                    &$crate::model::selected_references::<N_CONTINUOUS_UNCHECKED>(
-                        VARIABLES,
-                        $crate::model::Selection::ContinuousUnchecked,
-                    );
-                const INPUTS: &'static [usize] = &$crate::model::selected_references::<N_INPUTS>(
-                    VARIABLES,
-                    $crate::model::Selection::Inputs,
-                );
-
-                fn zeros<S: $crate::model::Scalar>() -> $values<S> {
-                    $values { time: S::zero(), $( $var: S::zero(), )* }
-                }
-
-                fn map_values<A: $crate::model::Scalar, B: $crate::model::Scalar>(
-                    v: &$values<A>,
-                    f: impl Fn(A) -> B,
-                ) -> $values<B> {
-                    $values { time: f(v.time), $( $var: f(v.$var), )* }
-                }
-            }
-        };
-    };
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{Declaration, ValueSet, Variable};
-
-    crate::mechanism! {
-        /// Three variables of each kind that matters to `ValueSet`.
-        pub struct Probe / ProbeValues {
-            /// a
-            a: Variable::parameter("m", 1.0),
-            /// b
-            b: Variable::state("m", 2.0, "c"),
-            /// c
-            c: Variable::output("m/s"),
-        }
-    }
-
-    #[test]
-    fn value_references_index_the_fields() {
-        let mut v = ProbeValues::<f64> {
-            time: 0.5,
-            a: 1.0,
-            b: 2.0,
-            c: 3.0,
-        };
-        assert_eq!(Probe::VARIABLES.len(), 3);
-        assert_eq!(
-            (0..4).map(|vr| v.get(vr)).collect::<Vec<_>>(),
-            [Some(1.0), Some(2.0), Some(3.0), None]
-        );
-        assert_eq!(v.get(usize::MAX), None);
-        assert!(v.set(1, 20.0));
-        assert!(!v.set(3, 9.0));
-        assert!(!v.set(usize::MAX, 9.0));
-        assert_eq!((v.time, v.a, v.b, v.c), (0.5, 1.0, 20.0, 3.0));
-        v.set_time(7.0);
-        assert_eq!(v.time(), 7.0);
-    }
-
-    #[test]
-    fn compile_time_references_follow_the_declaration() {
-        assert_eq!(Probe::STATES, [1]);
-        assert_eq!(Probe::DERIVATIVES, [2]);
-        assert_eq!(Probe::DERIVATIVES_AMONG_STATES, [None]);
-        // The parameter `a` is fixed; the state and the output are continuous.
-        assert_eq!(Probe::CONTINUOUS, [1, 2]);
-        // Both are the solver's: the state and its derivative.
-        assert_eq!(Probe::CONTINUOUS_UNCHECKED, [] as [usize; 0]);
-        assert_eq!(Probe::INPUTS, [] as [usize; 0]);
-    }
-
-    crate::mechanism! {
-        /// Inputs between other variables.
-        pub struct Driven / DrivenValues {
-            /// k
-            k: Variable::parameter("1", 1.0),
-            /// u
-            u: Variable::input("1", 0.0),
-            /// x
-            x: Variable::state("1", 0.0, "x_dot"),
-            /// w
-            w: Variable::input("1", 0.0),
-            /// x_dot
-            x_dot: Variable::output("1"),
-        }
-    }
-
-    #[test]
-    fn compile_time_inputs_are_the_layouts() {
-        assert_eq!(Driven::INPUTS, [1, 3]);
-        let layout = super::Layout::new(Driven::VARIABLES).unwrap();
-        assert_eq!(Driven::INPUTS, layout.inputs);
-        assert_eq!(Driven::STATES, layout.states);
-    }
 }

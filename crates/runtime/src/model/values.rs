@@ -78,6 +78,12 @@ pub fn set<S: Scalar, V: Fields<S>>(values: &mut V, vr: usize, value: S) -> bool
     }
 }
 
+/// The value reference of the field `field` refers to, if it is one of `values`' variables.
+pub fn reference_of<S: Scalar, V: Fields<S>>(values: &V, field: &S) -> Option<usize> {
+    let position = fields(values).iter().position(|f| std::ptr::eq(f, field))?;
+    position.checked_sub(1) // field 0 is the time
+}
+
 /// The values of `vrs` into `to`, each by an 8-byte load of its own (volatile: the compiler
 /// neither merges nor vectorizes them). Values stored one by one just before (by another
 /// call) are then forwarded from the stores, where a wider load across two of them would

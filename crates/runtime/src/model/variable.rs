@@ -153,7 +153,7 @@ impl Variable {
     }
 
     /// A continuous state, exposed as an output whose start value is its initial condition.
-    /// `derivative` names the variable that [`Mechanism::evaluate`] fills with its rate.
+    /// `derivative` names the variable that [`Mechanism::evaluate`](crate::model::Mechanism::evaluate) fills with its rate.
     pub const fn state(unit: &'static str, start: f64, derivative: &'static str) -> Self {
         let mut v = Self::base(
             Causality::Output,
@@ -166,8 +166,8 @@ impl Variable {
         v
     }
 
-    /// A continuous output computed by [`Mechanism::evaluate`] (or, when no derivative
-    /// needs it, by [`Mechanism::outputs`]).
+    /// A continuous output computed by [`Mechanism::evaluate`](crate::model::Mechanism::evaluate) (or, when no derivative
+    /// needs it, by [`Mechanism::outputs`](crate::model::Mechanism::outputs)).
     pub const fn output(unit: &'static str) -> Self {
         Self::base(
             Causality::Output,
@@ -178,7 +178,7 @@ impl Variable {
         )
     }
 
-    /// An internal continuous variable computed by [`Mechanism::evaluate`] (e.g. the rate of
+    /// An internal continuous variable computed by [`Mechanism::evaluate`](crate::model::Mechanism::evaluate) (e.g. the rate of
     /// a state that is not worth exposing as an output).
     pub const fn local(unit: &'static str) -> Self {
         Self::base(

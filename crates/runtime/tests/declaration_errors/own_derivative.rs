@@ -1,0 +1,11 @@
+use mechfmu::model::Variable;
+
+mechfmu::mechanism! {
+    /// A cart on a spring.
+    pub struct Cart / CartValues {
+        /// Position
+        x: Variable::state("m", 0.1, "x"),
+    }
+}
+
+fn main() {}
