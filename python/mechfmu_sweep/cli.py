@@ -31,6 +31,7 @@ from .design import (
     parse_param,
     parse_schedule,
 )
+from .results import ResultsWriter, read_results  # noqa: F401 (read_results: the package's API)
 from .runner import CaseSetup, Summary, parse_summary
 
 SETTABLE_TYPES = ("Real", "Integer", "Enumeration")
@@ -50,7 +51,8 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, help="seed of the random draws (default: a fresh one, reported)")
     p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, e.g. tcp://127.0.0.1:8786")
     p.add_argument("--workers", type=int, help="worker processes of the local cluster (default: one per core)")
-    p.add_argument("--chunk-size", type=int, help="cases per Dask task (default: about 8 tasks per worker, at most 16 cases)")
+    p.add_argument("--chunk-size", type=int,
+                   help="cases per Dask task (default: about 8 tasks per worker, at most 256 cases (native) or 16 (fmpy))")
     p.add_argument("--start-time", type=float, help="default: the FMU's DefaultExperiment, or 0")
     p.add_argument("--stop-time", type=float, help="default: the FMU's DefaultExperiment")
     p.add_argument("--output-interval", type=float,
@@ -68,6 +70,10 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot-x", metavar="NAME", help="the design column on the x axis (default: the first swept one)")
     p.add_argument("--plot-y", metavar="COLUMN", help="the summary on the y axis (default: the first --summary)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar or progress lines")
+    p.add_argument("--engine", choices=("native", "fmpy"),
+                   help="what runs the cases on the workers: native (`mechfmu sweep-worker`, no Python per "
+                        "step; the default where it can run) or fmpy (FMPy's FMU2Slave, the default with "
+                        "--scheduler); both give the same numbers")
     return p
 
 
@@ -343,47 +349,21 @@ class Plan:
 # Results
 
 
-def results_table(plan: Plan, rows: list[dict[str, Any]], meta: dict[str, Any]):
-    import pyarrow as pa
+def choose_engine(args: argparse.Namespace, plan: Plan) -> tuple[str, str | None]:
+    """The engine that runs the cases, and a note when it is not the one the user would
+    expect."""
+    from .native import unavailable
 
-    n = len(plan.design)
-    cols: dict[str, Any] = {"case": pa.array(np.arange(n), pa.int64())}
-    for j, c in enumerate(plan.design.columns):
-        cols[c] = pa.array(plan.design.values[:, j], pa.float64())
-    cols["status"] = pa.array([r["status"] for r in rows], pa.string())
-    cols["message"] = pa.array([r.get("message", "") for r in rows], pa.string())
-    for c in plan.setup.result_columns:
-        cols[c] = pa.array([float(r.get(c, math.nan)) for r in rows], pa.float64())
-    cols["elapsed_s"] = pa.array([float(r.get("elapsed_s", math.nan)) for r in rows], pa.float64())
-    cols["cpu_s"] = pa.array([float(r.get("cpu_s", math.nan)) for r in rows], pa.float64())
-    cols["worker"] = pa.array([r.get("worker", "") for r in rows], pa.string())
-    table = pa.table(cols)
-    return table.replace_schema_metadata({"mechfmu_sweep": json.dumps(meta)})
-
-
-def write_results(table, out: Path | None) -> None:
-    import pyarrow.csv as pcsv
-    import pyarrow.parquet as pq
-
-    if out is None:
-        sink = sys.stdout.buffer
-        pcsv.write_csv(table, sink)
-        sink.flush()
-        return
-    out.parent.mkdir(parents=True, exist_ok=True)
-    if out.suffix.lower() == ".parquet":
-        pq.write_table(table, out)
-    else:
-        pcsv.write_csv(table, out)
-
-
-def read_results(path: Path | str):
-    """The results file as a pyarrow Table (the sweep's settings in its metadata for Parquet)."""
-    import pyarrow.csv as pcsv
-    import pyarrow.parquet as pq
-
-    path = Path(path)
-    return pq.read_table(path) if path.suffix.lower() == ".parquet" else pcsv.read_csv(path)
+    if args.engine == "fmpy":
+        return "fmpy", None
+    if args.engine is None and args.scheduler:
+        return "fmpy", "an existing cluster runs the FMPy engine (--engine native needs `mechfmu` on its workers)"
+    reason = unavailable(args.fmu, plan.setup)
+    if reason is None:
+        return "native", None
+    if args.engine == "native":
+        raise SpecError(f"--engine native: {reason}")
+    return "fmpy", f"the FMPy engine runs the cases: the native one cannot ({reason})"
 
 
 # ---------------------------------------------------------------------------------------
@@ -401,34 +381,42 @@ def main(argv: Sequence[str] | None = None) -> int:
     from .engine import run_on_dask
 
     try:
+        engine, note = choose_engine(args, plan)
+    except SpecError as e:
+        print(f"mechfmu sweep: error: {e}", file=sys.stderr)
+        return 2
+    try:
         fmu_bytes = args.fmu.read_bytes()
     except OSError as e:
         print(f"mechfmu sweep: error: cannot read {args.fmu}: {e}", file=sys.stderr)
         return 1
     sha = hashlib.sha256(fmu_bytes).hexdigest()
     meta = plan.metadata(sha)
+    meta["engine"] = engine
     n = len(plan.design)
     seed_note = f", seed {plan.design.seed}" if plan.design.seed is not None else ""
     progress = not args.no_progress
     if progress:
         print(f"sweep {plan.model}: {n} cases ({', '.join(f'{s.name}={s.text}' for s in plan.specs)}{seed_note}), "
-              f"t = {plan.setup.start_time:g}..{plan.setup.stop_time:g} s every {plan.setup.output_interval:g} s",
-              file=sys.stderr)
+              f"t = {plan.setup.start_time:g}..{plan.setup.stop_time:g} s every {plan.setup.output_interval:g} s, "
+              f"{engine} engine", file=sys.stderr)
+    if note:
+        print(f"  note: {note}", file=sys.stderr)
     t0 = time.perf_counter()
     try:
+        writer = ResultsWriter(plan.design, plan.setup.result_columns, meta, args.out, keep=args.plot is not None)
         run = run_on_dask(fmu_bytes, plan.setup, plan.design, scheduler=args.scheduler, workers=args.workers,
-                          chunk_size=args.chunk_size, progress=progress)
+                          chunk_size=args.chunk_size, progress=progress, engine=engine, on_rows=writer.add)
     except KeyboardInterrupt:
-        print("mechfmu sweep: interrupted; nothing written", file=sys.stderr)
+        print("mechfmu sweep: interrupted; the results are incomplete", file=sys.stderr)
         return 130
     except Exception as e:  # noqa: BLE001 - the machinery failed: say so, exit 1
         print(f"mechfmu sweep: error: the sweep could not run: {type(e).__name__}: {e}", file=sys.stderr)
         return 1
     meta.update(workers=run.workers, chunk_size=run.chunk_size, wall_s=run.wall_s, scheduler=run.address,
                 shipped_package=run.shipped_package)
-    table = results_table(plan, run.rows, meta)
     try:
-        write_results(table, args.out)
+        table = writer.close(meta)
         if args.plot is not None:
             from .plot import plot_sweep
 
@@ -437,19 +425,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"mechfmu sweep: error: cannot write the results: {type(e).__name__}: {e}", file=sys.stderr)
         return 1
 
-    statuses = [r["status"] for r in run.rows]
-    counts = {s: statuses.count(s) for s in dict.fromkeys(statuses)}
+    counts = writer.counts
     total = time.perf_counter() - t0
     print(f"swept {n} cases in {run.wall_s:.2f} s ({n / max(run.wall_s, 1e-9):.1f} cases/s) on {run.workers} "
           f"worker{'s' if run.workers != 1 else ''} ({total:.1f} s with the cluster's start): "
           + ", ".join(f"{k} {v}" for k, v in counts.items()), file=sys.stderr)
-    failed = [r for r in run.rows if r["status"] not in ("ok", "warning")]
-    for r in failed[:5]:
+    for r in writer.failed:
         case = plan.design.case(r["case"])
         print(f"  case {r['case']} ({', '.join(f'{k}={v:g}' for k, v in case.items())}): {r['status']}: "
               f"{r['message']}", file=sys.stderr)
-    if len(failed) > 5:
-        print(f"  ... and {len(failed) - 5} more failed cases (see the status column)", file=sys.stderr)
+    if writer.n_failed > len(writer.failed):
+        print(f"  ... and {writer.n_failed - len(writer.failed)} more failed cases (see the status column)",
+              file=sys.stderr)
     for e in run.errors[:3]:
         print(f"  note: {e}", file=sys.stderr)
     where = f" to {args.out}" if args.out else ""

@@ -566,17 +566,24 @@ except Exception:  # pragma: no cover
 
 
 class SweepPlugin(WorkerPlugin):  # type: ignore[misc]
-    """Installed on every worker of the sweep: extracts the FMU once (``setup``) and frees
-    the instances and the extracted files when the sweep ends (``teardown``)."""
+    """Installed on every worker of the sweep: extracts the FMU once (``setup``), for the
+    FMPy engine (``Runtime``) or the native one (``native.NativeRuntime``), and frees the
+    instances, the native runner and the extracted files when the sweep ends (``teardown``)."""
 
-    def __init__(self, name: str, fmu_bytes: bytes, setup: CaseSetup):
+    def __init__(self, name: str, fmu_bytes: bytes, setup: CaseSetup, engine: str = "fmpy"):
         self.name = name
         self.fmu_bytes = fmu_bytes
         self.case_setup = setup
-        self.runtime: Runtime | None = None
+        self.engine = engine
+        self.runtime = None
 
     def setup(self, worker=None):
-        self.runtime = Runtime(self.fmu_bytes, self.case_setup)
+        if self.engine == "native":
+            from .native import NativeRuntime
+
+            self.runtime = NativeRuntime(self.fmu_bytes, self.case_setup)
+        else:
+            self.runtime = Runtime(self.fmu_bytes, self.case_setup)
 
     def teardown(self, worker=None):
         if self.runtime is not None:

@@ -7,7 +7,9 @@
 mod bench;
 mod binaries;
 mod build;
+mod cpu_clock;
 mod extras;
+mod fmi2_library;
 mod fmi3_names;
 mod home;
 mod inspect;
@@ -17,6 +19,7 @@ mod package;
 mod platform;
 mod python;
 mod sweep;
+mod sweep_worker;
 mod validate;
 mod workspace;
 
@@ -70,6 +73,9 @@ enum Cmd {
     New(new::Args),
     /// Run a parameter sweep of an FMU on Dask.
     Sweep(sweep::Args),
+    /// The native engine of `sweep`: runs chunks of cases fed over stdin (internal).
+    #[command(hide = true)]
+    SweepWorker,
     /// Validate FMUs: FMPy's and mechfmu's checks, the reference cases under FMPy and libcosim.
     Validate(validate::Args),
 }
@@ -77,6 +83,7 @@ enum Cmd {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Cmd::SweepWorker => return sweep_worker::run(),
         Cmd::Build {
             names,
             out,

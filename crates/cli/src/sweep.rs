@@ -93,6 +93,11 @@ pub struct Args {
     /// No progress bar or progress lines.
     #[arg(long)]
     no_progress: bool,
+    /// What runs the cases: `native` (this command's compiled case runner, no Python per
+    /// step; the default where it can run) or `fmpy` (FMPy, the default with --scheduler).
+    /// Both give the same numbers.
+    #[arg(long, value_name = "ENGINE", value_parser = ["native", "fmpy"])]
+    engine: Option<String>,
 }
 
 pub fn run(args: Args) -> Result<(), String> {
@@ -111,6 +116,10 @@ pub fn run(args: Args) -> Result<(), String> {
     let python = super::python::ensure_venv(&root)?;
     let mut cmd = Command::new(&python);
     cmd.arg("-m").arg("mechfmu_sweep").args(python_args(&args));
+    // the native engine's workers run `<this executable> sweep-worker`
+    if let Ok(exe) = std::env::current_exe() {
+        cmd.env(EXE_ENV, exe);
+    }
     let status = cmd
         .status()
         .map_err(|e| format!("cannot run {}: {e}", python.display()))?;
@@ -121,6 +130,9 @@ pub fn run(args: Args) -> Result<(), String> {
         _ => Err(format!("the sweep failed ({status})")),
     }
 }
+
+/// The environment variable naming this executable to the Python side (`native.py`).
+const EXE_ENV: &str = "MECHFMU_EXE";
 
 /// mechfmu's files holding `python/mechfmu_sweep` and `tests/python/requirements.txt` (whose
 /// venv gets the package installed): the checkout, the installed command's copy, or
@@ -169,6 +181,7 @@ fn python_args(a: &Args) -> Vec<OsString> {
         ),
         ("tolerance", a.tolerance.map(|x| format!("{x:?}"))),
         ("scheduler", a.scheduler.clone()),
+        ("engine", a.engine.clone()),
         ("plot-x", a.plot_x.clone()),
         ("plot-y", a.plot_y.clone()),
     ];

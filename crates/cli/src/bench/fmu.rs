@@ -1,9 +1,12 @@
 //! A built FMU loaded the way an importer loads it: the `.so` from the `.fmu` archive through
-//! `libloading`, the FMI functions by their C names, the variables from its
-//! modelDescription.xml. Nothing of the mechanism's Rust crate is linked.
+//! `libloading` ([`crate::fmi2_library`]), the FMI functions by their C names, the variables
+//! from its modelDescription.xml. Nothing of the mechanism's Rust crate is linked.
 
 #![allow(non_upper_case_globals)]
 
+use crate::fmi2_library::{
+    self, CoSimulation, Component, GetStates, NewDiscreteStates, SetStates, SetTime,
+};
 use mechfmu::fmi2::ffi::*;
 use mechfmu_testkit::harness::MessageLog;
 use quick_xml::events::Event;
@@ -165,47 +168,6 @@ pub fn extract(fmu: &Path, dir: &Path) -> Result<(PathBuf, PathBuf), String> {
     Ok((so_path, xml_path))
 }
 
-type Instantiate = unsafe extern "C" fn(
-    fmi2String,
-    fmi2Type,
-    fmi2String,
-    fmi2String,
-    *const fmi2CallbackFunctions,
-    fmi2Boolean,
-    fmi2Boolean,
-) -> fmi2Component;
-type FreeInstance = unsafe extern "C" fn(fmi2Component);
-type SetupExperiment = unsafe extern "C" fn(
-    fmi2Component,
-    fmi2Boolean,
-    fmi2Real,
-    fmi2Real,
-    fmi2Boolean,
-    fmi2Real,
-) -> fmi2Status;
-type Component = unsafe extern "C" fn(fmi2Component) -> fmi2Status;
-type GetReal = unsafe extern "C" fn(
-    fmi2Component,
-    *const fmi2ValueReference,
-    usize,
-    *mut fmi2Real,
-) -> fmi2Status;
-type SetReal = unsafe extern "C" fn(
-    fmi2Component,
-    *const fmi2ValueReference,
-    usize,
-    *const fmi2Real,
-) -> fmi2Status;
-/// `fmi2DoStep`.
-pub type DoStep =
-    unsafe extern "C" fn(fmi2Component, fmi2Real, fmi2Real, fmi2Boolean) -> fmi2Status;
-/// `fmi2SetTime`.
-pub type SetTime = unsafe extern "C" fn(fmi2Component, fmi2Real) -> fmi2Status;
-/// `fmi2SetContinuousStates`.
-pub type SetStates = unsafe extern "C" fn(fmi2Component, *const fmi2Real, usize) -> fmi2Status;
-/// `fmi2GetContinuousStates`, `fmi2GetDerivatives`.
-pub type GetStates = unsafe extern "C" fn(fmi2Component, *mut fmi2Real, usize) -> fmi2Status;
-type NewDiscreteStates = unsafe extern "C" fn(fmi2Component, *mut fmi2EventInfo) -> fmi2Status;
 type Counters = unsafe extern "C" fn(fmi2Component, *mut u64, usize) -> usize;
 type Bench = unsafe extern "C" fn(fmi2Component, u32, u64, fmi2Real) -> fmi2Status;
 
@@ -213,15 +175,8 @@ type Bench = unsafe extern "C" fn(fmi2Component, u32, u64, fmi2Real) -> fmi2Stat
 /// stay valid as long as the [`Binary`] holding them (and so the library) lives.
 #[derive(Clone, Copy)]
 pub struct Functions {
-    instantiate: Instantiate,
-    free_instance: FreeInstance,
-    setup_experiment: SetupExperiment,
-    enter_initialization_mode: Component,
-    exit_initialization_mode: Component,
-    reset: Component,
-    pub get_real: GetReal,
-    pub set_real: SetReal,
-    pub do_step: DoStep,
+    /// The FMI 2.0 Co-Simulation functions.
+    pub cs: CoSimulation,
     /// mechfmu's own (not FMI): work counters and the parts of a step alone. Absent in
     /// binaries built before they existed.
     counters: Option<Counters>,
@@ -257,34 +212,18 @@ impl Binary {
         let text = std::fs::read_to_string(xml)
             .map_err(|e| format!("cannot read {}: {e}", xml.display()))?;
         let description = Description::parse(&text)?;
-        // SAFETY: loading an FMU binary runs its initializers; ours are Rust's (none).
-        let library = unsafe { libloading::Library::new(so) }
-            .map_err(|e| format!("cannot load {}: {e}", so.display()))?;
-        macro_rules! get {
-            ($name:literal) => {
-                // SAFETY: the FMI 2.0 symbol has the signature of the standard's header.
-                *unsafe { library.get(concat!($name, "\0").as_bytes()) }
-                    .map_err(|e| format!("{}: no {}: {e}", so.display(), $name))?
-            };
-        }
+        let library = fmi2_library::open(so)?;
         macro_rules! optional {
             ($name:literal) => {
-                // SAFETY: mechfmu's own symbols, with the signatures of `export_fmu!`.
+                // SAFETY: mechfmu's own symbols, with the signatures of `export_fmu!`, and
+                // FMI 2.0 functions, typed as the standard's header declares them.
                 unsafe { library.get(concat!($name, "\0").as_bytes()) }
                     .ok()
                     .map(|s| *s)
             };
         }
         let functions = Functions {
-            instantiate: get!("fmi2Instantiate"),
-            free_instance: get!("fmi2FreeInstance"),
-            setup_experiment: get!("fmi2SetupExperiment"),
-            enter_initialization_mode: get!("fmi2EnterInitializationMode"),
-            exit_initialization_mode: get!("fmi2ExitInitializationMode"),
-            reset: get!("fmi2Reset"),
-            get_real: get!("fmi2GetReal"),
-            set_real: get!("fmi2SetReal"),
-            do_step: get!("fmi2DoStep"),
+            cs: CoSimulation::load(&library, so)?,
             counters: optional!("mechfmu_counters"),
             bench: optional!("mechfmu_bench"),
             me: (|| {
@@ -345,7 +284,7 @@ impl<'a> Instance<'a> {
         let guid = CString::new(d.guid.as_str()).unwrap_or_default();
         // SAFETY: valid strings; callbacks and log outlive the instance (freed in Drop).
         let component = unsafe {
-            (binary.functions.instantiate)(
+            (binary.functions.cs.instantiate)(
                 name.as_ptr(),
                 fmu_type,
                 guid.as_ptr(),
@@ -399,7 +338,7 @@ impl<'a> Instance<'a> {
         values: &[(u32, f64)],
         reset: bool,
     ) -> Result<(), String> {
-        let f = self.binary.functions;
+        let f = self.binary.functions.cs;
         // SAFETY: a live component of this binary; arrays of the stated lengths.
         unsafe {
             if reset {
@@ -467,7 +406,7 @@ impl<'a> Instance<'a> {
     #[inline]
     pub fn do_step(&mut self, t: f64, h: f64) -> fmi2Status {
         // SAFETY: a live component of this binary.
-        unsafe { (self.binary.functions.do_step)(self.component, t, h, fmi2True) }
+        unsafe { (self.binary.functions.cs.do_step)(self.component, t, h, fmi2True) }
     }
 
     #[inline]
@@ -475,7 +414,7 @@ impl<'a> Instance<'a> {
         debug_assert_eq!(vr.len(), out.len());
         // SAFETY: a live component; arrays of the same length.
         unsafe {
-            (self.binary.functions.get_real)(
+            (self.binary.functions.cs.get_real)(
                 self.component,
                 vr.as_ptr(),
                 vr.len(),
@@ -489,7 +428,12 @@ impl<'a> Instance<'a> {
         debug_assert_eq!(vr.len(), values.len());
         // SAFETY: a live component; arrays of the same length.
         unsafe {
-            (self.binary.functions.set_real)(self.component, vr.as_ptr(), vr.len(), values.as_ptr())
+            (self.binary.functions.cs.set_real)(
+                self.component,
+                vr.as_ptr(),
+                vr.len(),
+                values.as_ptr(),
+            )
         }
     }
 
@@ -523,7 +467,7 @@ pub use mechfmu::simulation::Part;
 impl Drop for Instance<'_> {
     fn drop(&mut self) {
         // SAFETY: live, freed once.
-        unsafe { (self.binary.functions.free_instance)(self.component) }
+        unsafe { (self.binary.functions.cs.free_instance)(self.component) }
     }
 }
 

@@ -11,6 +11,8 @@
  * Built with gcc at test time. Compile-time switches make the broken variants the tests need:
  *   -DREFUSE_INSTANTIATE   fmi2Instantiate returns NULL
  *   -DFAIL_AT=2.0          fmi2DoStep fails (fmi2Error) from t = 2.0 on
+ *   -DCRASH_IF_NEGATIVE_Y0 fmi2DoStep writes through a NULL pointer when y0 < 0 (an FMU that
+ *                          crashes its importer's process, for the sweep's native runner)
  */
 
 #include <math.h>
@@ -117,6 +119,12 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean noSet
     if (t + h > FAIL_AT) {
         say(i, fmi2Error, "FirstOrder was built to fail here (FAIL_AT)");
         return fmi2Error;
+    }
+#endif
+#ifdef CRASH_IF_NEGATIVE_Y0
+    if (i->v[VR_Y0] < 0) {
+        volatile int *nowhere = NULL;
+        *nowhere = 1;
     }
 #endif
     double u = i->v[VR_U], y = i->v[VR_Y], tau = i->v[VR_TAU], decay = exp(-h / tau);
