@@ -52,7 +52,7 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, e.g. tcp://127.0.0.1:8786")
     p.add_argument("--workers", type=int, help="worker processes of the local cluster (default: one per core)")
     p.add_argument("--chunk-size", type=int,
-                   help="cases per Dask task (default: about 8 tasks per worker, at most 256 cases (native) or 16 (fmpy))")
+                   help="cases per Dask task (default: about 8 tasks per worker, at most 512 cases (native) or 16 (fmpy))")
     p.add_argument("--start-time", type=float, help="default: the FMU's DefaultExperiment, or 0")
     p.add_argument("--stop-time", type=float, help="default: the FMU's DefaultExperiment")
     p.add_argument("--output-interval", type=float,

@@ -20,8 +20,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
+import numpy as np
+
 from .design import Design
-from .runner import CaseSetup, SweepPlugin, run_chunk
+from .runner import CaseSetup, SweepPlugin, rows_of, run_chunk
 
 PACKAGE_DIR = Path(__file__).resolve().parent
 
@@ -46,8 +48,8 @@ def default_workers() -> int:
 
 
 # The most cases a task takes: enough that the scheduler's few milliseconds per task are a
-# small part of it (16 FMPy cases take ~50 ms; as many native ones, ~5 ms).
-MAX_CHUNK = {"fmpy": 16, "native": 256}
+# small part of it (16 FMPy cases take ~50 ms; 512 native ones, ~100 ms).
+MAX_CHUNK = {"fmpy": 16, "native": 512}
 
 
 def default_chunk_size(n_cases: int, n_workers: int, engine: str = "fmpy") -> int:
@@ -189,7 +191,10 @@ def run_on_dask(
                 shipped = True
             finally:
                 os.unlink(path)
-        client.register_plugin(SweepPlugin(plugin_name, fmu_bytes, setup, engine), name=plugin_name)
+        from .native import find_worker
+
+        plugin = SweepPlugin(plugin_name, fmu_bytes, setup, engine, exe=find_worker())
+        client.register_plugin(plugin, name=plugin_name)
 
         n = len(design)
         cs = chunk_size or default_chunk_size(n, n_workers, engine)
@@ -201,13 +206,13 @@ def run_on_dask(
             probe("start")  # measurements (bench.py): the cluster is up, nothing submitted
         t_submit = time.perf_counter()
         starts = iter(range(0, n, cs))
-        chunk_of: dict[str, list[tuple[int, list[float]]]] = {}
+        chunk_of: dict[str, tuple[int, int]] = {}  # task key -> (first case, number of cases)
 
         def submit(first: int):
-            chunk = [(i, [float(v) for v in design.values[i]]) for i in range(first, min(first + cs, n))]
+            values = np.ascontiguousarray(design.values[first:first + cs], dtype=float)
             key = f"{plugin_name}-chunk-{first}"
-            chunk_of[key] = chunk
-            return client.submit(run_chunk, plugin_name, chunk, pure=False, key=key)
+            chunk_of[key] = (first, len(values))
+            return client.submit(run_chunk, plugin_name, first, values, pure=False, key=key)
 
         # enough chunks in flight to keep every worker busy, few enough that their cases and
         # rows stay a small part of memory however large the design (also when a slow chunk
@@ -227,16 +232,18 @@ def run_on_dask(
 
         fill()
         for future, result in pending:
-            chunk = chunk_of.pop(future.key)
+            first, count = chunk_of.pop(future.key)
             if isinstance(result, BaseException) or future.status != "finished":
                 # the task itself died (a worker killed by a crashing FMU, ...)
                 exc = result if isinstance(result, BaseException) else future.exception()
                 message = f"{type(exc).__name__}: {exc}"
                 errors.append(message)
-                result = [{"case": i, "status": "crashed", "message": message} for i, _ in chunk]
+                result = [{"case": i, "status": "crashed", "message": message} for i in range(first, first + count)]
+            else:
+                result = rows_of(result)
             future.release()
             running -= 1
-            in_order.add(chunk[0][0], result)
+            in_order.add(first, result)
             fill()
             bar.update(len(result), sum(r["status"] not in ("ok", "warning") for r in result))
         bar.close()

@@ -19,6 +19,7 @@ import contextlib
 import io
 import math
 import os
+import pickle
 import re
 import shutil
 import socket
@@ -570,18 +571,21 @@ class SweepPlugin(WorkerPlugin):  # type: ignore[misc]
     FMPy engine (``Runtime``) or the native one (``native.NativeRuntime``), and frees the
     instances, the native runner and the extracted files when the sweep ends (``teardown``)."""
 
-    def __init__(self, name: str, fmu_bytes: bytes, setup: CaseSetup, engine: str = "fmpy"):
+    def __init__(self, name: str, fmu_bytes: bytes, setup: CaseSetup, engine: str = "fmpy",
+                 exe: str | None = None):
         self.name = name
         self.fmu_bytes = fmu_bytes
         self.case_setup = setup
         self.engine = engine
+        self.exe = exe  # the client's `mechfmu`, for the native engine (workers may have their own)
         self.runtime = None
 
     def setup(self, worker=None):
         if self.engine == "native":
-            from .native import NativeRuntime
+            from .native import NativeRuntime, find_worker
 
-            self.runtime = NativeRuntime(self.fmu_bytes, self.case_setup)
+            exe = find_worker() or self.exe
+            self.runtime = NativeRuntime(self.fmu_bytes, self.case_setup, exe=exe)
         else:
             self.runtime = Runtime(self.fmu_bytes, self.case_setup)
 
@@ -591,11 +595,20 @@ class SweepPlugin(WorkerPlugin):  # type: ignore[misc]
             self.runtime = None
 
 
-def run_chunk(plugin_name: str, cases: list[tuple[int, list[float]]]) -> list[dict[str, Any]]:
-    """A Dask task: run a few cases on this worker's instance."""
+def run_chunk(plugin_name: str, first: int, values: np.ndarray) -> bytes:
+    """A Dask task: run cases ``first``, ``first + 1``, ... (their design values, one row
+    each) on this worker's instance; their rows, pickled here (``rows_of`` unpickles them).
+    Dask serializes lists and dicts element by element, which costs more per case than a
+    case of the native engine: the cases travel as one array, their rows as one bytes."""
     from distributed import get_worker
 
     plugin = get_worker().plugins[plugin_name]
     if plugin.runtime is None:
         plugin.setup()
-    return plugin.runtime.run(cases)
+    cases = [(first + k, row.tolist()) for k, row in enumerate(values)]
+    return pickle.dumps(plugin.runtime.run(cases), protocol=pickle.HIGHEST_PROTOCOL)
+
+
+def rows_of(result: bytes) -> list[dict[str, Any]]:
+    """The rows a ``run_chunk`` task returned."""
+    return pickle.loads(result)

@@ -54,7 +54,8 @@ pub struct Args {
     /// Worker processes of the local cluster (default: one per core), one thread each.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     workers: Option<u32>,
-    /// Cases per Dask task (default: about 8 tasks per worker, at most 16 cases each).
+    /// Cases per Dask task (default: about 8 tasks per worker, at most 512 cases each with
+    /// the native engine, 16 with fmpy).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     chunk_size: Option<u32>,
     /// Start time in s (default: the FMU's DefaultExperiment).
