@@ -7,7 +7,6 @@ holds a few chunks of rows in memory, never the whole result."""
 
 from __future__ import annotations
 
-import itertools
 import logging
 import math
 import os

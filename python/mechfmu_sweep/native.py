@@ -29,7 +29,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .runner import STATUS, CaseSetup, _messages
+from .runner import STATUS, CaseSetup, _messages, extract
 
 # the variable in which `mechfmu sweep` names its own executable, which runs the worker
 EXE_ENV = "MECHFMU_EXE"
@@ -200,24 +200,12 @@ class NativeRuntime:
     def __init__(self, fmu: bytes | str | Path, setup: CaseSetup, exe: str | None = None, bare: bool = False):
         """``bare``: the worker only steps each case (fmi2Reset, the setup, fmi2DoStep; no
         inputs, samples or summaries): the FMU's own cost, for the benchmark."""
-        import fmpy
-        from fmpy import read_model_description
-
         self.exe = exe or find_worker()
         if self.exe is None:
             raise NativeUnavailable(f"no `mechfmu` executable to run the worker (${EXE_ENV} is not set)")
         self.setup = setup
-        self.tmpdir = tempfile.mkdtemp(prefix="mechfmu-sweep-")
+        self.tmpdir, self.unzipdir, md = extract(fmu)
         try:
-            if isinstance(fmu, (bytes, bytearray)):
-                path = os.path.join(self.tmpdir, "model.fmu")
-                with open(path, "wb") as f:
-                    f.write(fmu)
-            else:
-                path = str(fmu)
-            self.unzipdir = os.path.join(self.tmpdir, "unzipped")
-            fmpy.extract(path, self.unzipdir)
-            md = read_model_description(self.unzipdir, validate=False)
             self.layout = Layout(md, self.unzipdir, setup)
             self.layout.json["bare"] = bare
         except BaseException:

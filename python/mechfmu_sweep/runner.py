@@ -358,26 +358,36 @@ def _messages(log: Sequence[tuple[int, str, str]], min_status: int) -> str:
     return text if len(text) <= 1000 else text[:997] + "..."
 
 
-class Runtime:
-    """An extracted FMU and its instances (one per thread) on one process."""
+def extract(fmu: bytes | str | Path):
+    """The FMU (its bytes, or its path) extracted into a new temporary folder: (the folder,
+    the extracted FMU in it, its model description). The caller removes the folder when
+    done; so does the end of the process, if it ends first (a worker stopped early)."""
+    import fmpy
+    from fmpy import read_model_description
 
-    def __init__(self, fmu: bytes | str | Path, setup: CaseSetup):
-        import fmpy
-        from fmpy import read_model_description
-
-        self.setup = setup
-        self.tmpdir = tempfile.mkdtemp(prefix="mechfmu-sweep-")
-        # close() removes it; this too if the process ends without (a worker stopped early)
-        atexit.register(shutil.rmtree, self.tmpdir, True)
+    tmpdir = tempfile.mkdtemp(prefix="mechfmu-sweep-")
+    atexit.register(shutil.rmtree, tmpdir, True)
+    try:
         if isinstance(fmu, (bytes, bytearray)):
-            path = os.path.join(self.tmpdir, "model.fmu")
+            path = os.path.join(tmpdir, "model.fmu")
             with open(path, "wb") as f:
                 f.write(fmu)
         else:
             path = str(fmu)
-        self.unzipdir = os.path.join(self.tmpdir, "unzipped")
-        fmpy.extract(path, self.unzipdir)
-        self.md = read_model_description(self.unzipdir, validate=False)
+        unzipdir = os.path.join(tmpdir, "unzipped")
+        fmpy.extract(path, unzipdir)
+        return tmpdir, unzipdir, read_model_description(unzipdir, validate=False)
+    except BaseException:
+        shutil.rmtree(tmpdir, ignore_errors=True)
+        raise
+
+
+class Runtime:
+    """An extracted FMU and its instances (one per thread) on one process."""
+
+    def __init__(self, fmu: bytes | str | Path, setup: CaseSetup):
+        self.setup = setup
+        self.tmpdir, self.unzipdir, self.md = extract(fmu)
         self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
         self.can_vary_step = bool(self.md.coSimulation.canHandleVariableCommunicationStepSize)
         self.host = f"{socket.gethostname()}:{os.getpid()}"
