@@ -1,6 +1,7 @@
 //! The equations of the notes as MathML Core, which current browsers render without web
-//! fonts. A dotted variable becomes its letter with the dot over it as an accent
-//! (`<mover accent="true">`), so the dot cannot collide with a superscript, as a combining
+//! fonts. A dotted variable becomes its letter with the dot over it (`<mover>`, an
+//! over-script: as an accent, Chromium without a math font draws the dots inside the
+//! letter, where they vanish), so the dot cannot collide with a superscript, as a combining
 //! dot does in many monospace fonts (`θ̇² x` shown as `θ² x`).
 //!
 //! [`block`] renders an indented block of the notes: one `<math display="block">` per group

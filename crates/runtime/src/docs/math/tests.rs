@@ -3,7 +3,7 @@ use quick_xml::events::Event;
 use quick_xml::Reader;
 
 /// `θ̇` as MathML: the letter with its dot as an accent.
-const THETA_DOT: &str = "<mover accent=\"true\"><mi>θ</mi><mo>˙</mo></mover>";
+const THETA_DOT: &str = "<mover><mi>θ</mi><mo>˙</mo></mover>";
 const THIN: &str = "<mspace width=\"0.1667em\"/>";
 
 /// The MathML between `<math …>` and `</math>`.
@@ -58,14 +58,14 @@ fn a_dotted_variable_is_its_letter_with_an_accent_and_its_square_a_superscript_a
     // precomposed letters (ẋ, ẍ) and the second derivative's two dots
     assert_eq!(
         body(&inline("ẍ + φ̈").unwrap()),
-        "<mover accent=\"true\"><mi>x</mi><mo>¨</mo></mover><mo>+</mo>\
-         <mover accent=\"true\"><mi>φ</mi><mo>¨</mo></mover>"
+        "<mover><mi>x</mi><mo>¨</mo></mover><mo>+</mo>\
+         <mover><mi>φ</mi><mo>¨</mo></mover>"
     );
     // a dotted, subscripted, squared variable: ẋ1²
     assert_eq!(
         body(&inline("½ m1 ẋ1²").unwrap()),
         "<mn>½</mn><msub><mi>m</mi><mn>1</mn></msub>\
-         <msubsup><mover accent=\"true\"><mi>x</mi><mo>˙</mo></mover><mn>1</mn><mn>2</mn></msubsup>"
+         <msubsup><mover><mi>x</mi><mo>˙</mo></mover><mn>1</mn><mn>2</mn></msubsup>"
     );
 }
 
@@ -74,7 +74,7 @@ fn names_numbers_operators_subscripts_and_functions() {
     assert_eq!(
         body(&inline("l φ̈ = -g sin φ").unwrap()),
         format!(
-            "<mi>l</mi><mover accent=\"true\"><mi>φ</mi><mo>¨</mo></mover><mo>=</mo>\
+            "<mi>l</mi><mover><mi>φ</mi><mo>¨</mo></mover><mo>=</mo>\
              <mo form=\"prefix\">−</mo><mi>g</mi>{THIN}<mi>sin</mi><mo>&#x2061;</mo>{THIN}<mi>φ</mi>"
         )
     );

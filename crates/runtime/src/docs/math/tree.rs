@@ -277,11 +277,10 @@ fn dotted(text: &str, dots: u8, out: &mut String) {
             let _ = write!(out, "<mi>{name}</mi>");
         }
         _ => {
-            let accent = if dots == 1 { '˙' } else { '¨' };
-            let _ = write!(
-                out,
-                "<mover accent=\"true\"><mi>{name}</mi><mo>{accent}</mo></mover>"
-            );
+            let dot = if dots == 1 { '˙' } else { '¨' };
+            // an over-script, not `accent="true"`: Chromium places an accent from the
+            // text font inside the letter, where the dots disappear
+            let _ = write!(out, "<mover><mi>{name}</mi><mo>{dot}</mo></mover>");
         }
     }
 }
