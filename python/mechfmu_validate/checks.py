@@ -2,7 +2,7 @@
 
 * ``fmpy validate``: FMPy's own validation (schema, names, causality/variability/initial
   combinations, start values, units, ModelStructure);
-* what FMPy does not check (shared/ENGINEERING.md): value references unique, no ``initial``
+* what FMPy does not check: value references unique, no ``initial``
   on inputs, start within [min, max], every Real variable with a unit and every unit and
   display unit used defined, ``modelIdentifier`` = the binary's name in the archive (and the
   binary exports the 34 FMI 2.0 Co-Simulation functions, and the modelDescription it carries

@@ -1,4 +1,4 @@
-"""Every FMU against its interface contract (shared/MECHANISMS.md), as FMPy reads it.
+"""Every FMU against its interface contract (docs/mechanisms/README.md), as FMPy reads it.
 
 The contract of each mechanism is data, next to the mechanism: ``fmus/<crate>/validation/
 contract.py`` (``MODEL``, ``DEFAULT_EXPERIMENT``, ``VARIABLES``, ``MIN_ZERO`` and, where the
@@ -34,7 +34,7 @@ from fmpy.validation import validate_fmu
 
 from fmutest import REPO_ROOT, fmu_path
 
-#: the mechanisms of shared/MECHANISMS.md: each must have its contract file
+#: the mechanisms of docs/mechanisms/README.md: each must have its contract file
 MECHANISMS = ["Oscillator", "TwoMassOscillator", "PendulumCart", "Crane", "CraneDynamics", "RigidBody"]
 
 #: SI base unit exponents (kg, m, s, rad) of each unit name a contract uses; the other base

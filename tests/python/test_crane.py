@@ -1,4 +1,4 @@
-"""The Crane FMU against its contract (shared/MECHANISMS.md section 4) under FMPy.
+"""The Crane FMU against its contract (docs/mechanisms/Crane.md) under FMPy.
 
 Boom and trolley massless, their motion prescribed by the inputs x_ddot and theta_ddot;
 with s = theta - phi:

@@ -1,4 +1,4 @@
-"""The CraneDynamics FMU against its contract (shared/MECHANISMS.md section 5) under FMPy.
+"""The CraneDynamics FMU against its contract (docs/mechanisms/CraneDynamics.md) under FMPy.
 
 The crane of `Crane` driven by the trolley drive's force F and the boom drive's torque tau,
 with a boom inertia J_boom about O and a trolley mass m_trolley; x, theta and phi all follow

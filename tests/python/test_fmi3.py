@@ -2,7 +2,7 @@
 as `mechfmu validate` runs them (mechfmu_validate.fmi3):
 
 * which FMI 2.0 variable each element of their arrays is, as their model descriptions name
-  it (mechfmu_validate.arrays), is the contract's (shared/MECHANISMS.md, "FMI 3.0, arrays");
+  it (mechfmu_validate.arrays), is the contract's (docs/mechanisms/README.md, "FMI 3.0, arrays");
 * every reference case of every mechanism (fmus/*/validation/cases.py) under FMPy's FMI 3.0
   Co-Simulation meets the case's limits, and the fmi crate's FMI 3.0 import agrees with it
   (1e-9); under FMPy's FMI 3.0 Model Exchange (CVode at 1e-10) the case meets its limits, or
@@ -37,7 +37,7 @@ from mechfmu_validate.model_exchange import CVODE, CVODE_FLOOR, cvode_row
 from test_cases import CASES, MODELS
 from test_model_exchange import KNOWN_LIMITS, fmi_run  # noqa: F401 (fmi_run: the fixture)
 
-#: the contract's arrays (shared/MECHANISMS.md): the FMI 2.0 scalar at each element, row-major
+#: the contract's arrays (docs/mechanisms/README.md): the FMI 2.0 scalar at each element, row-major
 CONTRACT = {
     "RigidBody": {
         "I_C": "I_xx I_xy I_xz I_xy I_yy I_yz I_xz I_yz I_zz",

@@ -9,7 +9,7 @@ importer reads them.
   outputs, derivatives and initial unknowns, start values, units, one independent variable,
   unique value references);
 * it shows the FMI 2.0 description's variables: the scalars of the arrays of
-  shared/MECHANISMS.md ("FMI 3.0, arrays") grouped into arrays of their shape, start values
+  docs/mechanisms/README.md ("FMI 3.0, arrays") grouped into arrays of their shape, start values
   element by element, every other scalar as it is, and ``time``.
 
 Needs no built FMU: it reads the committed XML (regenerate with
@@ -34,7 +34,7 @@ FMI2_DIR = REPO_ROOT / "modelDescription"
 FMI3_DIR = FMI2_DIR / "fmi3"
 
 #: model -> array -> (shape, the scalars it replaces in row-major order). The arrays of
-#: shared/MECHANISMS.md, and the derivatives of its state arrays `w` and `q` (FMI 3.0 wants a
+#: docs/mechanisms/README.md, and the derivatives of its state arrays `w` and `q` (FMI 3.0 wants a
 #: state array's derivative to be an array of the same shape).
 ARRAYS: dict[str, dict[str, tuple[tuple[int, ...], list[str]]]] = {
     "RigidBody": {

@@ -1,4 +1,4 @@
-"""The Oscillator FMU against its contract (shared/MECHANISMS.md §1) under FMPy.
+"""The Oscillator FMU against its contract (docs/mechanisms/Oscillator.md) under FMPy.
 
     m x'' + c x' + k x = F + F0 sin(omega t)
 

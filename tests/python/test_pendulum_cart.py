@@ -1,4 +1,4 @@
-"""The PendulumCart FMU against its contract (shared/MECHANISMS.md §3) under FMPy.
+"""The PendulumCart FMU against its contract (docs/mechanisms/PendulumCart.md) under FMPy.
 
     (M+m) x'' + c1 x' + k x + m l (th'' cos th - th'^2 sin th) = F
     m l x'' cos th + 7/3 m l^2 th'' + c2 th' + m g l sin th    = 3 F l cos th

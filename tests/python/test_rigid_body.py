@@ -1,4 +1,4 @@
-"""The RigidBody FMU against its contract (shared/MECHANISMS.md section 6) under FMPy.
+"""The RigidBody FMU against its contract (docs/mechanisms/RigidBody.md) under FMPy.
 
     I_B = I_C + M [ (r_C . r_C) 1 - r_C (x) r_C ]             parallel axis theorem
     I_B w' + w x (I_B w) = tau + r_C x (R^T (-M g Z))        Euler's equations about B

@@ -1,4 +1,4 @@
-"""Reference cases of `CraneDynamics` (shared/MECHANISMS.md section 5): the crane driven by
+"""Reference cases of `CraneDynamics` (docs/mechanisms/CraneDynamics.md): the crane driven by
 the trolley force F and the boom torque tau, with the boom's inertia J_boom and the trolley's
 mass m_trolley (tests/python/refs/crane_dynamics.py gives M(q) q'' = f).
 

@@ -1,4 +1,4 @@
-"""Reference cases of `Oscillator` (shared/MECHANISMS.md section 1):
+"""Reference cases of `Oscillator` (docs/mechanisms/Oscillator.md):
 
     m x'' + c x' + k x = F + F0 sin(omega t)
 

@@ -1,4 +1,4 @@
-"""The interface contract of `PendulumCart` (shared/MECHANISMS.md section 3): what its
+"""The interface contract of `PendulumCart` (docs/mechanisms/PendulumCart.md): what its
 modelDescription.xml must declare. Data only: tests/python/test_contract.py checks every FMU
 against its crate's file (mechfmu's Rust side does not read it).
 

@@ -1,4 +1,4 @@
-"""Reference cases of `RigidBody` (shared/MECHANISMS.md section 6): a rigid body turning
+"""Reference cases of `RigidBody` (docs/mechanisms/RigidBody.md): a rigid body turning
 about a fixed pivot B,
 
     I_B w' + w x (I_B w) = tau + r_C x (R^T (-M g Z)),   q' = 1/2 q (x) (0, w)

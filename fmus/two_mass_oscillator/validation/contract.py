@@ -1,4 +1,4 @@
-"""The interface contract of `TwoMassOscillator` (shared/MECHANISMS.md section 2): what its
+"""The interface contract of `TwoMassOscillator` (docs/mechanisms/TwoMassOscillator.md): what its
 modelDescription.xml must declare. Data only: tests/python/test_contract.py checks every FMU
 against its crate's file (mechfmu's Rust side does not read it).
 

@@ -1,6 +1,6 @@
 """Independent Python references for the mechfmu mechanisms (see docs/derivations.md).
 
-Each module is written from the equations of /work/shared/MECHANISMS.md as re-derived in
+Each module is written from the equations of docs/mechanisms/README.md as re-derived in
 docs/derivations.md, never from the Rust sources. Every module has:
 
 * ``PARAMS`` / ``START`` / ``INPUTS``: the contract's defaults under the contract's names;

@@ -1,4 +1,4 @@
-"""Reference for `Crane` (MECHANISMS.md section 4): boom and trolley massless, their motion
+"""Reference for `Crane` (docs/mechanisms/Crane.md): boom and trolley massless, their motion
 prescribed by the inputs x_ddot and theta_ddot; the payload swings. With s = theta - phi:
 
     l phi'' = -g sin phi - (x'' - th'^2 x) cos s + (2 th' x' + th'' x) sin s

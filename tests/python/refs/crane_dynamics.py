@@ -1,4 +1,4 @@
-"""Reference for `CraneDynamics` (MECHANISMS.md section 5, docs/derivations.md).
+"""Reference for `CraneDynamics` (docs/mechanisms/CraneDynamics.md, docs/derivations.md).
 
 q = (x, theta, phi); boom inertia J_boom about O, trolley mass m_trolley at x on the boom,
 payload m on a massless cable of length l; inputs F (boom drive on trolley, along i_A) and

@@ -1,6 +1,6 @@
 """Reference for `Oscillator`:  m x'' + c x' + k x = F + F0 sin(omega t).
 
-Written from the equation of MECHANISMS.md section 1 (and docs/derivations.md), not from
+Written from the equation of docs/mechanisms/Oscillator.md (and docs/derivations.md), not from
 the Rust code.
 """
 

@@ -1,4 +1,4 @@
-"""Reference for `PendulumCart` (MECHANISMS.md section 3, docs/derivations.md):
+"""Reference for `PendulumCart` (docs/mechanisms/PendulumCart.md, docs/derivations.md):
 
     (M+m) x'' + c1 x' + k x + m l (th'' cos th - th'^2 sin th) = F
     m l x'' cos th + 7/3 m l^2 th'' + c2 th' + m g l sin th    = 3 F l cos th

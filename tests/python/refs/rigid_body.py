@@ -1,4 +1,4 @@
-"""Reference for `RigidBody` (MECHANISMS.md section 6): a body turning about a fixed pivot B.
+"""Reference for `RigidBody` (docs/mechanisms/RigidBody.md): a body turning about a fixed pivot B.
 
     I_B = I_C + M [ (r_C . r_C) 1 - r_C (x) r_C ]
     I_B w' + w x (I_B w) = tau + r_C x (R^T (-M g Z))      (body axes)

@@ -1,4 +1,4 @@
-"""Reference for `TwoMassOscillator` (MECHANISMS.md section 2):
+"""Reference for `TwoMassOscillator` (docs/mechanisms/TwoMassOscillator.md):
 
     m1 x1'' + (c1+c3) x1' - c3 x2' + (k1+k3) x1 - k3 x2 = F1
     m2 x2'' + (c2+c3) x2' - c3 x1' + (k2+k3) x2 - k3 x1 = F2

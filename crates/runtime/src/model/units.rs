@@ -352,7 +352,7 @@ mod tests {
 
     #[test]
     fn every_unit_of_the_contract() {
-        // Every unit in shared/MECHANISMS.md.
+        // Every unit in docs/mechanisms/README.md.
         let cases = [
             ("kg", dims(1, 0, 0, 0)),
             ("m", dims(0, 1, 0, 0)),
