@@ -3,7 +3,7 @@
 The command line is ``mechfmu sweep`` (or ``python -m mechfmu_sweep``); see README.md.
 From Python::
 
-    from mechfmu_sweep.cli import main, read_results
+    from mechfmu_sweep import main, read_results
     main(["fmus/Crane.fmu", "--param", "l=2:10:17", "--out", "crane.parquet"])
     table = read_results("crane.parquet")
 """
@@ -18,6 +18,6 @@ def main(argv=None) -> int:
 
 
 def read_results(path):
-    from .cli import read_results as _read
+    from .results import read_results as _read
 
     return _read(path)

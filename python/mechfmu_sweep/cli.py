@@ -30,16 +30,40 @@ from .design import (
     parse_param,
     parse_schedule,
 )
-from .results import ResultsWriter, read_results  # noqa: F401 (read_results: the package's API)
+from .results import ResultsWriter
 from .runner import CaseSetup, Summary, parse_summary
 
 SETTABLE_TYPES = ("Real", "Integer", "Enumeration")
+
+
+EPILOG = """\
+Specs (--param NAME=SPEC; NAME is a parameter, a start value, or an input schedule's argument NAME.arg):
+  5                  a constant         2:10:17            17 points from 2 to 10
+  2,3,5              a list             uniform(800,1200)  random, drawn per case
+  normal(mu,sigma)   random             loguniform(a,b)    random, uniform in log
+Grids and lists are crossed (full factorial); --cases random draws are made at each grid point.
+
+Input schedules (--input-schedule NAME=SHAPE(args), arguments by position or name):
+  constant(value)  step(t0,value)  pulse(t0,width,value)  bangbang(t0,width,value)  ramp(t0,t1,value)
+  each also has NAME.scale; sweep an argument with --param NAME.arg=SPEC.
+
+Summaries (--summary, besides the final value of every output):
+  max(v) min(v) max_abs(v) (or 'max|v|') mean(v) rms(v) final(v)
+
+Example:
+  mechfmu sweep fmus/Crane.fmu --param l=2:10:17 \\
+      --input-schedule 'x_ddot=bangbang(t0=1,width=2,value=0.5)' --param x_ddot.value=0.25,0.5,1 \\
+      --summary 'max_abs(phi)' --out crane.parquet --plot crane.png
+
+Usage notes: python/mechfmu_sweep/README.md"""
 
 
 def make_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="mechfmu sweep",
         description="Parameter sweep of an FMI 2.0 Co-Simulation FMU on Dask distributed.",
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("fmu", type=Path, help="the FMU")
     p.add_argument("--param", action="append", default=[], metavar="NAME=SPEC",
@@ -166,33 +190,59 @@ def default_output_interval(md, start: float, stop: float) -> float:
     return float(auto_interval(stop - start))
 
 
+def read_fmu(fmu: Path):
+    """The model description of the FMU file, which must be an FMI 2.0 Co-Simulation FMU."""
+    from fmpy import read_model_description
+
+    if not fmu.is_file():
+        raise SpecError(f"no FMU at {fmu} (build one with `mechfmu build NAME`, which writes fmus/NAME.fmu)")
+    try:
+        md = read_model_description(str(fmu), validate=False)
+    except Exception as e:  # noqa: BLE001
+        raise SpecError(f"{fmu}: not a readable FMU ({e})") from None
+    if md.fmiVersion != "2.0" or md.coSimulation is None:
+        raise SpecError(f"{fmu}: an FMI 2.0 Co-Simulation FMU is needed (this one: FMI {md.fmiVersion}, "
+                        f"{'Co-Simulation' if md.coSimulation else 'no Co-Simulation'})")
+    return md
+
+
 class Plan:
     """The validated request: design, per-case setup and what to write."""
 
     def __init__(self, args: argparse.Namespace):
-        from fmpy import read_model_description
-
         check_request(args)
         if args.scheduler is not None:
             args.scheduler = args.scheduler.strip()
         self.args = args
-        fmu: Path = args.fmu
-        if not fmu.is_file():
-            raise SpecError(f"{fmu}: no such FMU file")
-        try:
-            md = read_model_description(str(fmu), validate=False)
-        except Exception as e:  # noqa: BLE001
-            raise SpecError(f"{fmu}: not a readable FMU ({e})") from None
-        if md.fmiVersion != "2.0" or md.coSimulation is None:
-            raise SpecError(f"{fmu}: an FMI 2.0 Co-Simulation FMU is needed (this one: FMI {md.fmiVersion}, "
-                            f"{'Co-Simulation' if md.coSimulation else 'no Co-Simulation'})")
-        self.md = md
-        self.model = md.coSimulation.modelIdentifier
-        variables = _variables(md)
-        names = list(variables)
-        outputs = [v.name for v in md.modelVariables if v.causality == "output"]
+        self.md = read_fmu(args.fmu)
+        self.model = self.md.coSimulation.modelIdentifier
+        variables = _variables(self.md)
+        schedules, base_input = self._inputs(variables)
+        self.specs, start_columns, schedule_args, base_scales = self._design_variables(variables, schedules,
+                                                                                        base_input)
+        self.design: Design = self._design(variables, start_columns)
+        start, stop, interval, tolerance = self._experiment()
+        summaries = self._summaries(variables)
+        self.chosen = [parse_summary(t).column for t in args.summary]
+        self.setup = CaseSetup(
+            columns=list(self.design.columns),
+            start_columns=start_columns,
+            schedules=schedules,
+            schedule_args=schedule_args,
+            base_input=base_input,
+            base_scales=base_scales,
+            start_time=start,
+            stop_time=stop,
+            tolerance=tolerance,
+            output_interval=interval,
+            summaries=summaries,
+        )
+        self._check_cluster_and_plot()
 
-        # input schedules and the CSV
+    def _inputs(self, variables) -> tuple[dict[str, Schedule], np.ndarray | None]:
+        """The input schedules (``--input-schedule``) and the CSV (``--input``): a time signal
+        for each input they name, from one of them only."""
+        args, names = self.args, list(variables)
         schedules: dict[str, Schedule] = {}
         for text in args.input_schedule:
             s = parse_schedule(text)
@@ -212,8 +262,12 @@ class Plan:
             both = sorted(set(base_input.dtype.names[1:]) & set(schedules))
             if both:
                 raise SpecError(f"{', '.join(both)} given both by --input {args.input} and by --input-schedule")
+        return schedules, base_input
 
-        # design variables
+    def _design_variables(self, variables, schedules: dict[str, Schedule], base_input: np.ndarray | None):
+        """What each ``--param`` sweeps: (the specs, {column: the variable whose start value it
+        sets}, {input: {schedule argument: column}}, {CSV input: the column of its scale})."""
+        args, names = self.args, list(variables)
         specs: list[Spec] = []
         start_columns: dict[str, str] = {}
         schedule_args: dict[str, dict[str, str]] = {}
@@ -249,19 +303,27 @@ class Plan:
                 raise SpecError(f"--param {text}: {self.model} has no variable `{name}`{_close_names(name, names)}")
         if not specs:
             raise SpecError("nothing to sweep: give at least one --param NAME=SPEC")
-        seed = args.seed
-        if seed is None and any(s.is_random for s in specs):
+        return specs, start_columns, schedule_args, base_scales
+
+    def _design(self, variables, start_columns: dict[str, str]) -> Design:
+        """The cases (a fresh seed when a spec is random and none is given); an Integer or
+        Enumeration start value must be swept over whole numbers."""
+        seed = self.args.seed
+        if seed is None and any(s.is_random for s in self.specs):
             seed = int(np.random.SeedSequence().entropy % (2**32))
-        self.design: Design = build_design(specs, args.cases, seed)
-        self.specs = specs
-        for j, col in enumerate(self.design.columns):
+        design = build_design(self.specs, self.args.cases, seed)
+        for j, col in enumerate(design.columns):
             v = variables.get(col)
             if v is not None and col in start_columns and v.type != "Real":
-                vals = self.design.values[:, j]
+                vals = design.values[:, j]
                 if not np.all(vals == np.round(vals)):
                     raise SpecError(f"--param {col}: `{col}` is an {v.type}; its spec gives non-integer values")
+        return design
 
-        # experiment
+    def _experiment(self) -> tuple[float, float, float, float | None]:
+        """(start time, stop time, output interval, tolerance): the options', else the FMU's
+        DefaultExperiment's, else FMPy's defaults."""
+        args, md = self.args, self.md
         ex = md.defaultExperiment
         start = args.start_time if args.start_time is not None else (
             float(ex.startTime) if ex is not None and ex.startTime is not None else 0.0)
@@ -276,33 +338,26 @@ class Plan:
             float(ex.tolerance) if ex is not None and ex.tolerance is not None else None)
         if tol is not None and not tol > 0:
             raise SpecError(f"--tolerance {tol} must be > 0")
+        return start, stop, interval, tol
 
-        # summaries: the final value of every output, then the chosen ones
-        summaries = [Summary("final", o) for o in outputs]
-        for text in args.summary:
+    def _summaries(self, variables) -> list[Summary]:
+        """The final value of every output, then the chosen ones (``--summary``)."""
+        summaries = [Summary("final", v.name) for v in self.md.modelVariables if v.causality == "output"]
+        for text in self.args.summary:
             s = parse_summary(text)
             v = variables.get(s.var)
             if v is None:
-                raise SpecError(f"--summary {text}: {self.model} has no variable `{s.var}`{_close_names(s.var, names)}")
+                raise SpecError(f"--summary {text}: {self.model} has no variable `{s.var}`"
+                                f"{_close_names(s.var, list(variables))}")
             if v.type != "Real":
                 raise SpecError(f"--summary {text}: `{s.var}` is not a Real variable")
             if s not in summaries:
                 summaries.append(s)
-        self.chosen = [parse_summary(t).column for t in args.summary]
+        return summaries
 
-        self.setup = CaseSetup(
-            columns=list(self.design.columns),
-            start_columns=start_columns,
-            schedules=schedules,
-            schedule_args=schedule_args,
-            base_input=base_input,
-            base_scales=base_scales,
-            start_time=start,
-            stop_time=stop,
-            tolerance=tol,
-            output_interval=interval,
-            summaries=summaries,
-        )
+    def _check_cluster_and_plot(self) -> None:
+        """The options that name the cluster's size and the plot's axes."""
+        args = self.args
         if args.workers is not None and args.scheduler:
             raise SpecError("--workers sizes the local cluster; with --scheduler the cluster is given")
         if args.plot_x is not None and args.plot_x not in self.design.columns:

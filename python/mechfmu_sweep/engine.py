@@ -22,7 +22,8 @@ from typing import Any, Callable
 import numpy as np
 
 from .design import Design
-from .runner import CaseSetup, SweepPlugin, rows_of, run_chunk
+from .runner import CaseSetup
+from .tasks import SweepPlugin, rows_of, run_chunk
 
 PACKAGE_DIR = Path(__file__).resolve().parent
 
@@ -142,6 +143,84 @@ def _local_cluster(n: int):
     )
 
 
+def _connect(client, cluster) -> tuple[Any, int]:
+    """The client (of ``cluster`` when none is given) once a worker is up, and the number of
+    workers."""
+    from distributed import Client
+
+    if client is None:
+        client = Client(cluster)
+    n_workers = len(client.scheduler_info().get("workers", {}))
+    if n_workers == 0:
+        client.wait_for_workers(1, timeout=60)
+        n_workers = len(client.scheduler_info().get("workers", {}))
+    return client, n_workers
+
+
+def _ship_package(client) -> bool:
+    """Uploads this package to the workers of an external cluster that lack it; whether it did."""
+    if all(client.run(eval, _HAS_PACKAGE).values()):
+        return False
+    path = _package_zip()
+    try:
+        client.upload_file(path)
+    finally:
+        os.unlink(path)
+    return True
+
+
+def _run_chunks(client, plugin_name: str, design: Design, chunk_size: int, n_workers: int, in_order: InOrder,
+                bar: Progress) -> list[str]:
+    """Submits the design's cases in chunks, a window of them in flight, and hands their rows
+    to ``in_order`` as they finish; the machinery's errors (a chunk whose task died fails its
+    cases as ``crashed``)."""
+    from distributed import as_completed
+
+    errors: list[str] = []
+    starts = iter(range(0, len(design), chunk_size))
+    chunk_of: dict[str, tuple[int, int]] = {}  # task key -> (first case, number of cases)
+
+    def submit(first: int):
+        values = np.ascontiguousarray(design.values[first:first + chunk_size], dtype=float)
+        key = f"{plugin_name}-chunk-{first}"
+        chunk_of[key] = (first, len(values))
+        return client.submit(run_chunk, plugin_name, first, values, pure=False, key=key)
+
+    # enough chunks in flight to keep every worker busy, few enough that their cases and
+    # rows stay a small part of memory however large the design (also when a slow chunk
+    # holds back the ones after it)
+    window = 4 * n_workers
+    pending = as_completed(with_results=True, raise_errors=False)
+    running = 0
+
+    def fill() -> None:
+        nonlocal running
+        while running < window and len(in_order.waiting) < 4 * window:
+            first = next(starts, None)
+            if first is None:
+                return
+            pending.add(submit(first))
+            running += 1
+
+    fill()
+    for future, result in pending:
+        first, count = chunk_of.pop(future.key)
+        if isinstance(result, BaseException) or future.status != "finished":
+            # the task itself died (a worker killed by a crashing FMU, ...)
+            exc = result if isinstance(result, BaseException) else future.exception()
+            message = f"{type(exc).__name__}: {exc}"
+            errors.append(message)
+            result = [{"case": i, "status": "crashed", "message": message} for i in range(first, first + count)]
+        else:
+            result = rows_of(result)
+        future.release()
+        running -= 1
+        in_order.add(first, result)
+        fill()
+        bar.update(len(result), sum(r["status"] not in ("ok", "warning") for r in result))
+    return errors
+
+
 def run_on_dask(
     fmu_bytes: bytes,
     setup: CaseSetup,
@@ -158,7 +237,7 @@ def run_on_dask(
     """Runs every case of ``design``; failed cases come back as rows with their status, in
     case order, to ``on_rows`` (else in ``SweepRun.rows``)."""
     import dask
-    from distributed import Client, as_completed
+    from distributed import Client
 
     cluster = client = None
     if scheduler:
@@ -175,21 +254,8 @@ def run_on_dask(
     plugin_name = f"mechfmu-sweep-{uuid.uuid4().hex[:12]}"
     bar = None
     try:
-        if client is None:
-            client = Client(cluster)
-        info = client.scheduler_info()
-        n_workers = len(info.get("workers", {}))
-        if n_workers == 0:
-            client.wait_for_workers(1, timeout=60)
-            n_workers = len(client.scheduler_info().get("workers", {}))
-        shipped = False
-        if scheduler and not all(client.run(eval, _HAS_PACKAGE).values()):
-            path = _package_zip()
-            try:
-                client.upload_file(path)
-                shipped = True
-            finally:
-                os.unlink(path)
+        client, n_workers = _connect(client, cluster)
+        shipped = _ship_package(client) if scheduler else False
         from .native import find_worker
 
         plugin = SweepPlugin(plugin_name, fmu_bytes, setup, engine, exe=find_worker())
@@ -198,53 +264,11 @@ def run_on_dask(
         n = len(design)
         cs = chunk_size or default_chunk_size(n, n_workers, engine)
         collected: list[dict[str, Any]] = []
-        in_order = InOrder(on_rows or collected.extend)
-        errors: list[str] = []
         bar = Progress(n, enabled=progress)
         if probe is not None:
             probe("start")  # measurements (bench.py): the cluster is up, nothing submitted
         t_submit = time.perf_counter()
-        starts = iter(range(0, n, cs))
-        chunk_of: dict[str, tuple[int, int]] = {}  # task key -> (first case, number of cases)
-
-        def submit(first: int):
-            values = np.ascontiguousarray(design.values[first:first + cs], dtype=float)
-            key = f"{plugin_name}-chunk-{first}"
-            chunk_of[key] = (first, len(values))
-            return client.submit(run_chunk, plugin_name, first, values, pure=False, key=key)
-
-        # enough chunks in flight to keep every worker busy, few enough that their cases and
-        # rows stay a small part of memory however large the design (also when a slow chunk
-        # holds back the ones after it)
-        window = 4 * n_workers
-        pending = as_completed(with_results=True, raise_errors=False)
-        running = 0
-
-        def fill() -> None:
-            nonlocal running
-            while running < window and len(in_order.waiting) < 4 * window:
-                first = next(starts, None)
-                if first is None:
-                    return
-                pending.add(submit(first))
-                running += 1
-
-        fill()
-        for future, result in pending:
-            first, count = chunk_of.pop(future.key)
-            if isinstance(result, BaseException) or future.status != "finished":
-                # the task itself died (a worker killed by a crashing FMU, ...)
-                exc = result if isinstance(result, BaseException) else future.exception()
-                message = f"{type(exc).__name__}: {exc}"
-                errors.append(message)
-                result = [{"case": i, "status": "crashed", "message": message} for i in range(first, first + count)]
-            else:
-                result = rows_of(result)
-            future.release()
-            running -= 1
-            in_order.add(first, result)
-            fill()
-            bar.update(len(result), sum(r["status"] not in ("ok", "warning") for r in result))
+        errors = _run_chunks(client, plugin_name, design, cs, n_workers, InOrder(on_rows or collected.extend), bar)
         bar.close()
         wall = time.perf_counter() - t_submit
         if probe is not None:

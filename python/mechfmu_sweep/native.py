@@ -29,7 +29,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .runner import STATUS, CaseSetup, _messages, extract
+from .runner import STATUS, CaseSetup, extract, log_message
 
 # the variable in which `mechfmu sweep` names its own executable, which runs the worker
 EXE_ENV = "MECHFMU_EXE"
@@ -175,7 +175,7 @@ def compose_row(index: int, status: int, function: str, discard: tuple[float, fl
     row: dict[str, Any] = {"case": index, "status": "ok", "message": ""}
     if status == 0:
         row.update(summaries)
-        warn = _messages(log, 1)
+        warn = log_message(log, 1)
         if warn:
             row["status"], row["message"] = "warning", warn
         return row
@@ -188,7 +188,7 @@ def compose_row(index: int, status: int, function: str, discard: tuple[float, fl
                                  f"(last successful time {last:g})")]
         name = STATUS.get(status, f"status {status}")
         row["status"] = name
-        row["message"] = _messages(log, 2) or _messages(log, 0) or f"{function} returned fmi2{name.title()}"
+        row["message"] = log_message(log, 2) or log_message(log, 0) or f"{function} returned fmi2{name.title()}"
     for column in summaries:
         row[column] = math.nan
     return row

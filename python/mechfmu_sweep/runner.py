@@ -1,4 +1,5 @@
-"""Running cases on one FMU instance: the part that executes on a Dask worker.
+"""The FMPy engine, and what the native engine (:mod:`.native`) takes from it: a case's setup
+(``CaseSetup``), its summaries, the FMU's extraction and the message of a failed row.
 
 ``Runtime`` extracts the FMU once, keeps one ``FMU2Slave`` per thread (so one per worker
 process with ``threads_per_worker=1``) and runs each case after ``fmi2Reset``. A case is
@@ -19,7 +20,6 @@ import contextlib
 import io
 import math
 import os
-import pickle
 import re
 import shutil
 import socket
@@ -349,7 +349,8 @@ class Instance:
         self.fresh = False
 
 
-def _messages(log: Sequence[tuple[int, str, str]], min_status: int) -> str:
+def log_message(log: Sequence[tuple[int, str, str]], min_status: int) -> str:
+    """A row's message: the FMU's distinct messages of at least ``min_status``, the first three."""
     seen: list[str] = []
     for status, _cat, msg in log:
         if status >= min_status and msg not in seen:
@@ -449,14 +450,14 @@ class Runtime:
             stage = "simulating"
             t, y, finals = self._simulate(inst, start_values, table)
             row.update(self._summaries(t, y, finals))
-            warn = _messages(inst.log, 1)
+            warn = log_message(inst.log, 1)
             if warn:
                 row["status"], row["message"] = "warning", warn
         except FMICallException as e:
             status = STATUS.get(int(e.status), f"status {e.status}")
             row["status"] = status
             log = inst.log if inst is not None else []
-            row["message"] = _messages(log, 2) or _messages(log, 0) or f"{e.function} returned fmi2{status.title()}"
+            row["message"] = log_message(log, 2) or log_message(log, 0) or f"{e.function} returned fmi2{status.title()}"
             if inst is not None and (int(e.status) >= 4 or stage == "fmi2Reset"):
                 inst.broken = True  # Fatal, or a reset that failed: a new instance next time
         except SpecError as e:
@@ -564,61 +565,3 @@ class Runtime:
         fmu.terminate()
         y = np.array(rows, dtype=float) if nt else np.empty((len(times), 0))
         return np.array(times), y, finals
-
-
-# ---------------------------------------------------------------------------------------
-# The Dask side of the worker
-
-
-try:  # distributed is only needed when running on Dask
-    from distributed.diagnostics.plugin import WorkerPlugin
-except Exception:  # pragma: no cover
-    WorkerPlugin = object  # type: ignore[misc,assignment]
-
-
-class SweepPlugin(WorkerPlugin):  # type: ignore[misc]
-    """Installed on every worker of the sweep: extracts the FMU once (``setup``), for the
-    FMPy engine (``Runtime``) or the native one (``native.NativeRuntime``), and frees the
-    instances, the native runner and the extracted files when the sweep ends (``teardown``)."""
-
-    def __init__(self, name: str, fmu_bytes: bytes, setup: CaseSetup, engine: str = "fmpy",
-                 exe: str | None = None):
-        self.name = name
-        self.fmu_bytes = fmu_bytes
-        self.case_setup = setup
-        self.engine = engine
-        self.exe = exe  # the client's `mechfmu`, for the native engine (workers may have their own)
-        self.runtime = None
-
-    def setup(self, worker=None):
-        if self.engine == "native":
-            from .native import NativeRuntime, find_worker
-
-            exe = find_worker() or self.exe
-            self.runtime = NativeRuntime(self.fmu_bytes, self.case_setup, exe=exe)
-        else:
-            self.runtime = Runtime(self.fmu_bytes, self.case_setup)
-
-    def teardown(self, worker=None):
-        if self.runtime is not None:
-            self.runtime.close()
-            self.runtime = None
-
-
-def run_chunk(plugin_name: str, first: int, values: np.ndarray) -> bytes:
-    """A Dask task: run cases ``first``, ``first + 1``, ... (their design values, one row
-    each) on this worker's instance; their rows, pickled here (``rows_of`` unpickles them).
-    Dask serializes lists and dicts element by element, which costs more per case than a
-    case of the native engine: the cases travel as one array, their rows as one bytes."""
-    from distributed import get_worker
-
-    plugin = get_worker().plugins[plugin_name]
-    if plugin.runtime is None:
-        plugin.setup()
-    cases = [(first + k, row.tolist()) for k, row in enumerate(values)]
-    return pickle.dumps(plugin.runtime.run(cases), protocol=pickle.HIGHEST_PROTOCOL)
-
-
-def rows_of(result: bytes) -> list[dict[str, Any]]:
-    """The rows a ``run_chunk`` task returned."""
-    return pickle.loads(result)

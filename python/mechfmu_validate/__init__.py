@@ -6,7 +6,8 @@ mechanism's reference cases, declared once in ``<crate>/validation/cases.py`` wi
 in Co-Simulation (:mod:`.importers`, :mod:`.fmi_crate`), and in Model Exchange
 (:mod:`.model_exchange`); the same cases on the mechanism's FMI 3.0 FMU (:mod:`.fmi3`, its
 array elements named by :mod:`.arrays`, its checks :mod:`.checks3`); a table, an exit status,
-and optionally a report with one plot per case (:mod:`.report`, :mod:`.readme`). The same
+and optionally a report with one plot per case (:mod:`.report`) and the validation tables of
+``docs/validation.md`` (:mod:`.readme`). The same
 cases are what ``tests/python/test_cases.py``, ``test_model_exchange.py`` and ``test_fmi3.py``
 run.
 

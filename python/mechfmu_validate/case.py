@@ -70,8 +70,8 @@ class Case:
     #: the signals drawn against the reference in the report's plot (default: the compared
     #: signals that vary, at most eight); every signal's error is drawn in any case
     plot: Sequence[str] = ()
-    #: a plot worth showing in the README (`mechfmu validate --readme DIR`): True, or the
-    #: PNG's file stem
+    #: a plot worth showing with the validation tables (`mechfmu validate --readme DIR` writes
+    #: it to DIR/validation/<stem>.png): True (the stem ``<FMU>-<case>``), or the stem
     highlight: bool | str = False
 
     def input_table(self) -> np.ndarray | None:

@@ -33,14 +33,14 @@ import numpy as np
 
 import fmpy
 
-from .importers import Fmu, capture_fmu_log, fmi_crate_available, libcosim_available
+from .fmi_crate import fmi_crate_available
+from .importers import Fmu, capture_fmu_log, libcosim_available
 from .junit import write_junit
 from .loader import default_case, load_cases
 from .reference import write_references
 from .platform_rows import session as platform_session
 from .report import limit_text, platform_lines, result_text
-# the tolerances and the rows of one FMU (importable from here, as before)
-from .validation import FMI_CRATE, FMI_CRATE_TOLERANCE, LIBCOSIM_TOLERANCE, validate_fmu  # noqa: F401
+from .validation import validate_fmu
 
 
 def make_parser() -> argparse.ArgumentParser:
@@ -54,7 +54,8 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", type=Path, metavar="FILE", help="write the results as JSON")
     p.add_argument("--junit", type=Path, metavar="FILE", help="write the results as JUnit XML (one testcase per row)")
     p.add_argument("--readme", type=Path, metavar="DIR",
-                   help="write DIR/validation.md and the highlighted cases' plots (README material)")
+                   help="write DIR/validation.md (the validation tables) and the highlighted cases' plots "
+                        "in DIR/validation/")
     p.add_argument("--no-libcosim", action="store_true", help="do not run the cases under libcosim")
     p.add_argument("--no-fmi-crate", action="store_true",
                    help="do not run the cases under the Rust fmi crate (mechfmu-fmi-run)")
@@ -220,7 +221,7 @@ def main(argv: list[str] | None = None) -> int:
             e["png_path"] = args.report / e["png"]
         print(f"report: {args.report / 'index.html'} (and index.md)")
     if args.readme:
-        from .report import write_readme
+        from .readme import write_readme
 
         for path in write_readme(args.readme, rows, plots, header):
             print(f"readme: {path}")

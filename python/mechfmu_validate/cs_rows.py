@@ -14,8 +14,8 @@ from dataclasses import replace
 from typing import Any
 
 from .case import Case, Evaluation, Result, evaluate
-from .importers import (FMI_CRATE_NOTE, LIBCOSIM_NOTE, Fmu, NotSupported, agreement, run_fmi_crate, run_fmpy,
-                        run_libcosim)
+from .fmi_crate import FMI_CRATE_NOTE, run_fmi_crate
+from .importers import LIBCOSIM_NOTE, Fmu, NotSupported, agreement, run_fmpy, run_libcosim
 
 __all__ = ["LIBCOSIM_TOLERANCE", "FMI_CRATE_TOLERANCE", "FMI_CRATE", "fmpy_row", "libcosim_row", "fmi_crate_row",
            "unknown_names", "real_signals"]

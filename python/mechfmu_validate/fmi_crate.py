@@ -24,8 +24,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import importers
 from .case import Case, Result
+from .importers import NotSupported, input_events_on_grid, input_values
 
 if TYPE_CHECKING:  # pragma: no cover
     from .arrays import ArrayMap
@@ -68,15 +68,15 @@ def run_fmi_crate(fmu: Fmu, case: Case, relative_tolerance: float | None | str =
     if not ok:
         raise RuntimeError(f"the fmi-crate importer is not available: {found}")
     rtol = case.relative_tolerance if relative_tolerance == "case" else relative_tolerance
-    if not importers._input_events_on_grid(case):
+    if not input_events_on_grid(case):
         raise RuntimeError("an input jump is off the communication grid: a fixed-step master cannot follow it")
     n, h = case.steps(), case.output_interval
     substeps = 1 if step is None else round(h / step)
     if abs(substeps * (step or h) - h) > 1e-9 * h:
         raise ValueError(f"the step {step} does not divide the output interval {h}")
     names_of = mapping if mapping is not None else fmu
-    input_names, _ = importers._input_values(case, names_of, 0.0)
-    rows = [importers._input_values(case, names_of, k * h)[1] for k in range(n + 1)] if input_names else []
+    input_names, _ = input_values(case, names_of, 0.0)
+    rows = [input_values(case, names_of, k * h)[1] for k in range(n + 1)] if input_names else []
     names = case.recorded()
     start_values = {k: float(v) for k, v in case.start_values.items()}
     inputs, record = input_names, names
@@ -98,13 +98,13 @@ def run_fmi_crate(fmu: Fmu, case: Case, relative_tolerance: float | None | str =
         proc = subprocess.run([found, str(spec), "--out", str(out), *options], capture_output=True, text=True)
         log = [line for line in proc.stderr.splitlines() if line.strip()]
         if options and proc.returncode == 2 and log and log[-1].startswith("usage:"):
-            raise importers.NotSupported(f"mechfmu-fmi-run does not accept {' '.join(options)} ({log[-1]})")
+            raise NotSupported(f"mechfmu-fmi-run does not accept {' '.join(options)} ({log[-1]})")
         if proc.returncode != 0:
             problem = next((line for line in reversed(log) if line.startswith("mechfmu-fmi-run:")),
                            log[-1] if log else f"exit status {proc.returncode}")
             fmu_log = [line for line in log if line.startswith("[FMU")][-5:]
             if problem.endswith("(not supported)"):  # what the runner does not do (not the FMU's fault)
-                raise importers.NotSupported(problem)
+                raise NotSupported(problem)
             raise RuntimeError(problem + ("; FMU log: " + " | ".join(fmu_log) if fmu_log else ""))
         with out.open(newline="") as f:
             table = list(csv.reader(f))

@@ -1,7 +1,7 @@
-"""Running a case under an importer: FMPy's ``simulate_fmu``, libcosim (``libcosimpy``) and
-the Rust ``fmi`` crate (rust-fmi, through ``mechfmu-fmi-run``, built from ``tools/fmi-run``),
-in Co-Simulation, and under FMPy and the fmi crate in Model Exchange (:func:`run_fmpy_me`,
-``run_fmi_crate(interface="me")``).
+"""Running a case under an importer: FMPy's ``simulate_fmu`` and libcosim (``libcosimpy``) in
+Co-Simulation, FMPy in Model Exchange (:func:`run_fmpy_me`); and what the third importer, the
+Rust ``fmi`` crate (:mod:`.fmi_crate`), shares with them: the extracted FMU (:class:`Fmu`), the
+inputs every importer is fed (:func:`input_values`) and the measure of agreement.
 
 All three run the same experiment: the case's start values, its input table (FMPy reads it
 itself; libcosim and the fmi crate are fed, before every communication step, the value
@@ -13,9 +13,8 @@ DefaultExperiment tolerance; libcosimpy offers no way to pass one. The compariso
 "libcosim against FMPy at the same settings" therefore runs FMPy with
 ``relative_tolerance=None`` (FMPy then passes the DefaultExperiment tolerance).
 
-The fmi-crate runner takes the tolerance (and the stop time) like FMPy, so it is compared
-with FMPy at the case's own settings (:mod:`.fmi_crate`, whose names are importable from
-here too). The FMI 3.0 FMUs' runs are in :mod:`.fmi3`.
+The fmi crate's runner takes the tolerance (and the stop time) like FMPy, so it is compared
+with FMPy at the case's own settings. The FMI 3.0 FMUs' runs are in :mod:`.fmi3`.
 
 In Model Exchange the importer integrates. The inputs are the Co-Simulation run's: the
 value FMPy applies at each communication point, held to the next (:func:`held_input`), so
@@ -40,9 +39,9 @@ from fmpy import read_model_description
 from . import fmulog
 from .case import Case, Result, step_input
 
-__all__ = ["Fmu", "run_fmpy", "run_fmpy_me", "simulate_me", "held_input", "run_libcosim", "libcosim_available",
-           "run_fmi_crate", "fmi_crate_available", "NotSupported", "capture_fmu_log", "LIBCOSIM_NOTE",
-           "FMI_CRATE_NOTE", "FMI_RUN_ENV", "ME_CVODE_RTOL", "agreement"]
+__all__ = ["Fmu", "run_fmpy", "run_fmpy_me", "simulate_me", "held_input", "on_grid", "run_libcosim",
+           "libcosim_available", "input_values", "input_events_on_grid", "NotSupported", "capture_fmu_log",
+           "LIBCOSIM_NOTE", "ME_CVODE_RTOL", "agreement"]
 
 LIBCOSIM_NOTE = ("libcosim passes no tolerance to fmi2SetupExperiment (the FMU uses its "
                  "DefaultExperiment tolerance): compared with FMPy run at relative_tolerance=None")
@@ -53,11 +52,6 @@ ME_CVODE_RTOL = 1e-10
 
 class NotSupported(RuntimeError):
     """The importer cannot run this kind of experiment (a row to skip, not a failure)."""
-
-
-# the fmi crate's runner lives in .fmi_crate (it uses the input helpers below); its names are
-# importable from here as before
-from .fmi_crate import FMI_CRATE_NOTE, FMI_RUN_ENV, fmi_crate_available, run_fmi_crate  # noqa: E402
 
 
 @dataclass
@@ -187,18 +181,18 @@ def held_input(case: Case, fmu: Fmu) -> np.ndarray | None:
     communication point, held until the next (a jump only where the value changes). A table
     that already holds its values between jumps on the grid is that signal: it is kept as is
     (resampled, FMPy's interpolation would add jumps of one ulp)."""
-    names, _ = _input_values(case, fmu, 0.0)
+    names, _ = input_values(case, fmu, 0.0)
     if not names:
         return None
     table = case.input_table()
     t = np.asarray(table[table.dtype.names[0]], dtype=float)
     spans = np.diff(t) > 0  # the rows that begin a span of time (the others begin a jump)
-    if _input_events_on_grid(case) and all(np.array_equal(table[n][:-1][spans], table[n][1:][spans]) for n in names):
+    if input_events_on_grid(case) and all(np.array_equal(table[n][:-1][spans], table[n][1:][spans]) for n in names):
         return table
     h = case.output_interval
     times, values = [], []
     for k in range(case.steps()):  # the value at the stop time is never applied
-        v = _input_values(case, fmu, k * h)[1]
+        v = input_values(case, fmu, k * h)[1]
         if not values or v != values[-1]:
             times.append(k * h)
             values.append(v)
@@ -249,9 +243,9 @@ def libcosim_available() -> tuple[bool, str]:
         return False, f"{type(e).__name__}: {e}"
 
 
-def _input_values(case: Case, fmu: Fmu, t: float) -> tuple[list[str], list[float]]:
+def input_values(case: Case, fmu: Fmu, t: float) -> tuple[list[str], list[float]]:
     """The inputs' values FMPy applies at communication point t (its interpolation, the
-    value after a jump at t): the same signal for both importers."""
+    value after a jump at t): the same signal for every importer."""
     table = case.input_table()
     if table is None:
         return [], []
@@ -264,7 +258,9 @@ def _input_values(case: Case, fmu: Fmu, t: float) -> tuple[list[str], list[float
     return names, [float(x) for x in np.atleast_1d(v)]
 
 
-def _input_events_on_grid(case: Case) -> bool:
+def input_events_on_grid(case: Case) -> bool:
+    """Whether every jump of the case's inputs is at a communication point (the only jumps a
+    fixed-step master can follow)."""
     table = case.input_table()
     if table is None:
         return True
@@ -286,7 +282,7 @@ def run_libcosim(fmu: Fmu, case: Case) -> Result:
     from libcosimpy.CosimSlave import CosimLocalSlave
 
     log_output_level(CosimLogLevel.ERROR)
-    if not _input_events_on_grid(case):
+    if not input_events_on_grid(case):
         raise RuntimeError("an input jump is off the communication grid: a fixed-step master cannot follow it")
     n = case.steps()
     h_ns = round(case.output_interval * 1e9)
@@ -304,9 +300,9 @@ def run_libcosim(fmu: Fmu, case: Case) -> Result:
     for name, value in case.start_values.items():
         if not execution.real_initial_value(index, variables[name].valueReference, float(value)):
             raise RuntimeError(f"libcosim refused the start value {name} = {value}")
-    input_names, input_values = _input_values(case, fmu, 0.0)
+    input_names, initial_inputs = input_values(case, fmu, 0.0)
     input_vrs = [variables[nm].valueReference for nm in input_names]
-    for vr, value in zip(input_vrs, input_values):
+    for vr, value in zip(input_vrs, initial_inputs):
         execution.real_initial_value(index, vr, value)
 
     series = CosimObserver.create_time_series(buffer_size=n + 16)
@@ -326,7 +322,7 @@ def run_libcosim(fmu: Fmu, case: Case) -> Result:
             raise RuntimeError(f"libcosim stopped: {execution.status()}")
     else:
         for k in range(n):
-            _, values = _input_values(case, fmu, k * h_ns * 1e-9)
+            _, values = input_values(case, fmu, k * h_ns * 1e-9)
             manipulator.slave_real_values(index, input_vrs, values)
             if not execution.step(1):
                 raise RuntimeError(f"libcosim step {k} failed: {execution.status()}")

@@ -42,7 +42,8 @@ from typing import Any, Callable
 import numpy as np
 
 from .case import Case, Evaluation, Result, evaluate
-from .importers import ME_CVODE_RTOL, Fmu, NotSupported, run_fmi_crate, run_fmpy_me
+from .fmi_crate import run_fmi_crate
+from .importers import ME_CVODE_RTOL, Fmu, NotSupported, run_fmpy_me
 
 __all__ = ["CVODE", "CVODE_FLOOR", "EULER", "RK4", "FixedStep", "OrderCheck", "METHODS", "ORDER_SLACK", "band_text",
            "run_cvode", "run_fixed_step", "cvode_row", "fixed_step_row", "rows"]

@@ -1,7 +1,8 @@
-"""The README material of ``mechfmu validate --readme DIR``: ``DIR/validation.md``, one row per
-case in two tables (the FMI 2.0 FMUs under FMPy, libcosim, the fmi crate and in Model
+"""The validation tables of ``mechfmu validate --readme DIR``: ``DIR/validation.md``, one row
+per case in two tables (the FMI 2.0 FMUs under FMPy, libcosim, the fmi crate and in Model
 Exchange; their FMI 3.0 FMUs under FMPy's and the fmi crate's FMI 3.0), the checks in two
-lines, and the highlighted cases' plots.
+lines, and the highlighted cases' plots (``DIR/validation/<name>.png``, linked below the
+tables). ``docs/validation.md`` is this file, written with ``--readme docs``.
 """
 
 from __future__ import annotations
@@ -12,9 +13,12 @@ from typing import Any
 
 from .fmi3 import AGREEMENT, FMI3_CRATE, FMI3_CS, FMI3_CVODE, FMI3_RK4, IMPORTERS as FMI3_IMPORTERS
 from .model_exchange import CVODE, EULER, METHODS, RK4, band_text
-from .report import _fmt, plot_case
+from .report import number_text, plot_case
 
 __all__ = ["write_readme"]
+
+#: the folder beside validation.md that holds the highlighted cases' plots
+PLOTS = "validation"
 
 FMI2_HEAD = ["| FMU | reference case | FMPy: max error | tolerance | libcosim vs FMPy | fmi crate vs FMPy | "
              "ME CVode | ME Euler | ME RK4 (fmi crate) | result |",
@@ -26,13 +30,13 @@ FMI3_HEAD = ["| FMU | reference case | FMPy FMI3 CS: max error | tolerance | fmi
 
 
 def _me_cell(row: dict[str, Any] | None) -> str:
-    """A Model Exchange row in the README's table: the error, the observed order when the row
+    """A Model Exchange row in the table: the error, the observed order when the row
     is judged by it, ✗ when it fails."""
     if row is None:
         return "-"
     if row.get("skipped"):
         return "SKIP"
-    cell = _fmt(row["max_error"])
+    cell = number_text(row["max_error"])
     if row.get("observed_order") is not None:
         cell += f" (h {row['step'] * 1e3:g} ms, p {row['observed_order']:.2f})"
     if row.get("limited"):
@@ -43,7 +47,7 @@ def _me_cell(row: dict[str, Any] | None) -> str:
 def _cell(row: dict[str, Any] | None) -> str:
     if row is None:
         return "-"
-    return _fmt(row["max_error"]) + ("" if row["passed"] else " **✗**")
+    return number_text(row["max_error"]) + ("" if row["passed"] else " **✗**")
 
 
 def _tables(rows: list[dict[str, Any]]) -> tuple[list[str], list[str]]:
@@ -58,14 +62,15 @@ def _tables(rows: list[dict[str, Any]]) -> tuple[list[str], list[str]]:
         if two:
             fmpy = two.get("FMPy") or {}
             me = " | ".join(_me_cell(two.get(importer)) for importer in (CVODE, EULER, RK4))
-            fmi2.append(f"| {fmu} | {case} | {_fmt(fmpy.get('max_error'))} | {_fmt(fmpy.get('tolerance'))} | "
-                        f"{_cell(two.get('libcosim'))} | {_cell(two.get('fmi crate'))} | {me} | "
+            fmi2.append(f"| {fmu} | {case} | {number_text(fmpy.get('max_error'))} | "
+                        f"{number_text(fmpy.get('tolerance'))} | {_cell(two.get('libcosim'))} | "
+                        f"{_cell(two.get('fmi crate'))} | {me} | "
                         f"{'PASS' if all(r['passed'] for r in two.values()) else 'FAIL'} |")
         if three:
             cs = three.get(FMI3_CS) or {}
             me = " | ".join(_me_cell(three.get(importer)) for importer in (FMI3_CVODE, FMI3_RK4))
-            fmi3.append(f"| {fmu} | {case} | {_fmt(cs.get('max_error'))} | {_fmt(cs.get('tolerance'))} | "
-                        f"{_cell(three.get(FMI3_CRATE))} | {me} | "
+            fmi3.append(f"| {fmu} | {case} | {number_text(cs.get('max_error'))} | "
+                        f"{number_text(cs.get('tolerance'))} | {_cell(three.get(FMI3_CRATE))} | {me} | "
                         f"{'PASS' if all(r['passed'] for r in three.values()) else 'FAIL'} |")
     return fmi2, fmi3
 
@@ -78,7 +83,7 @@ def _check_lines(rows: list[dict[str, Any]]) -> list[str]:
         if r["kind"] != "check":
             continue
         if r["case"] == AGREEMENT:
-            agreement[r["fmu"]] = _fmt(r["max_error"]) + ("" if r["passed"] else " **FAIL**")
+            agreement[r["fmu"]] = number_text(r["max_error"]) + ("" if r["passed"] else " **FAIL**")
         else:
             (three if r["case"].startswith("check: FMI 3.0") else two).setdefault(r["fmu"], []).append(r["passed"])
 
@@ -121,13 +126,24 @@ LEGEND3 = (
 )
 
 
+def _highlighted(cases: list[dict[str, Any]]) -> list[tuple[dict[str, Any], str]]:
+    """The highlighted cases, each with its plot's path relative to validation.md."""
+    out = []
+    for entry in cases:
+        if entry.get("highlight"):
+            stem = entry["highlight"] if isinstance(entry["highlight"], str) else f"{entry['fmu']}-{entry['case']}"
+            out.append((entry, f"{PLOTS}/{stem}.png"))
+    return out
+
+
 def write_readme(directory: Path, rows: list[dict[str, Any]], cases: list[dict[str, Any]],
                  header: dict[str, Any]) -> list[Path]:
-    """The tables (validation.md) and the highlighted cases' plots, for the README."""
+    """The tables (``validation.md``) and the highlighted cases' plots they link to (in
+    ``validation/`` beside it)."""
     directory.mkdir(parents=True, exist_ok=True)
-    written = []
+    highlighted = _highlighted(cases)
     fmi2, fmi3 = _tables(rows)
-    parts = ["<!-- written by `cargo run --release -- validate --readme docs/validation` -->"]
+    parts = ["<!-- written by `cargo run --release -- validate --readme docs` -->"]
     if len(fmi2) > 2:
         parts.append("\n".join(fmi2))
     if len(fmi3) > 2:
@@ -135,14 +151,14 @@ def write_readme(directory: Path, rows: list[dict[str, Any]], cases: list[dict[s
     parts += _check_lines(rows)
     versions = f"FMPy {header['fmpy']}, {header['libcosim']}, {header.get('fmi_crate', '-')}."
     parts.append(LEGEND + (" " + LEGEND3 if len(fmi3) > 2 else "") + " " + versions)
+    if highlighted:
+        parts.append("\n".join(f"![{entry['fmu']} {entry['case']}]({png})" for entry, png in highlighted))
     path = directory / "validation.md"
     path.write_text("\n\n".join(parts) + "\n")
-    written.append(path)
-    for entry in cases:
-        if not entry.get("highlight"):
-            continue
-        stem = entry["highlight"] if isinstance(entry["highlight"], str) else f"{entry['fmu']}-{entry['case']}"
-        dest = directory / f"{stem}.png"
+    written = [path]
+    for entry, png in highlighted:
+        dest = directory / png
+        dest.parent.mkdir(exist_ok=True)
         if entry.get("png_path"):
             shutil.copyfile(entry["png_path"], dest)
         else:

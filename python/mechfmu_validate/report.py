@@ -3,7 +3,7 @@ one PNG per case (``DIR/<FMU>/<case>.png``): the FMU's signals against the refer
 error over time on a log scale (with the tolerance, libcosim's and the fmi crate's deviations
 from FMPy, and the Model Exchange run under CVode).
 ``--readme DIR`` writes the tables (``DIR/validation.md``) and the highlighted cases' PNGs
-(:mod:`.readme`).
+(``DIR/validation/<name>.png``) with these plots and cells (:mod:`.readme`).
 """
 
 from __future__ import annotations
@@ -18,13 +18,15 @@ import numpy as np
 
 from .model_exchange import band_text
 
-__all__ = ["plot_case", "write_report", "write_readme", "markdown_table", "limit_text", "result_text"]
+__all__ = ["plot_case", "write_report", "markdown_table", "number_text", "limit_text", "result_text",
+           "platform_lines"]
 
 COLORS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#17becf"]
 FLOOR = 1e-17  # zeros on the log scale
 
 
-def _fmt(x: Any) -> str:
+def number_text(x: Any) -> str:
+    """A number in a table: two significant digits, ``-`` for none."""
     if x is None:
         return "-"
     if isinstance(x, str):
@@ -36,7 +38,7 @@ def _fmt(x: Any) -> str:
     return f"{x:.1e}"
 
 
-def limit_text(row: dict[str, Any], fmt=_fmt) -> str:
+def limit_text(row: dict[str, Any], fmt=number_text) -> str:
     """A row's tolerance cell: the limit, or for a fixed-step Model Exchange row judged by
     its order, the observed order and the band it must lie in."""
     if row.get("observed_order") is not None:
@@ -54,13 +56,10 @@ def result_text(row: dict[str, Any]) -> str:
     return "PASS" if row["passed"] else "FAIL"
 
 
-def plot_case(entry: dict[str, Any], path: Path) -> None:
-    """One PNG: FMU vs reference (panels by unit), and the errors over time (log scale)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+def _panels(entry: dict[str, Any]) -> tuple[list[tuple[str, list]], dict[str, str], list]:
+    """What the plot draws: the signals against the reference, in up to three panels by unit;
+    each drawn signal's color; the signals whose errors are drawn in grey (when the colors do
+    not suffice)."""
     ev = entry["evaluation"]
     result = entry.get("result")
     by_name = {s.name: s for s in ev.signals if s.fmu is not None}
@@ -97,15 +96,13 @@ def plot_case(entry: dict[str, Any], path: Path) -> None:
         for i, s in enumerate(rest):
             colors[s.name] = COLORS[(len(shown) + i) % len(COLORS)]
         rest = []
-    n_top = max(len(groups), 1)
-    fig_h = 2.3 * n_top + 2.9 + 0.9
-    fig = plt.figure(figsize=(10, fig_h), dpi=110)
-    heights = [2.3] * n_top + [2.9]
-    gs = fig.add_gridspec(n_top + 1, 1, height_ratios=heights, hspace=0.3,
-                          left=0.08, right=0.78, top=1 - 0.95 / fig_h, bottom=0.5 / fig_h)
-    t = ev.time
+    return groups, colors, rest
+
+
+def _heading(fig, entry: dict[str, Any], fig_h: float) -> None:
+    """The case, its verdict, its errors against the reference and the other importers, its settings."""
+    worst = entry["evaluation"].worst
     status = "PASS" if entry["passed"] else "FAIL"
-    worst = ev.worst
     fig.text(0.08, 1 - 0.1 / fig_h, f"{entry['fmu']} — {entry['case']}: {status}", fontsize=13, fontweight="bold",
              color="#1a7f37" if entry["passed"] else "#cf222e", ha="left", va="top")
     sub = []
@@ -124,6 +121,62 @@ def plot_case(entry: dict[str, Any], path: Path) -> None:
         settings = settings[:128] + " …"
     fig.text(0.08, 1 - 0.38 / fig_h, line1 + ("\n" + settings if settings else ""),
              fontsize=9, color="#57606a", ha="left", va="top", linespacing=1.4)
+
+
+def _errors(ax, entry: dict[str, Any], colors: dict[str, str], rest: list) -> None:
+    """The bottom panel: every signal's error over time, the tolerances, and the other
+    importers' deviations from FMPy, on a log scale."""
+    ev = entry["evaluation"]
+    t = ev.time
+    for s in rest:
+        ax.semilogy(t, np.maximum(s.error, FLOOR), color="#b0b7c0", lw=0.8)
+    if rest:
+        ax.plot([], [], color="#b0b7c0", lw=0.8, label=f"{len(rest)} other signals")
+    for s in ev.signals:
+        if s.name in colors:
+            ax.semilogy(t, np.maximum(s.error, FLOOR), color=colors[s.name], lw=1.2, label=s.name)
+    tols = sorted({s.tolerance for s in ev.signals})
+    for i, tol in enumerate(tols):
+        ax.axhline(tol, color="#cf222e", ls="--", lw=1.2, label="tolerance" if i == 0 else None)
+    lc = entry.get("libcosim")
+    if lc and lc.get("error_over_time") is not None:
+        ax.semilogy(lc["time"], np.maximum(lc["error_over_time"], FLOOR), color="#6e7781", lw=1.0,
+                    ls=(0, (1, 1.5)), label="libcosim vs FMPy")
+        ax.axhline(lc["tolerance"], color="#6e7781", ls="--", lw=0.9, label="libcosim tolerance")
+    fc = entry.get("fmi_crate")
+    if fc and fc.get("error_over_time") is not None and np.any(fc["error_over_time"] > 0):
+        ax.semilogy(fc["time"], np.maximum(fc["error_over_time"], FLOOR), color="#8250df", lw=1.0,
+                    ls=(0, (3, 1.5)), label="fmi crate vs FMPy")
+    me = entry.get("me_cvode")
+    if me and me.get("error_over_time") is not None:
+        ax.semilogy(me["time"], np.maximum(me["error_over_time"], FLOOR), color="#bf8700", lw=1.0,
+                    ls=(0, (5, 2)), label="ME CVode")
+    ax.set_ylabel("|FMU − ref| / scale")
+    ax.set_xlabel("time (s)")
+    ax.grid(True, which="major", color="#e5e7eb")
+    lo = min([FLOOR * 10] + [float(np.min(np.maximum(s.error, FLOOR))) for s in ev.signals])
+    hi = max([1.0] + [t_ * 10 for t_ in tols])
+    ax.set_ylim(max(lo / 3, FLOOR), hi)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=9, frameon=False)
+    ax.set_xlim(t[0], t[-1])
+
+
+def plot_case(entry: dict[str, Any], path: Path) -> None:
+    """One PNG: FMU vs reference (panels by unit), and the errors over time (log scale)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    groups, colors, rest = _panels(entry)
+    n_top = max(len(groups), 1)
+    fig_h = 2.3 * n_top + 2.9 + 0.9
+    fig = plt.figure(figsize=(10, fig_h), dpi=110)
+    heights = [2.3] * n_top + [2.9]
+    gs = fig.add_gridspec(n_top + 1, 1, height_ratios=heights, hspace=0.3,
+                          left=0.08, right=0.78, top=1 - 0.95 / fig_h, bottom=0.5 / fig_h)
+    t = entry["evaluation"].time
+    _heading(fig, entry, fig_h)
     ax0 = None
     for k, (unit, group) in enumerate(groups):
         ax = fig.add_subplot(gs[k, 0], sharex=ax0)
@@ -143,36 +196,7 @@ def plot_case(entry: dict[str, Any], path: Path) -> None:
         ax.text(0.5, 0.5, "(an invariant check: no signal to plot against a reference)",
                 ha="center", va="center", transform=ax.transAxes, color="#57606a")
         ax.set_axis_off()
-    ax = fig.add_subplot(gs[n_top, 0], sharex=ax0)
-    for s in rest:
-        ax.semilogy(t, np.maximum(s.error, FLOOR), color="#b0b7c0", lw=0.8)
-    if rest:
-        ax.plot([], [], color="#b0b7c0", lw=0.8, label=f"{len(rest)} other signals")
-    for s in ev.signals:
-        if s.name in colors:
-            ax.semilogy(t, np.maximum(s.error, FLOOR), color=colors[s.name], lw=1.2, label=s.name)
-    tols = sorted({s.tolerance for s in ev.signals})
-    for i, tol in enumerate(tols):
-        ax.axhline(tol, color="#cf222e", ls="--", lw=1.2, label="tolerance" if i == 0 else None)
-    if lc and lc.get("error_over_time") is not None:
-        ax.semilogy(lc["time"], np.maximum(lc["error_over_time"], FLOOR), color="#6e7781", lw=1.0,
-                    ls=(0, (1, 1.5)), label="libcosim vs FMPy")
-        ax.axhline(lc["tolerance"], color="#6e7781", ls="--", lw=0.9, label="libcosim tolerance")
-    if fc and fc.get("error_over_time") is not None and np.any(fc["error_over_time"] > 0):
-        ax.semilogy(fc["time"], np.maximum(fc["error_over_time"], FLOOR), color="#8250df", lw=1.0,
-                    ls=(0, (3, 1.5)), label="fmi crate vs FMPy")
-    me = entry.get("me_cvode")
-    if me and me.get("error_over_time") is not None:
-        ax.semilogy(me["time"], np.maximum(me["error_over_time"], FLOOR), color="#bf8700", lw=1.0,
-                    ls=(0, (5, 2)), label="ME CVode")
-    ax.set_ylabel("|FMU − ref| / scale")
-    ax.set_xlabel("time (s)")
-    ax.grid(True, which="major", color="#e5e7eb")
-    lo = min([FLOOR * 10] + [float(np.min(np.maximum(s.error, FLOOR))) for s in ev.signals])
-    hi = max([1.0] + [t_ * 10 for t_ in tols])
-    ax.set_ylim(max(lo / 3, FLOOR), hi)
-    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=9, frameon=False)
-    ax.set_xlim(t[0], t[-1])
+    _errors(fig.add_subplot(gs[n_top, 0], sharex=ax0), entry, colors, rest)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path)
     plt.close(fig)
@@ -182,7 +206,7 @@ def markdown_table(rows: list[dict[str, Any]]) -> str:
     lines = ["| FMU | case | importer | max error | tolerance | result |", "|---|---|---|---:|---:|---|"]
     for r in rows:
         result = result_text(r)
-        lines.append(f"| {r['fmu']} | {r['case']} | {r['importer']} | {_fmt(r['max_error'])} | "
+        lines.append(f"| {r['fmu']} | {r['case']} | {r['importer']} | {number_text(r['max_error'])} | "
                      f"{limit_text(r)} | {'**FAIL**' if result == 'FAIL' else result} |")
     return "\n".join(lines) + "\n"
 
@@ -209,7 +233,7 @@ def _html_table(rows: list[dict[str, Any]]) -> str:
         if r.get("anchor"):
             case = f'<a href="#{r["anchor"]}">{case}</a>'
         out.append(f"<tr><td>{html.escape(r['fmu'])}</td><td>{case}</td><td>{html.escape(r['importer'])}</td>"
-                   f"<td class=num>{_fmt(r['max_error'])}</td><td class=num>{html.escape(limit_text(r))}</td>"
+                   f"<td class=num>{number_text(r['max_error'])}</td><td class=num>{html.escape(limit_text(r))}</td>"
                    f"<td class={result.lower()}>{result}</td></tr>")
     out.append("</table>")
     return "\n".join(out)
@@ -276,7 +300,3 @@ def write_report(directory: Path, rows: list[dict[str, Any]], cases: list[dict[s
     (directory / "index.html").write_text(
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>mechfmu validate</title>"
         f"<style>{style}</style></head><body>\n" + "\n".join(body) + "\n</body></html>\n")
-
-
-# the README material (re-exported: `from .report import write_readme`)
-from .readme import write_readme  # noqa: E402

@@ -21,13 +21,13 @@ from .arrays import MappingError, fmi2_sibling, fmi3_sibling
 from .case import Case, describe
 from .checks import run_checks
 from .checks3 import run_checks3
-from .cs_rows import FMI_CRATE, FMI_CRATE_TOLERANCE, LIBCOSIM_TOLERANCE
+from .cs_rows import FMI_CRATE
 from .importers import Fmu
 from .loader import default_case, load_cases
 from .opening import OPENS, BrokenFmu, open_fmu
 from .platform_rows import Platforms
 
-__all__ = ["LIBCOSIM_TOLERANCE", "FMI_CRATE_TOLERANCE", "FMI_CRATE", "validate_fmu", "validate_fmi3"]
+__all__ = ["validate_fmu", "validate_fmi3"]
 
 
 def _progress(msg: str) -> None:

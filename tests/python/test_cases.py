@@ -21,7 +21,7 @@ import fmutest
 
 from mechfmu_validate.case import evaluate, signal_scale
 from mechfmu_validate.checks import REFERENCE_CSV_TOLERANCE, REFERENCE_DIR, read_csv, run_checks
-from mechfmu_validate.cli import LIBCOSIM_TOLERANCE
+from mechfmu_validate.cs_rows import LIBCOSIM_TOLERANCE
 from mechfmu_validate.importers import Fmu, agreement, libcosim_available, run_fmpy, run_libcosim
 from mechfmu_validate.loader import default_case, load_cases
 from mechfmu_validate.reference import reference_table

@@ -28,7 +28,8 @@ import fmutest
 from fmutest import LogMark, Slave, fmu_path, simulate
 from mechfmu_validate import model_exchange
 from mechfmu_validate.case import Result, evaluate
-from mechfmu_validate.importers import FMI_RUN_ENV, Fmu, held_input, on_grid, simulate_me
+from mechfmu_validate.fmi_crate import FMI_RUN_ENV
+from mechfmu_validate.importers import Fmu, held_input, on_grid, simulate_me
 from mechfmu_validate.model_exchange import CVODE, EULER, METHODS, RK4
 from refs import crane_dynamics as ref_cd
 from refs import step_input

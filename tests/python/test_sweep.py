@@ -38,6 +38,7 @@ from mechfmu_sweep.design import (
     parse_schedule,
     parse_spec,
 )
+from mechfmu_sweep.results import read_results
 from mechfmu_sweep.runner import (
     CaseSetup,
     Runtime,
@@ -103,7 +104,7 @@ def crane_sweep(tmp_path_factory):
     rc = run_sweep(args)
     wall = time.perf_counter() - started
     assert rc == 0
-    return sweep_cli.read_results(out), wall
+    return read_results(out), wall
 
 
 def test_crane_sweep_matches_sequential_simulate_fmu(crane_sweep, tmp_path):
@@ -203,7 +204,7 @@ def test_invalid_case_fails_with_the_fmu_message(external_cluster, tmp_path):
                     "--scheduler", external_cluster, "--stop-time", "5", "--summary", "max(T)",
                     "--out", out, "--no-progress"])
     assert rc == 0, "failed cases do not fail the sweep"
-    table = sweep_cli.read_results(out.with_suffix(".parquet"))
+    table = read_results(out.with_suffix(".parquet"))
     meta = json.loads(table.schema.metadata[b"mechfmu_sweep"])
     assert meta["scheduler"] == external_cluster and meta["workers"] == 1
     assert meta["shipped_package"], "the external worker lacked mechfmu_sweep: it must have been sent"
@@ -253,7 +254,7 @@ def test_cli_end_to_end(tmp_path):
     # not a terminal: no bar, a plain closing line with the rate
     assert "\r" not in p.stderr
     assert "8 cases" in p.stderr and "cases/s" in p.stderr and "ok 6" in p.stderr and "error 2" in p.stderr
-    rows = table_rows(sweep_cli.read_results(out))
+    rows = table_rows(read_results(out))
     assert [(r["l"], r["x_ddot.scale"]) for r in rows] == [(l, s) for l in (-1, 3, 6, 9) for s in (1, 2)]
     assert [r["status"] for r in rows] == ["error"] * 2 + ["ok"] * 6
     ok = [r for r in rows if r["status"] == "ok"]

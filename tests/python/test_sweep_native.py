@@ -18,6 +18,7 @@ import pytest
 from fmutest import REPO_ROOT, fmu_path
 from mechfmu_sweep import cli as sweep_cli
 from mechfmu_sweep.native import EXE_ENV, NativeRuntime
+from mechfmu_sweep.results import read_results
 from mechfmu_sweep.runner import Runtime
 from mechfmu_validate import fmulog
 
@@ -129,7 +130,7 @@ def test_other_mechanisms_give_the_same_rows(name, params):
 def sweep(*args) -> tuple[int, list[dict]]:
     out = Path(args[args.index("--out") + 1])
     rc = sweep_cli.main([str(a) for a in args])
-    return rc, (sweep_cli.read_results(out).to_pylist() if out.exists() else [])
+    return rc, (read_results(out).to_pylist() if out.exists() else [])
 
 
 def test_on_dask_the_native_engine_writes_the_fmpy_engines_results(tmp_path):
@@ -141,7 +142,7 @@ def test_on_dask_the_native_engine_writes_the_fmpy_engines_results(tmp_path):
     assert rc_n == rc_f == 0
     assert [r["case"] for r in native] == list(range(18))
     assert_same_rows(native, fmpy)
-    meta = sweep_cli.read_results(tmp_path / "n.parquet").schema.metadata[b"mechfmu_sweep"]
+    meta = read_results(tmp_path / "n.parquet").schema.metadata[b"mechfmu_sweep"]
     assert b'"engine": "native"' in meta and b'"wall_s"' in meta
 
 
@@ -180,5 +181,5 @@ def test_the_command_runs_the_native_engine_by_default(tmp_path):
                            "--stop-time", "2", "--workers", "1", "--no-progress", "--out", str(out)],
                           capture_output=True, text=True, env=env, timeout=600)
     assert done.returncode == 0, done.stderr
-    meta = sweep_cli.read_results(out).schema.metadata[b"mechfmu_sweep"]
+    meta = read_results(out).schema.metadata[b"mechfmu_sweep"]
     assert b'"engine": "native"' in meta, done.stderr

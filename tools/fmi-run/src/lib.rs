@@ -15,7 +15,7 @@
 //!
 //! # The experiment
 //!
-//! An [`Experiment`] (JSON, written by `mechfmu_validate.importers.run_fmi_crate`) is run the
+//! An [`Experiment`] (JSON, written by `mechfmu_validate.fmi_crate.run_fmi_crate`) is run the
 //! way FMPy's `simulate_fmu` runs a Co-Simulation FMU, so that the two must agree to rounding:
 //!
 //! 1. `fmi2Instantiate` (instance name: the model identifier), `fmi2SetupExperiment` with the
