@@ -114,95 +114,12 @@ impl FmuState {
     /// Reads serialized bytes, refusing anything malformed, truncated, corrupted, of
     /// another format version, or of another model or standard than `version`'s `M`.
     pub fn from_bytes<M: Mechanism>(bytes: &[u8], version: Version) -> Result<FmuState, String> {
-        if bytes.len() < MAGIC.len() + 4 + 8 || &bytes[..8] != MAGIC {
-            return Err(
-                "these bytes are not a serialized mechfmu FMU state (wrong magic tag)".into(),
-            );
-        }
-        let (body, tail) = bytes.split_at(bytes.len() - 8);
-        let mut r = Reader {
-            bytes: &body[8..],
-            at: 8,
-        };
-        let format = r.u32()?;
-        if format != FORMAT_VERSION {
-            return Err(format!(
-                "serialized FMU state has format version {format}; this FMU reads version {FORMAT_VERSION}"
-            ));
-        }
-        let checksum = u64::from_le_bytes(tail.try_into().expect("8 bytes"));
-        if checksum != fnv(body) {
-            return Err(
-                "serialized FMU state is corrupted or truncated (checksum mismatch)".into(),
-            );
-        }
-        let name = r.string()?;
-        let guid = r.string()?;
-        if name != M::NAME {
-            return Err(format!(
-                "serialized FMU state is of model `{name}`, not `{}`",
-                M::NAME
-            ));
-        }
-        let expected = version.token::<M>();
-        if guid != expected {
-            let what = match version {
-                Version::Fmi2 => "GUID",
-                Version::Fmi3 => "instantiation token",
-            };
-            return Err(format!(
-                "serialized FMU state is of another build of {name}, or of its other FMI version ({what} {guid}, this FMU has {expected})"
-            ));
-        }
-        let n = r.u32()? as usize;
-        if n != M::VARIABLES.len() + 1 {
-            return Err(format!(
-                "serialized FMU state has {n} values; {} has {}",
-                M::NAME,
-                M::VARIABLES.len() + 1
-            ));
-        }
-        let values = (0..n).map(|_| r.f64()).collect::<Result<Vec<_>, _>>()?;
-        let n_inputs = r.u32()? as usize;
-        if n_inputs > M::VARIABLES.len() {
-            return Err(format!("serialized FMU state claims {n_inputs} inputs"));
-        }
-        let inputs = (0..n_inputs)
-            .map(|_| r.f64())
-            .collect::<Result<Vec<_>, _>>()?;
-        let input_derivatives = (0..n_inputs)
-            .map(|_| Ok([r.f64()?, r.f64()?]))
-            .collect::<Result<Vec<_>, String>>()?;
-        let h_next = r.opt_f64()?;
-        let log2_err_prev = r.f64()?;
-        let (rtol, atol) = (r.f64()?, r.f64()?);
-        if ![rtol, atol].iter().all(|x| x.is_finite() && *x > 0.0) {
-            return Err("serialized FMU state has an invalid tolerance".into());
-        }
-        let tolerance =
-            Tolerance::new(rtol, atol).ok_or("serialized FMU state has an invalid tolerance")?;
-        let flags = r.u8()?;
-        if flags & !31 != 0 {
-            return Err(format!("serialized FMU state has unknown flags {flags:#x}"));
-        }
-        let solver = SolverMemory {
-            h_next,
-            log2_err_prev,
-            high_order: flags & 8 != 0,
-        };
-        if !solver.is_valid() {
-            return Err(format!(
-                "serialized FMU state has a solver memory the solver cannot have \
-                 (next step size {h_next:?}, log2 of the error memory {log2_err_prev})"
-            ));
-        }
-        let state_bits = r.u16()?;
-        let model_state = ModelState::ALL
-            .into_iter()
-            .find(|s| *s as u16 == state_bits)
-            .ok_or_else(|| {
-                format!("serialized FMU state has an unknown instance state {state_bits}")
-            })?;
+        let mut r = Reader::open(bytes)?;
+        check_origin::<M>(&mut r, version)?;
+        let values = read_values::<M>(&mut r)?;
+        let (inputs, input_derivatives) = read_inputs::<M>(&mut r)?;
+        let (solver, tolerance, flags) = read_solver(&mut r)?;
+        let model_state = read_model_state(&mut r)?;
         let stop_time = r.opt_f64()?;
         let last_successful_time = r.f64()?;
         let last_step_status = r.u32()?;
@@ -211,42 +128,13 @@ impl FmuState {
                 "serialized FMU state has an unknown step status {last_step_status}"
             ));
         }
-        // Only what this runtime can produce: a forged state (valid checksum, impossible
-        // content) would otherwise put the instance where it cannot leave (Fatal, step in
-        // progress: not even fmi2FreeInstance is allowed) or return NaN with fmi2OK.
-        if matches!(
-            model_state,
-            ModelState::StepInProgress | ModelState::StepCanceled | ModelState::Fatal
-        ) {
-            return Err(format!(
-                "serialized FMU state has instance state \"{}\", which no saved state of this FMU has",
-                model_state.name()
-            ));
-        }
         let interface = if flags & 16 != 0 {
             Interface::ModelExchange
         } else {
             Interface::CoSimulation
         };
-        let machine_of_other_interface = match model_state {
-            ModelState::ContinuousTimeMode => interface != Interface::ModelExchange,
-            ModelState::StepComplete | ModelState::StepFailed => {
-                interface != Interface::CoSimulation
-            }
-            // Co-Simulation has an event mode in FMI 3.0 only.
-            ModelState::EventMode => {
-                interface == Interface::CoSimulation && version == Version::Fmi2
-            }
-            _ => false,
-        };
-        if machine_of_other_interface {
-            return Err(format!(
-                "serialized FMU state has instance state \"{}\", which a {} instance does not have",
-                model_state.name(),
-                interface.name()
-            ));
-        }
-        let time = values[n - 1];
+        check_reachable(model_state, interface, version)?;
+        let time = values[values.len() - 1];
         if values
             .iter()
             .chain(&inputs)
@@ -258,12 +146,7 @@ impl FmuState {
         {
             return Err("serialized FMU state has values that are not numbers".into());
         }
-        if r.at != body.len() {
-            return Err(format!(
-                "serialized FMU state has {} unexpected trailing bytes",
-                body.len() - r.at
-            ));
-        }
+        r.finish()?;
         Ok(FmuState {
             magic: STATE_MAGIC,
             version,
@@ -286,13 +169,177 @@ impl FmuState {
     }
 }
 
+/// Refuses the state of another model, or of another build or standard of this one (the
+/// model identifier, then the GUID or instantiation token of `version`).
+fn check_origin<M: Mechanism>(r: &mut Reader, version: Version) -> Result<(), String> {
+    let name = r.string()?;
+    let guid = r.string()?;
+    if name != M::NAME {
+        return Err(format!(
+            "serialized FMU state is of model `{name}`, not `{}`",
+            M::NAME
+        ));
+    }
+    let expected = version.token::<M>();
+    if guid != expected {
+        let what = match version {
+            Version::Fmi2 => "GUID",
+            Version::Fmi3 => "instantiation token",
+        };
+        return Err(format!(
+            "serialized FMU state is of another build of {name}, or of its other FMI version ({what} {guid}, this FMU has {expected})"
+        ));
+    }
+    Ok(())
+}
+
+/// The values: one per variable of `M`, then the time.
+fn read_values<M: Mechanism>(r: &mut Reader) -> Result<Vec<f64>, String> {
+    let n = r.u32()? as usize;
+    if n != M::VARIABLES.len() + 1 {
+        return Err(format!(
+            "serialized FMU state has {n} values; {} has {}",
+            M::NAME,
+            M::VARIABLES.len() + 1
+        ));
+    }
+    (0..n).map(|_| r.f64()).collect()
+}
+
+/// The inputs at the communication point, then their first and second derivatives.
+fn read_inputs<M: Mechanism>(r: &mut Reader) -> Result<(Vec<f64>, Vec<[f64; 2]>), String> {
+    let n_inputs = r.u32()? as usize;
+    if n_inputs > M::VARIABLES.len() {
+        return Err(format!("serialized FMU state claims {n_inputs} inputs"));
+    }
+    let inputs = (0..n_inputs)
+        .map(|_| r.f64())
+        .collect::<Result<Vec<_>, _>>()?;
+    let input_derivatives = (0..n_inputs)
+        .map(|_| Ok([r.f64()?, r.f64()?]))
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok((inputs, input_derivatives))
+}
+
+/// The solver's memory and tolerance, and the flags (the solver's method among them),
+/// refused unless the solver can have them.
+fn read_solver(r: &mut Reader) -> Result<(SolverMemory, Tolerance, u8), String> {
+    let h_next = r.opt_f64()?;
+    let log2_err_prev = r.f64()?;
+    let (rtol, atol) = (r.f64()?, r.f64()?);
+    if ![rtol, atol].iter().all(|x| x.is_finite() && *x > 0.0) {
+        return Err("serialized FMU state has an invalid tolerance".into());
+    }
+    let tolerance =
+        Tolerance::new(rtol, atol).ok_or("serialized FMU state has an invalid tolerance")?;
+    let flags = r.u8()?;
+    if flags & !31 != 0 {
+        return Err(format!("serialized FMU state has unknown flags {flags:#x}"));
+    }
+    let solver = SolverMemory {
+        h_next,
+        log2_err_prev,
+        high_order: flags & 8 != 0,
+    };
+    if !solver.is_valid() {
+        return Err(format!(
+            "serialized FMU state has a solver memory the solver cannot have \
+             (next step size {h_next:?}, log2 of the error memory {log2_err_prev})"
+        ));
+    }
+    Ok((solver, tolerance, flags))
+}
+
+/// The state-machine state, one of the standards' states.
+fn read_model_state(r: &mut Reader) -> Result<ModelState, String> {
+    let state_bits = r.u16()?;
+    ModelState::ALL
+        .into_iter()
+        .find(|s| *s as u16 == state_bits)
+        .ok_or_else(|| format!("serialized FMU state has an unknown instance state {state_bits}"))
+}
+
+/// Refuses a state-machine state no saved state of this runtime has. A forged state (valid
+/// checksum, impossible content) would otherwise put the instance where it cannot leave
+/// (Fatal, step in progress: not even fmi2FreeInstance is allowed) or return NaN with
+/// fmi2OK.
+fn check_reachable(
+    model_state: ModelState,
+    interface: Interface,
+    version: Version,
+) -> Result<(), String> {
+    if matches!(
+        model_state,
+        ModelState::StepInProgress | ModelState::StepCanceled | ModelState::Fatal
+    ) {
+        return Err(format!(
+            "serialized FMU state has instance state \"{}\", which no saved state of this FMU has",
+            model_state.name()
+        ));
+    }
+    let machine_of_other_interface = match model_state {
+        ModelState::ContinuousTimeMode => interface != Interface::ModelExchange,
+        ModelState::StepComplete | ModelState::StepFailed => interface != Interface::CoSimulation,
+        // Co-Simulation has an event mode in FMI 3.0 only.
+        ModelState::EventMode => interface == Interface::CoSimulation && version == Version::Fmi2,
+        _ => false,
+    };
+    if machine_of_other_interface {
+        return Err(format!(
+            "serialized FMU state has instance state \"{}\", which a {} instance does not have",
+            model_state.name(),
+            interface.name()
+        ));
+    }
+    Ok(())
+}
+
 /// A cursor over serialized bytes that refuses to read past the end.
 struct Reader<'a> {
     bytes: &'a [u8],
     at: usize,
 }
 
-impl Reader<'_> {
+impl<'a> Reader<'a> {
+    /// A reader of the fields after the magic tag and the format version, once both and the
+    /// checksum check out.
+    fn open(bytes: &'a [u8]) -> Result<Self, String> {
+        if bytes.len() < MAGIC.len() + 4 + 8 || &bytes[..8] != MAGIC {
+            return Err(
+                "these bytes are not a serialized mechfmu FMU state (wrong magic tag)".into(),
+            );
+        }
+        let (body, tail) = bytes.split_at(bytes.len() - 8);
+        let mut r = Reader {
+            bytes: &body[8..],
+            at: 8,
+        };
+        let format = r.u32()?;
+        if format != FORMAT_VERSION {
+            return Err(format!(
+                "serialized FMU state has format version {format}; this FMU reads version {FORMAT_VERSION}"
+            ));
+        }
+        let checksum = u64::from_le_bytes(tail.try_into().expect("8 bytes"));
+        if checksum != fnv(body) {
+            return Err(
+                "serialized FMU state is corrupted or truncated (checksum mismatch)".into(),
+            );
+        }
+        Ok(r)
+    }
+
+    /// Refuses bytes left after the last field (before the checksum).
+    fn finish(&self) -> Result<(), String> {
+        let trailing = 8 + self.bytes.len() - self.at;
+        if trailing != 0 {
+            return Err(format!(
+                "serialized FMU state has {trailing} unexpected trailing bytes"
+            ));
+        }
+        Ok(())
+    }
+
     fn take(&mut self, n: usize) -> Result<&[u8], String> {
         let start = self.at - 8;
         let end = start

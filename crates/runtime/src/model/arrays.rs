@@ -8,8 +8,7 @@
 //! (FMI 2.0's): an array takes the value reference of its first element, whose own and
 //! those of its other elements are then not variables of FMI 3.0.
 
-use super::layout::str_eq;
-use super::message::ConstMessage;
+use super::const_text::{str_eq, ConstMessage};
 use super::Variable;
 
 /// An array variable made of declared scalar variables.

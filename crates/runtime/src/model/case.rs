@@ -1,8 +1,7 @@
 //! A case that moves, for the documentation of a mechanism whose default experiment stands
 //! still: an equilibrium plots as flat lines, which shows nothing of the mechanism.
 
-use super::layout::str_eq;
-use super::message::ConstMessage;
+use super::const_text::{str_eq, ConstMessage};
 use super::{Causality, Experiment, Initial, Variable};
 
 /// What a mechanism's documentation plots when its default experiment stands still

@@ -2,8 +2,7 @@
 //! `export_fmu!` for the event indicators), with messages that name the variable and what
 //! is wrong with it; [`Layout::new`](super::Layout::new) gives the same messages at run time.
 
-use super::layout::str_eq;
-use super::message::ConstMessage;
+use super::const_text::{str_eq, ConstMessage};
 use super::units::base_units;
 use super::{Variability, Variable};
 

@@ -1,6 +1,7 @@
 //! Where each kind of variable sits, derived once from a declaration.
 
 use super::checks::variable_mistake;
+use super::const_text::str_eq;
 use super::{Causality, Variability, Variable};
 
 /// The value references of each kind of variable, in declaration order.
@@ -58,22 +59,6 @@ impl Layout {
     pub fn input_index(&self, vr: usize) -> Option<usize> {
         self.inputs.iter().position(|&i| i == vr)
     }
-}
-
-#[doc(hidden)]
-pub const fn str_eq(a: &str, b: &str) -> bool {
-    let (a, b) = (a.as_bytes(), b.as_bytes());
-    if a.len() != b.len() {
-        return false;
-    }
-    let mut i = 0;
-    while i < a.len() {
-        if a[i] != b[i] {
-            return false;
-        }
-        i += 1;
-    }
-    true
 }
 
 /// The value references of the `N` states' derivatives, in the states' order:

@@ -7,9 +7,9 @@
 mod arrays;
 mod case;
 mod checks;
+mod const_text;
 mod declare;
 mod layout;
-mod message;
 mod scalar;
 pub mod units;
 mod values;
@@ -21,12 +21,13 @@ pub use checks::{
     check_declaration, check_event_indicators, check_variable, declaration_error, variable_mistake,
 };
 #[doc(hidden)]
+pub use const_text::str_eq;
+pub use const_text::ConstMessage;
+#[doc(hidden)]
 pub use layout::{
-    count_selected, derivative_references, derivatives_among_states, selected_references, str_eq,
-    Selection,
+    count_selected, derivative_references, derivatives_among_states, selected_references, Selection,
 };
 pub use layout::{event_indicator_references, Layout};
-pub use message::ConstMessage;
 pub use scalar::{cos, lit, sin, sin_cos, Scalar};
 #[doc(hidden)]
 pub use values::{copy_one_by_one, get_one_by_one, Fields};

@@ -7,7 +7,7 @@
 //! and a second product (`"1/s"` is allowed). A factor is a symbol of [`SYMBOLS`] followed by
 //! an optional integer exponent (`m2`, `s-1`).
 
-use super::message::ConstMessage;
+use super::const_text::{str_eq, ConstMessage};
 
 /// The exponents of the SI base units (and of the SI derived unit rad) a unit is made of,
 /// as in FMI 2.0's `<BaseUnit kg=".." m=".." ...>`. Every unit here is coherent SI
@@ -321,7 +321,7 @@ const fn parse_factor(text: &str) -> Result<(BaseUnit, i32), UnitError<'_>> {
 const fn symbol_units(symbol: &str) -> Option<BaseUnit> {
     let mut i = 0;
     while i < SYMBOLS.len() {
-        if super::layout::str_eq(SYMBOLS[i].0, symbol) {
+        if str_eq(SYMBOLS[i].0, symbol) {
             return Some(SYMBOLS[i].1);
         }
         i += 1;

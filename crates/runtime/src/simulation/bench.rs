@@ -2,7 +2,9 @@
 //! FMU's own compiled code, so the benchmark can time them from outside and tell the
 //! model's equations from the solver and from the FMI layer.
 
-use super::{fixed_size, Simulation, System};
+use super::step::complete_point;
+use super::system::{fixed_size, System};
+use super::Simulation;
 use crate::model::{Mechanism, ValueSet};
 use crate::solver::{OdeSystem, StateVector};
 
@@ -216,7 +218,7 @@ impl<M: Mechanism> Simulation<M> {
                 let mut values = sim.values.clone();
                 for i in 0..n {
                     values.set_time(t0 + (i + 1) as f64 * h);
-                    super::complete_point::<M>(std::hint::black_box(&mut values));
+                    complete_point::<M>(std::hint::black_box(&mut values));
                 }
                 sum += values.get(d).unwrap_or(0.0);
             }

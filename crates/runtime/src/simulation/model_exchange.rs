@@ -3,6 +3,7 @@
 //! where the model needs an event: its event indicators, the monitor's verdict at accepted
 //! points, the drift off the manifold its projection restores.
 
+use super::system::store_point;
 use super::Simulation;
 use crate::model::{copy_one_by_one, get_one_by_one, Mechanism, Monitor, ValueSet};
 use crate::solver::StateVector;
@@ -189,7 +190,7 @@ impl<M: Mechanism> Simulation<M> {
             let mut states = M::State::ZERO;
             get_one_by_one(&self.values, M::STATES, states.as_mut_slice());
             let t = self.values.time();
-            super::store_point::<M>(&mut self.values, t, &states);
+            store_point::<M>(&mut self.values, t, &states);
             M::evaluate(&mut self.values);
             self.counters.evaluations += 1;
             self.derivatives_current = true;

@@ -15,8 +15,8 @@
 
 use super::controller::Control;
 use super::norm::{inverse_scale, ratio_sq};
-use super::runge_kutta::{all_finite, combine, evaluate, evaluate_new_point, Method, RungeKutta};
-use super::{OdeSystem, StateVector, Tolerance};
+use super::runge_kutta::{combine, evaluate, evaluate_new_point, Method, RungeKutta};
+use super::{all_finite, OdeSystem, StateVector, Tolerance};
 
 // Nodes c_i (stage i is evaluated at t + c_i h).
 const C2: f64 = 0.526001519587677318785587544488e-01;

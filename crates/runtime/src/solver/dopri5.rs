@@ -6,8 +6,8 @@
 
 use super::controller::Control;
 use super::norm::error_norm_squared;
-use super::runge_kutta::{all_finite, combine, evaluate, evaluate_new_point, Method, RungeKutta};
-use super::{OdeSystem, StateVector, Tolerance};
+use super::runge_kutta::{combine, evaluate, evaluate_new_point, Method, RungeKutta};
+use super::{all_finite, OdeSystem, StateVector, Tolerance};
 
 // Nodes c_i.
 const C2: f64 = 1.0 / 5.0;

@@ -8,7 +8,7 @@
 //! It runs once, where a simulation ends, so its cost (a method step per halving) does not
 //! matter.
 
-use super::{OdeSystem, StateVector};
+use super::{all_finite, OdeSystem, StateVector};
 
 /// Halvings at most: a step of size h is resolved to h·2⁻⁶⁴, or to one ulp of the time.
 const MAX_HALVINGS: u32 = 64;
@@ -31,7 +31,7 @@ pub fn last_valid_point<V: StateVector, S: OdeSystem + ?Sized>(
             break;
         }
         let y_mid = state_at(sys, mid);
-        if super::runge_kutta::all_finite(&y_mid) && sys.valid_at(mid, y_mid.as_slice()) {
+        if all_finite(&y_mid) && sys.valid_at(mid, y_mid.as_slice()) {
             (lo, y_lo) = (mid, y_mid);
         } else {
             hi = mid;

@@ -59,6 +59,12 @@ impl<const N: usize> StateVector for [f64; N] {
     }
 }
 
+/// Whether every entry is finite (without stopping early: no branch per entry).
+#[inline(always)]
+pub(crate) fn all_finite<V: StateVector>(v: &V) -> bool {
+    v.as_slice().iter().fold(true, |ok, x| ok & x.is_finite())
+}
+
 /// The integrator of an FMU: Dormand–Prince 5(4) ([`Dopri5`]) or 8(5,3) ([`Dop853`]),
 /// chosen per communication interval by what the interval costs.
 ///

@@ -4,7 +4,7 @@
 
 use super::controller::{Control, Controller};
 use super::initial_step::initial_step;
-use super::{OdeSystem, SolverError, SolverMemory, StateVector, StepStats, Tolerance};
+use super::{all_finite, OdeSystem, SolverError, SolverMemory, StateVector, StepStats, Tolerance};
 
 /// A leftover shorter than this fraction of the step is absorbed into the step
 /// instead of being taken as a micro-step.
@@ -84,12 +84,6 @@ pub(crate) fn evaluate_new_point<V: StateVector, S: OdeSystem + ?Sized>(
 ) {
     sys.rhs_reusing(t, y_new.as_slice(), k.as_mut_slice());
     *evals += 1;
-}
-
-/// Whether every entry is finite (without stopping early: no branch per entry).
-#[inline(always)]
-pub(crate) fn all_finite<V: StateVector>(v: &V) -> bool {
-    v.as_slice().iter().fold(true, |ok, x| ok & x.is_finite())
 }
 
 /// One explicit Runge–Kutta pair with an embedded error estimate and FSAL: its work

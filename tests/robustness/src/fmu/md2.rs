@@ -198,59 +198,76 @@ impl ModelDescription {
             }
         }
         for (v, real) in declared {
-            let num = |k: &str| real.get(k).and_then(|x| x.parse::<f64>().ok());
-            let (type_unit, type_quantity) = real
-                .get("declaredType")
-                .and_then(|t| simple_types.get(t).cloned())
-                .unwrap_or((None, None));
-            if real.get("#type").map(String::as_str) != Some("Real") {
-                return Err(format!(
-                    "variable {:?} is not a Real: this importer knows Real variables only",
-                    v.get("name")
-                ));
-            }
-            md.variables.push(Var {
-                name: v.get("name").cloned().unwrap_or_default(),
-                vr: v
-                    .get("valueReference")
-                    .and_then(|x| x.parse().ok())
-                    .ok_or("a variable without a valid valueReference")?,
-                causality: v
-                    .get("causality")
-                    .cloned()
-                    .unwrap_or_else(|| "local".into()),
-                variability: v
-                    .get("variability")
-                    .cloned()
-                    .unwrap_or_else(|| "continuous".into()),
-                initial: v.get("initial").cloned(),
-                start: num("start"),
-                min: num("min"),
-                max: num("max"),
-                unit: real.get("unit").cloned().or(type_unit),
-                quantity: real.get("quantity").cloned().or(type_quantity),
-                derivative: real.get("derivative").and_then(|x| x.parse().ok()),
-            });
+            md.variables.push(Self::variable(&v, &real, &simple_types)?);
         }
-        if md.guid.is_empty() || md.model_identifier.is_empty() {
+        md.check()?;
+        Ok(md)
+    }
+
+    /// The variable of a `<ScalarVariable>` (attributes `v`) and its type element (`real`,
+    /// the element's name under `#type`): a Real, with the unit and quantity of its declared
+    /// type in `types` unless it has its own.
+    fn variable(
+        v: &HashMap<String, String>,
+        real: &HashMap<String, String>,
+        types: &HashMap<String, (Option<String>, Option<String>)>,
+    ) -> Result<Var, String> {
+        let num = |k: &str| real.get(k).and_then(|x| x.parse::<f64>().ok());
+        let (type_unit, type_quantity) = real
+            .get("declaredType")
+            .and_then(|t| types.get(t).cloned())
+            .unwrap_or((None, None));
+        if real.get("#type").map(String::as_str) != Some("Real") {
+            return Err(format!(
+                "variable {:?} is not a Real: this importer knows Real variables only",
+                v.get("name")
+            ));
+        }
+        Ok(Var {
+            name: v.get("name").cloned().unwrap_or_default(),
+            vr: v
+                .get("valueReference")
+                .and_then(|x| x.parse().ok())
+                .ok_or("a variable without a valid valueReference")?,
+            causality: v
+                .get("causality")
+                .cloned()
+                .unwrap_or_else(|| "local".into()),
+            variability: v
+                .get("variability")
+                .cloned()
+                .unwrap_or_else(|| "continuous".into()),
+            initial: v.get("initial").cloned(),
+            start: num("start"),
+            min: num("min"),
+            max: num("max"),
+            unit: real.get("unit").cloned().or(type_unit),
+            quantity: real.get("quantity").cloned().or(type_quantity),
+            derivative: real.get("derivative").and_then(|x| x.parse().ok()),
+        })
+    }
+
+    /// What an importer relies on: a GUID, one binary, `<Derivatives>` listing derivatives.
+    fn check(&self) -> Result<(), String> {
+        if self.guid.is_empty() || self.model_identifier.is_empty() {
             return Err("modelDescription.xml without guid or CoSimulation modelIdentifier".into());
         }
-        if md
+        if self
             .model_exchange
             .as_ref()
-            .is_some_and(|id| *id != md.model_identifier)
+            .is_some_and(|id| *id != self.model_identifier)
         {
             return Err(
                 "ModelExchange and CoSimulation name different binaries: this importer loads one"
                     .into(),
             );
         }
-        for &d in &md.derivatives {
-            let ok = md
+        for &d in &self.derivatives {
+            let ok = self
                 .variables
                 .get(d)
                 .and_then(|v| v.derivative)
-                .is_some_and(|s| s >= 1 && s <= md.variables.len());
+                .is_some_and(|s| s >= 1 && s <= self.variables.len());
             if !ok {
                 return Err(format!(
                     "<Derivatives> lists variable {} which is not the derivative of a variable",
@@ -258,7 +275,7 @@ impl ModelDescription {
                 ));
             }
         }
-        Ok(md)
+        Ok(())
     }
 
     pub fn var(&self, name: &str) -> Option<&Var> {

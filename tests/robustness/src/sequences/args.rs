@@ -3,40 +3,15 @@
 //! serialized bytes (valid, corrupted, random, forged with a repaired checksum).
 
 use super::core::{Sequence, Standard};
+use super::hostile::hostile_f64;
 use super::machine::{Snap, Target};
 use super::model::ModelVar;
 use super::state_bytes::{fix_checksum, mutate_semantically};
 use crate::ffi::{Component, FmuState};
-use crate::rng::Rng;
 use std::ffi::CString;
 
 /// Instance names an importer might give.
 pub const SANE_NAMES: [&str; 4] = ["instance", "Oscillator", "x%s%n%d %p", "ünïcødé name"];
-
-pub fn hostile_f64(rng: &mut Rng) -> f64 {
-    *rng.pick(&[
-        f64::NAN,
-        -f64::NAN,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        0.0,
-        -0.0,
-        1e308,
-        -1e308,
-        f64::MAX,
-        f64::MIN,
-        f64::MIN_POSITIVE,
-        5e-324,
-        -5e-324,
-        1e-300,
-        -1.0,
-        1.0,
-        1e6,
-        -1e6,
-        1e15,
-        1e-12,
-    ])
-}
 
 impl<S: Standard> Sequence<'_, S> {
     /// The instance of a call: mostly a live one, sometimes NULL or foreign memory.

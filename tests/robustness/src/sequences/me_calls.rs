@@ -2,8 +2,8 @@
 //! SetContinuousStates and the four array getters, with wrong lengths, NULL arrays and
 //! non-finite values, or as an importer's integrator makes them ([`Sequence::sane`]).
 
-use super::args::hostile_f64;
 use super::core::{MeArray, Sequence, Standard};
+use super::hostile::hostile_f64;
 use super::machine::Target;
 use crate::ffi::{Component, Status, ERROR, OK, WARNING};
 

@@ -70,10 +70,10 @@ mod core;
 mod fmi2;
 mod fmi3;
 mod fmu_states;
+mod hostile;
 mod machine;
 mod me_calls;
 mod model;
-mod standard;
 mod state_bytes;
 mod stats;
 

@@ -4,7 +4,7 @@
 //! instance state or interface type rewritten), and the oracle's reading of bytes it did
 //! not serialize itself.
 
-use super::args::hostile_f64;
+use super::hostile::hostile_f64;
 use super::machine::{Kind, Snap, ALL_STATES};
 use crate::rng::Rng;
 

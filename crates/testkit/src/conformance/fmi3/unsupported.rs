@@ -3,6 +3,7 @@
 //! refused with a message, never a crash.
 
 use super::started;
+use crate::fmi3::Fmi3Harness;
 use crate::harness::MessageLog;
 use mechfmu::fmi3::ffi::*;
 use mechfmu::fmi3::functions as f3;
@@ -34,8 +35,24 @@ macro_rules! typed {
 /// the function; getters and setters of the types other than Float64 succeed with no value
 /// reference and refuse one. The instance goes on.
 pub fn unsupported_functions_are_refused<M: Mechanism>() {
-    let (name, e) = (M::NAME, M::EXPERIMENT);
+    let e = M::EXPERIMENT;
     let mut fmu = started::<M>();
+    features_not_offered_are_refused(&fmu);
+    types_without_variables_are_refused(&fmu);
+    assert_eq!(
+        fmu.do_step(e.start, e.step).status,
+        fmi3OK,
+        "{}: after refused calls: {:?}",
+        M::NAME,
+        fmu.messages()
+    );
+    scheduled_execution_is_refused::<M>();
+}
+
+/// The functions of clocks, configuration mode, model partitions and per-element
+/// dependencies return fmi3Error with a message naming the function.
+fn features_not_offered_are_refused<M: Mechanism>(fmu: &Fmi3Harness<M>) {
+    let (name, e) = (M::NAME, M::EXPERIMENT);
     let c = fmu.instance();
     let (vr, mut clock, mut n, mut x, mut k, mut q) =
         ([0u32], [false], 0usize, [0.0], [0u64], [0u32]);
@@ -133,7 +150,11 @@ pub fn unsupported_functions_are_refused<M: Mechanism>() {
             fmu.messages()
         );
     }
+}
 
+/// Every getter and setter of a type other than Float64 (this FMU has no variables of
+/// them) succeeds with no value reference and refuses one with a message.
+fn types_without_variables_are_refused<M: Mechanism>(fmu: &Fmi3Harness<M>) {
     typed!(fmu, fmi3GetFloat32, [0f32]);
     typed!(fmu, fmi3GetInt8, [0i8]);
     typed!(fmu, fmi3GetUInt8, [0u8]);
@@ -163,13 +184,11 @@ pub fn unsupported_functions_are_refused<M: Mechanism>() {
         [c"bytes".as_ptr() as *const u8],
         [5usize]
     );
-    assert_eq!(
-        fmu.do_step(e.start, e.step).status,
-        fmi3OK,
-        "{name}: after refused calls: {:?}",
-        fmu.messages()
-    );
+}
 
+/// fmi3InstantiateScheduledExecution gives no instance, and says why.
+fn scheduled_execution_is_refused<M: Mechanism>() {
+    let name = M::NAME;
     let log = MessageLog::new();
     let token =
         std::ffi::CString::new(mechfmu::contract::instantiation_token::<M>()).unwrap_or_default();

@@ -4,8 +4,8 @@
 use super::table::f;
 use super::Fmi2;
 use crate::ffi::*;
-use crate::sequences::args::hostile_f64;
 use crate::sequences::core::Sequence;
+use crate::sequences::hostile::hostile_f64;
 use crate::sequences::machine::Target;
 
 impl Sequence<'_, Fmi2> {

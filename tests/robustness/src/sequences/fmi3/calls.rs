@@ -6,9 +6,9 @@
 use super::table::f;
 use super::Fmi3;
 use crate::ffi3::*;
-use crate::sequences::args::hostile_f64;
 use crate::sequences::core::{MeArray, Sequence};
 use crate::sequences::fmu_states::Restore;
+use crate::sequences::hostile::hostile_f64;
 use crate::sequences::machine::{Inst, Kind, Snap, St, Target};
 use crate::sequences::state_bytes::{forge_state, forge_token};
 

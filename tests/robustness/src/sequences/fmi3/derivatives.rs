@@ -8,8 +8,8 @@ use super::table::f;
 use super::values::{backed, Ptr};
 use super::Fmi3;
 use crate::ffi3::*;
-use crate::sequences::args::hostile_f64;
 use crate::sequences::core::Sequence;
+use crate::sequences::hostile::hostile_f64;
 use crate::sequences::machine::Target;
 
 const CANARY: f64 = -7.5e-77;

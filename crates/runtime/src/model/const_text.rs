@@ -1,5 +1,6 @@
-//! Messages composed during constant evaluation, where nothing can allocate: the text of
-//! a declaration error `mechanism!` reports at compile time (and the same text at run time).
+//! Text during constant evaluation, where nothing can allocate and `==` on `str` is not a
+//! `const fn`: names compared ([`str_eq`]) and the messages of the declaration errors
+//! `mechanism!` reports at compile time (the same text at run time).
 
 /// A message of at most [`CAPACITY`](Self::CAPACITY) bytes, built piece by piece in a
 /// `const fn`; longer text is cut at a character boundary.
@@ -57,6 +58,23 @@ impl Default for ConstMessage {
     fn default() -> Self {
         Self::new()
     }
+}
+
+/// Whether `a` and `b` are the same text, in a `const fn`.
+#[doc(hidden)]
+pub const fn str_eq(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
 }
 
 #[cfg(test)]
