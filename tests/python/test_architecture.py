@@ -1,6 +1,7 @@
 """The Python packages under python/ are layered: no circle among their modules, no module
 importing another's private name, and no module passing on what it imports (a module imports
-what it uses, at its top; only a package's ``__init__`` presents other modules' names).
+what it uses, at its top; only a package's ``__init__`` presents other modules' names), and
+no function is longer than 150 lines.
 
 A module uses another when it imports it or a name from it: ``from .x import ...``,
 ``from pkg.x import ...``, ``import pkg.x``, at the top or inside a function. A package's
@@ -221,3 +222,18 @@ def test_no_module_passes_on_what_it_imports():
             elif imp.local not in used:
                 problems.append(f"{where(module, imp.node)}: {origin} is not used here")
     assert not problems, "names passed on (import them from their module instead):\n" + "\n".join(problems)
+
+
+#: the longest a function of the packages may be: past it, it almost always holds two ideas
+LONGEST_FUNCTION = 150
+
+
+def test_no_function_is_longer_than_the_limit():
+    long = [
+        f"{where(module, node)} {node.name}: {node.end_lineno - node.lineno + 1} lines"
+        for module in modules()
+        for node in ast.walk(tree(module))
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))
+        and node.end_lineno - node.lineno + 1 > LONGEST_FUNCTION
+    ]
+    assert not long, f"functions over {LONGEST_FUNCTION} lines (split them by idea):\n" + "\n".join(long)
