@@ -10,7 +10,7 @@ crashes it (someone else's FMU can), the cases of that chunk fail with a message
 the next chunk starts a new worker.
 
 The protocol (every message framed as a little-endian u32 length and a payload) is the
-worker's, ``crates/cli/src/sweep_worker``: a JSON setup, then binary chunks of cases.
+worker's, ``crates/sweep-worker``: a JSON setup, then binary chunks of cases.
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 what each binary loads and exports, and this test holds it to what a stock system has.
 
 The lists below are this test's own (what a fresh Windows 10 and a glibc Linux provide),
-written independently of the build's check in crates/cli/src/platform.rs."""
+written independently of the build's check in crates/cli/src/package/binaries.rs."""
 
 import json
 import os

@@ -310,9 +310,8 @@ def test_specs():
 
 
 # The request's grammar has one implementation, python/mechfmu_sweep (design.py, runner.py,
-# cli.py); `mechfmu sweep` passes its arguments through. These are the cases the Rust side's
-# own checks were tested with (crates/cli/src/sweep.rs: specs, params_schedules_summaries,
-# files_and_addresses), with the same assertions: accepted, or refused with a message
+# cli.py); `mechfmu sweep` passes its arguments through. These cases (specs, parameters,
+# schedules, summaries, files and addresses) are accepted, or refused with a message
 # containing the text given.
 
 SPECS_ACCEPTED = ["5", "-1", "2:10:17", "2,3,5", "-1,2", "uniform(800,1200)", "normal(0, 0.1)", "1e3:2e3:3", "3:3:1"]

@@ -3,10 +3,11 @@
 //! `mechfmu` command was built with), then the other platforms' in one invocation with a
 //! `--target` each (so cargo spreads their crates over the cores).
 
+use super::toolchain;
+use super::workspace::{cargo, MechanismCrate};
 use super::Flavor;
-use crate::platform::Platform;
-use crate::workspace::{cargo, MechanismCrate};
-use std::io::{BufRead, BufReader, IsTerminal};
+use mechfmu_host::platform::Platform;
+use std::io::{BufRead, BufReader, IsTerminal, Read};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
@@ -49,29 +50,7 @@ fn invoke(
     platforms: &[Platform],
     with_targets: bool,
 ) -> Result<Vec<Library>, String> {
-    let mut cmd = Command::new(cargo());
-    cmd.args([
-        "build",
-        "--release",
-        "--lib",
-        "--message-format=json-render-diagnostics",
-    ]);
-    if let Flavor::Bench { target_dir } = flavor {
-        cmd.args(["--features", "mechfmu/bench", "--target-dir"])
-            .arg(target_dir);
-    }
-    if let Some(path) = manifest_path {
-        cmd.arg("--manifest-path").arg(path);
-    }
-    for c in crates {
-        cmd.args(["-p", &c.package]);
-    }
-    if with_targets {
-        for p in platforms {
-            cmd.args(["--target", p.rust_target()]);
-            p.configure(&mut cmd);
-        }
-    }
+    let mut cmd = command(crates, manifest_path, flavor, platforms, with_targets);
     let tuples: Vec<&str> = platforms.iter().map(|p| p.tuple()).collect();
     eprintln!(
         "building {} crate(s) with cargo (release) for {} ...",
@@ -99,11 +78,65 @@ fn invoke(
                 .collect::<Vec<String>>()
         })
     });
+    let stdout = child.stdout.take().expect("piped");
+    let libraries = libraries_built(stdout, crates, platforms, with_targets);
+    let status = child
+        .wait()
+        .map_err(|e| format!("cargo build did not finish: {e}"))?;
+    let stderr = stderr_thread.map(|t| t.join().unwrap_or_default());
+    if !status.success() {
+        return Err(match stderr {
+            Some(lines) => format!("cargo build failed:\n{}", lines.join("\n")),
+            None => "cargo build failed (its messages are above)".into(),
+        });
+    }
+    Ok(libraries)
+}
+
+/// The `cargo build` of [`invoke`].
+fn command(
+    crates: &[MechanismCrate],
+    manifest_path: Option<&Path>,
+    flavor: &Flavor,
+    platforms: &[Platform],
+    with_targets: bool,
+) -> Command {
+    let mut cmd = Command::new(cargo());
+    cmd.args([
+        "build",
+        "--release",
+        "--lib",
+        "--message-format=json-render-diagnostics",
+    ]);
+    if let Flavor::Bench { target_dir } = flavor {
+        cmd.args(["--features", "mechfmu/bench", "--target-dir"])
+            .arg(target_dir);
+    }
+    if let Some(path) = manifest_path {
+        cmd.arg("--manifest-path").arg(path);
+    }
+    for c in crates {
+        cmd.args(["-p", &c.package]);
+    }
+    if with_targets {
+        for p in platforms {
+            cmd.args(["--target", p.rust_target()]);
+            toolchain::configure(*p, &mut cmd);
+        }
+    }
+    cmd
+}
+
+/// The shared libraries of `crates` for `platforms` among the artifacts cargo reports on
+/// `stdout` (its JSON messages).
+fn libraries_built(
+    stdout: impl Read,
+    crates: &[MechanismCrate],
+    platforms: &[Platform],
+    with_targets: bool,
+) -> Vec<Library> {
     let mut libraries = Vec::new();
-    for line in BufReader::new(child.stdout.take().expect("piped"))
-        .lines()
-        .map_while(Result::ok)
-    {
+    for line in BufReader::new(stdout).lines().map_while(Result::ok) {
         let Ok(msg) = serde_json::from_str::<serde_json::Value>(&line) else {
             continue;
         };
@@ -132,17 +165,7 @@ fn invoke(
             }
         }
     }
-    let status = child
-        .wait()
-        .map_err(|e| format!("cargo build did not finish: {e}"))?;
-    let stderr = stderr_thread.map(|t| t.join().unwrap_or_default());
-    if !status.success() {
-        return Err(match stderr {
-            Some(lines) => format!("cargo build failed:\n{}", lines.join("\n")),
-            None => "cargo build failed (its messages are above)".into(),
-        });
-    }
-    Ok(libraries)
+    libraries
 }
 
 /// The platform a file cargo wrote is the shared library of: cargo puts each target's

@@ -1,25 +1,18 @@
-//! `mechfmu build` and `mechfmu list`: compile mechanism crates for each platform and
-//! package their FMUs.
+//! Compiling mechanism crates: finding them in the workspace (`workspace`), running cargo
+//! for each platform (`cargo`) with the toolchains it needs (`toolchain`), and the shared
+//! libraries it wrote.
 
 mod cargo;
-mod fmu;
+pub mod toolchain;
+pub mod workspace;
 
-pub use fmu::package_fmu;
-
-use crate::package::Version;
-use crate::platform::{MissingToolchain, Platform};
-use crate::workspace::{mechanism_crates, MechanismCrate};
+use mechfmu_host::platform::Platform;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use toolchain::MissingToolchain;
+use workspace::{mechanism_crates, MechanismCrate};
 
-pub(crate) fn list(manifest_path: Option<&Path>) -> Result<(), String> {
-    for c in mechanism_crates(manifest_path)? {
-        println!("{:<20} {:<24} {}", c.model, c.package, c.manifest.display());
-    }
-    Ok(())
-}
-
+/// The crates of `all` named by `names` (all of them when empty).
 pub(crate) fn select(
     all: Vec<MechanismCrate>,
     names: &[String],
@@ -78,48 +71,6 @@ impl Built {
     }
 }
 
-pub(crate) fn build(
-    names: &[String],
-    out: &Path,
-    manifest_path: Option<&Path>,
-    flavor: Flavor,
-    platforms: Platforms,
-) -> Result<(), String> {
-    let started = Instant::now();
-    let (platforms, missing) = resolve(platforms)?;
-    for m in &missing {
-        eprintln!("warning: {m}");
-    }
-    let built = built_libraries(names, manifest_path, &flavor, &platforms)?;
-    std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
-    for b in &built {
-        for version in [Version::Fmi2, Version::Fmi3] {
-            let packaged = package_fmu(b, &platforms, out, version)?;
-            let folders: Vec<&str> = platforms.iter().map(|p| p.folder(version)).collect();
-            println!(
-                "{:<20} {:<8} {} ({} KiB): {}",
-                b.krate.model,
-                version.name(),
-                packaged.path.display(),
-                packaged.size.div_ceil(1024),
-                folders.join(", ")
-            );
-        }
-    }
-    let tuples: Vec<&str> = platforms.iter().map(|p| p.tuple()).collect();
-    println!(
-        "built {} mechanism{} as FMI 2.0 and FMI 3.0 FMUs for {} in {:.1} s",
-        built.len(),
-        if built.len() == 1 { "" } else { "s" },
-        tuples.join(", "),
-        started.elapsed().as_secs_f64()
-    );
-    for m in &missing {
-        println!("not built for {}: {}", m.platform.tuple(), m.what());
-    }
-    Ok(())
-}
-
 /// This machine's platform: the one whose binary the command loads.
 fn host() -> Result<Platform, String> {
     Platform::host().ok_or_else(|| {
@@ -133,7 +84,9 @@ fn host() -> Result<Platform, String> {
 }
 
 /// The platforms to build for, and the toolchains missing for those left out.
-fn resolve(platforms: Platforms) -> Result<(Vec<Platform>, Vec<MissingToolchain>), String> {
+pub(crate) fn resolve(
+    platforms: Platforms,
+) -> Result<(Vec<Platform>, Vec<MissingToolchain>), String> {
     let host = host()?;
     let (wanted, chosen) = match platforms {
         Platforms::Host => (vec![host], true),
@@ -143,7 +96,7 @@ fn resolve(platforms: Platforms) -> Result<(Vec<Platform>, Vec<MissingToolchain>
     let mut usable = Vec::new();
     let mut missing = Vec::new();
     for p in wanted {
-        match p.missing_toolchain() {
+        match toolchain::missing(p) {
             None => usable.push(p),
             Some(m) if p == host || chosen => return Err(m.to_string()),
             Some(m) => missing.push(m),

@@ -1,0 +1,62 @@
+//! Finding the mechanism crates of a workspace (through `cargo metadata`).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// A crate that builds one FMU (its Cargo.toml has `[package.metadata.mechfmu] model = ...`).
+#[derive(Clone, Debug)]
+pub struct MechanismCrate {
+    pub model: String,
+    pub package: String,
+    pub manifest: PathBuf,
+}
+
+/// The mechanism crates of the workspace (or crate) at `manifest_path`.
+pub fn mechanism_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCrate>, String> {
+    let meta = metadata(manifest_path)?;
+    let mut crates: Vec<MechanismCrate> = meta["packages"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|p| {
+            let model = p["metadata"]["mechfmu"]["model"].as_str()?;
+            Some(MechanismCrate {
+                model: model.to_string(),
+                package: p["name"].as_str()?.to_string(),
+                manifest: PathBuf::from(p["manifest_path"].as_str()?),
+            })
+        })
+        .collect();
+    crates.sort_by(|a, b| a.model.cmp(&b.model));
+    Ok(crates)
+}
+
+fn metadata(manifest_path: Option<&Path>) -> Result<serde_json::Value, String> {
+    let mut cmd = Command::new(cargo());
+    cmd.args(["metadata", "--format-version", "1", "--no-deps"]);
+    if let Some(path) = manifest_path {
+        cmd.arg("--manifest-path").arg(path);
+    }
+    let output = cmd
+        .output()
+        .map_err(|e| format!("cannot run cargo metadata: {e}"))?;
+    if !output.status.success() {
+        return Err(format!(
+            "cargo metadata failed:\n{}",
+            String::from_utf8_lossy(&output.stderr).trim()
+        ));
+    }
+    serde_json::from_slice(&output.stdout)
+        .map_err(|e| format!("cannot read cargo metadata's output: {e}"))
+}
+
+pub(crate) fn cargo() -> String {
+    std::env::var("CARGO").unwrap_or_else(|_| "cargo".into())
+}
+
+/// The mechfmu source tree this binary was built from (which may be gone since: where the
+/// command finds mechfmu's files is `home::root`'s to say).
+pub(crate) fn source_tree() -> PathBuf {
+    let tree = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    std::fs::canonicalize(&tree).unwrap_or(tree)
+}

@@ -1,0 +1,169 @@
+//! Packaging mechanisms as FMUs: each built crate as an FMI 2.0 and an FMI 3.0 `.fmu`
+//! (`archive`) carrying its binaries for every platform built (each checked by `binaries`),
+//! the model description and documentation its binary renders of itself, and its reference
+//! results (`references`).
+
+pub mod archive;
+pub mod binaries;
+pub mod references;
+
+use crate::build::{built_libraries, resolve, Built, Flavor, Platforms};
+use mechfmu::contract::Version;
+use mechfmu_host::description::ModelDescription;
+use mechfmu_host::library::{Extra, Library};
+use mechfmu_host::platform::Platform;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Builds the mechanism crates named (every one when `names` is empty) for `platforms` and
+/// writes their FMUs of both versions under `out`, saying what it wrote.
+pub fn write_fmus(
+    names: &[String],
+    out: &Path,
+    manifest_path: Option<&Path>,
+    flavor: Flavor,
+    platforms: Platforms,
+) -> Result<(), String> {
+    let started = Instant::now();
+    let (platforms, missing) = resolve(platforms)?;
+    for m in &missing {
+        eprintln!("warning: {m}");
+    }
+    let built = built_libraries(names, manifest_path, &flavor, &platforms)?;
+    std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
+    for b in &built {
+        for version in [Version::Fmi2, Version::Fmi3] {
+            let packaged = package_fmu(b, &platforms, out, version)?;
+            let folders: Vec<&str> = platforms.iter().map(|p| p.folder(version)).collect();
+            println!(
+                "{:<20} {:<8} {} ({} KiB): {}",
+                b.krate.model,
+                version.name(),
+                packaged.path.display(),
+                packaged.size.div_ceil(1024),
+                folders.join(", ")
+            );
+        }
+    }
+    let tuples: Vec<&str> = platforms.iter().map(|p| p.tuple()).collect();
+    println!(
+        "built {} mechanism{} as FMI 2.0 and FMI 3.0 FMUs for {} in {:.1} s",
+        built.len(),
+        if built.len() == 1 { "" } else { "s" },
+        tuples.join(", "),
+        started.elapsed().as_secs_f64()
+    );
+    for m in &missing {
+        println!("not built for {}: {}", m.platform.tuple(), m.what());
+    }
+    Ok(())
+}
+
+/// Where the FMUs of `version` go under the build's output folder `out`: FMI 2.0's in it,
+/// FMI 3.0's in its `fmi3/` (the same file names, so an importer's instance names do not
+/// depend on the version).
+pub fn folder(out: &Path, version: Version) -> PathBuf {
+    match version {
+        Version::Fmi2 => out.to_path_buf(),
+        Version::Fmi3 => out.join("fmi3"),
+    }
+}
+
+/// An FMU written.
+pub struct Packaged {
+    pub path: PathBuf,
+    /// Its size in bytes.
+    pub size: u64,
+}
+
+/// Packages the libraries of `built` for `platforms` as an FMU of `version` (in [`folder`]
+/// of `out`): asks this machine's binary for its own modelDescription of that version, so
+/// the XML and the binaries can never disagree, and for its documentation; checks every
+/// binary (see [`binaries::check`]); adds the reference results of the default experiment
+/// found in the crate's `reference/` (see [`references`]).
+pub fn package_fmu(
+    built: &Built,
+    platforms: &[Platform],
+    out: &Path,
+    version: Version,
+) -> Result<Packaged, String> {
+    let model = &built.krate.model;
+    let host = built.host_library();
+    let library = Library::open(host)?;
+    let xml = library.text(Extra::ModelDescription(version))?;
+    let read = |path: &Path| {
+        std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))
+    };
+    let host_exports = binaries::inspect(&read(host)?)
+        .map_err(|e| format!("{}: {e}", host.display()))?
+        .exports;
+    let mut shipped = Vec::new();
+    for &platform in platforms {
+        let path = &built.libraries[&platform];
+        let bytes = read(path)?;
+        binaries::check(&bytes, platform, &host_exports).map_err(|e| {
+            format!(
+                "the {} binary of {model} ({}) cannot be shipped: {e}",
+                platform.tuple(),
+                path.display()
+            )
+        })?;
+        let archive_path = format!(
+            "binaries/{}/{model}.{}",
+            platform.folder(version),
+            platform.extension()
+        );
+        shipped.push((archive_path, bytes));
+    }
+    let folder = folder(out, version);
+    std::fs::create_dir_all(&folder)
+        .map_err(|e| format!("cannot create {}: {e}", folder.display()))?;
+    let path = folder.join(format!("{model}.fmu"));
+    let contents = archive::Contents {
+        model_description: &xml,
+        binaries: shipped,
+        extra: extra_files(
+            model,
+            &library,
+            built.krate.manifest.parent(),
+            version,
+            &xml,
+        )?,
+    };
+    archive::write_fmu(&path, &contents)
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
+    Ok(Packaged { path, size })
+}
+
+/// The files added to the archive of version `version` of `model` built into `library` from
+/// the crate in `crate_dir`: `documentation/index.html` (rendered by the binary for that
+/// version) and the crate's reference files (in an FMI 3.0 FMU, the columns of scalars that
+/// are array elements there named as the elements, from its model description `xml`).
+/// Sorted by archive path.
+fn extra_files(
+    model: &str,
+    library: &Library,
+    crate_dir: Option<&Path>,
+    version: Version,
+    xml: &str,
+) -> Result<Vec<(String, Vec<u8>)>, String> {
+    let mut files = vec![(
+        "documentation/index.html".to_string(),
+        library.text(Extra::Documentation(version))?.into_bytes(),
+    )];
+    if let Some(dir) = crate_dir {
+        let mut found = references::reference_files(model, &dir.join("reference"))?;
+        if version == Version::Fmi3 {
+            let names = ModelDescription::parse(xml)?.element_names();
+            for (path, bytes) in &mut found {
+                if path.ends_with(".csv") {
+                    *bytes = references::rename_columns(bytes, &names);
+                }
+            }
+        }
+        files.extend(found);
+    }
+    files.sort_by(|a, b| a.0.cmp(&b.0));
+    Ok(files)
+}

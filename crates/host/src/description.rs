@@ -1,0 +1,324 @@
+//! A model description of either FMI version (`modelDescription.xml`), read by one parser:
+//! what the tools that run an FMU need of it.
+//!
+//! FMI 2.0 declares a variable as a `ScalarVariable` with its type as a child (`<Real
+//! start=...>`); FMI 3.0 as an element named by its type (`<Float64 start=...>`), an array
+//! with `<Dimension>` children and, in mechfmu's FMUs, the FMI 2.0 scalars it is made of in
+//! an annotation (`org.mechfmu.scalars`, row-major). The continuous states are counted from
+//! `ModelStructure`: FMI 2.0's `Derivatives/Unknown`, FMI 3.0's `ContinuousStateDerivative`.
+
+use mechfmu::contract::Version;
+use mechfmu::model::element_name;
+use mechfmu::xml::fmi3::SCALARS_ANNOTATION;
+use quick_xml::events::{BytesStart, Event};
+use quick_xml::{Reader, XmlVersion};
+
+/// A variable of the model description.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Variable {
+    pub name: String,
+    pub vr: u32,
+    pub causality: String,
+    pub variability: String,
+    /// The start value of a real scalar (FMI 2.0's `Real`, FMI 3.0's scalar `Float64`).
+    pub start: Option<f64>,
+    /// An FMI 3.0 array's dimensions (empty: a scalar).
+    pub dimensions: Vec<usize>,
+    /// The FMI 2.0 scalars an FMI 3.0 array is made of, row-major (its annotation
+    /// `org.mechfmu.scalars`; empty without one).
+    pub scalars: Vec<String>,
+}
+
+/// What the tools that run an FMU read of its model description.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelDescription {
+    pub version: Version,
+    /// The `CoSimulation` element's `modelIdentifier`.
+    pub model_identifier: String,
+    /// What ties the description to the binary: FMI 2.0's `guid`, FMI 3.0's
+    /// `instantiationToken`.
+    pub token: String,
+    pub variables: Vec<Variable>,
+    /// `DefaultExperiment`: start, stop, step size, tolerance (0, 1, 1e-2 and 1e-6 where it
+    /// gives none).
+    pub start: f64,
+    pub stop: f64,
+    pub step: f64,
+    pub tolerance: f64,
+    /// Whether the FMU declares Model Exchange (a `ModelExchange` element).
+    pub model_exchange: bool,
+    /// The number of continuous states (scalars).
+    pub states: usize,
+}
+
+impl ModelDescription {
+    pub fn parse(xml: &str) -> Result<ModelDescription, String> {
+        let mut reader = Reader::from_str(xml);
+        let mut d = ModelDescription {
+            version: Version::Fmi2,
+            model_identifier: String::new(),
+            token: String::new(),
+            variables: Vec::new(),
+            start: 0.0,
+            stop: 1.0,
+            step: 1e-2,
+            tolerance: 1e-6,
+            model_exchange: false,
+            states: 0,
+        };
+        // The elements open around the one being read, outermost first.
+        let mut open: Vec<String> = Vec::new();
+        let mut in_scalars = false;
+        let mut derivatives = Vec::new();
+        loop {
+            let event = reader
+                .read_event()
+                .map_err(|e| format!("the model description does not parse: {e}"))?;
+            match &event {
+                Event::Start(e) | Event::Empty(e) => {
+                    let scalars = d.element(e, &open, &mut derivatives)?;
+                    if let Event::Start(_) = event {
+                        in_scalars = scalars;
+                        open.push(e.name().into_inner().to_string());
+                    }
+                }
+                Event::Text(t) if in_scalars => {
+                    let text = t.xml_content(XmlVersion::Explicit1_0);
+                    if let Some(v) = d.variables.last_mut() {
+                        v.scalars
+                            .extend(text.split_whitespace().map(str::to_string));
+                    }
+                }
+                Event::End(_) => {
+                    open.pop();
+                    in_scalars = false;
+                }
+                Event::Eof => break,
+                _ => {}
+            }
+        }
+        // FMI 3.0 declares an array's derivatives by one element
+        for vr in derivatives {
+            let variable = d.variables.iter().find(|v| v.vr == vr);
+            d.states += variable.map_or(1, |v| v.dimensions.iter().product());
+        }
+        if d.token.is_empty() || d.model_identifier.is_empty() {
+            return Err(format!(
+                "the model description has no {} or no CoSimulation modelIdentifier",
+                token_attribute(d.version)
+            ));
+        }
+        Ok(d)
+    }
+
+    /// Reads one element inside the elements `open` (an FMI 3.0 state derivative's value
+    /// reference into `derivatives`); true for the annotation of an FMI 3.0 array listing its
+    /// FMI 2.0 scalars (whose text follows).
+    fn element(
+        &mut self,
+        e: &BytesStart,
+        open: &[String],
+        derivatives: &mut Vec<u32>,
+    ) -> Result<bool, String> {
+        let number = |name: &str| attribute(e, name).and_then(|v| v.parse::<f64>().ok());
+        let parent = open.last().map_or("", String::as_str);
+        // Inside a variable's element: the variable is the last one read.
+        let in_variable = (open.iter())
+            .position(|o| o == "ModelVariables")
+            .is_some_and(|at| at + 1 < open.len());
+        match e.name().into_inner() {
+            "fmiModelDescription" => {
+                let version = attribute(e, "fmiVersion").unwrap_or_default();
+                self.version = if version.starts_with('3') {
+                    Version::Fmi3
+                } else {
+                    Version::Fmi2
+                };
+                self.token = attribute(e, token_attribute(self.version)).unwrap_or_default();
+            }
+            "CoSimulation" => {
+                self.model_identifier = attribute(e, "modelIdentifier").unwrap_or_default();
+            }
+            "ModelExchange" => self.model_exchange = true,
+            "DefaultExperiment" => {
+                self.start = number("startTime").unwrap_or(self.start);
+                self.stop = number("stopTime").unwrap_or(self.stop);
+                self.step = number("stepSize").unwrap_or(self.step);
+                self.tolerance = number("tolerance").unwrap_or(self.tolerance);
+            }
+            _ if parent == "ModelVariables" => self.variables.push(variable(e, self.version)?),
+            "Real" if in_variable => {
+                if let Some(v) = self.variables.last_mut() {
+                    v.start = number("start");
+                }
+            }
+            "Dimension" if in_variable => {
+                let start = attribute(e, "start").unwrap_or_default();
+                let n = start
+                    .parse()
+                    .map_err(|_| format!("a <Dimension start=\"{start}\"> is not a size"))?;
+                if let Some(v) = self.variables.last_mut() {
+                    v.dimensions.push(n);
+                }
+            }
+            "Annotation" if in_variable => {
+                return Ok(attribute(e, "type").as_deref() == Some(SCALARS_ANNOTATION));
+            }
+            "Unknown" if parent == "Derivatives" => self.states += 1,
+            // counted in elements once the variables are known (see `parse`)
+            "ContinuousStateDerivative" => {
+                let vr = attribute(e, "valueReference").and_then(|v| v.parse::<u32>().ok());
+                derivatives.extend(vr);
+            }
+            _ => {}
+        }
+        Ok(false)
+    }
+
+    pub fn with_causality(&self, causality: &str) -> Vec<&Variable> {
+        self.variables
+            .iter()
+            .filter(|v| v.causality == causality)
+            .collect()
+    }
+
+    pub fn variable(&self, name: &str) -> Option<&Variable> {
+        self.variables.iter().find(|v| v.name == name)
+    }
+
+    /// For every FMI 2.0 scalar that is an array element in this FMI 3.0 description: (its
+    /// FMI 2.0 name, its element's name `array[i,j]`, 1-based). A scalar at several places
+    /// (a symmetric matrix) is named by its first.
+    pub fn element_names(&self) -> Vec<(String, String)> {
+        let mut names: Vec<(String, String)> = Vec::new();
+        for v in self.variables.iter().filter(|v| !v.dimensions.is_empty()) {
+            for (k, scalar) in v.scalars.iter().enumerate() {
+                if !names.iter().any(|(s, _)| s == scalar) {
+                    names.push((scalar.clone(), element_name(&v.name, &v.dimensions, k)));
+                }
+            }
+        }
+        names
+    }
+}
+
+/// The attribute holding what ties a description of `version` to its binary.
+fn token_attribute(version: Version) -> &'static str {
+    match version {
+        Version::Fmi2 => "guid",
+        Version::Fmi3 => "instantiationToken",
+    }
+}
+
+/// A variable's element: FMI 2.0's `ScalarVariable` (its start in its type's child), or
+/// FMI 3.0's element named by its type (a scalar `Float64`'s start an attribute).
+fn variable(e: &BytesStart, version: Version) -> Result<Variable, String> {
+    let name = attribute(e, "name").unwrap_or_default();
+    let vr = attribute(e, "valueReference")
+        .and_then(|v| v.parse().ok())
+        .ok_or_else(|| format!("the variable `{name}` has no valueReference"))?;
+    let float = e.name().into_inner().starts_with("Float");
+    let default_variability = if version == Version::Fmi2 || float {
+        "continuous"
+    } else {
+        "discrete"
+    };
+    let start = match version {
+        Version::Fmi3 if float => attribute(e, "start").and_then(|v| v.parse().ok()),
+        _ => None,
+    };
+    Ok(Variable {
+        name,
+        vr,
+        causality: attribute(e, "causality").unwrap_or_else(|| "local".into()),
+        variability: attribute(e, "variability").unwrap_or_else(|| default_variability.into()),
+        start,
+        dimensions: Vec::new(),
+        scalars: Vec::new(),
+    })
+}
+
+/// An attribute's value, unescaped and normalized (None: absent or unreadable).
+fn attribute(e: &BytesStart, key: &str) -> Option<String> {
+    e.attributes()
+        .flatten()
+        .find(|a| a.key.into_inner() == key)
+        .and_then(|a| a.normalized_value(XmlVersion::Explicit1_0).ok())
+        .map(|v| v.into_owned())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn committed(path: &str) -> ModelDescription {
+        let path = format!(
+            "{}/../../modelDescription/{path}",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        ModelDescription::parse(&std::fs::read_to_string(path).unwrap()).unwrap()
+    }
+
+    #[test]
+    fn reads_the_oscillators_fmi2_description() {
+        let d = committed("Oscillator.xml");
+        assert_eq!(d.version, Version::Fmi2);
+        assert_eq!(d.model_identifier, "Oscillator");
+        assert!(d.token.starts_with('{'));
+        assert_eq!(
+            (d.start, d.stop, d.step, d.tolerance),
+            (0.0, 20.0, 0.01, 1e-6)
+        );
+        assert!(d.model_exchange);
+        assert_eq!(d.states, 2);
+        let x = d.variable("x").unwrap();
+        assert_eq!(
+            (x.vr, x.causality.as_str(), x.start),
+            (6, "output", Some(1.0))
+        );
+        assert_eq!(d.with_causality("input").len(), 1);
+        assert_eq!(d.variable("x_ddot").unwrap().start, None);
+    }
+
+    #[test]
+    fn reads_the_token_the_scalars_and_the_arrays_of_an_fmi3_description() {
+        let d = committed("fmi3/RigidBody.xml");
+        let two = committed("RigidBody.xml");
+        assert_eq!(d.version, Version::Fmi3);
+        assert!(d.token.starts_with('{'));
+        assert_ne!(d.token, two.token);
+        assert_eq!(d.states, two.states);
+        let scalar = |n: &str| {
+            (d.variables.iter())
+                .find(|v| v.name == n && v.dimensions.is_empty())
+                .map(|v| v.vr)
+        };
+        assert_eq!(scalar("M"), Some(0));
+        assert_eq!(scalar("E_kin"), Some(25));
+        assert_eq!(scalar("w"), None, "an array is not a scalar");
+        let inertia = d.variable("I_C").unwrap();
+        assert_eq!(inertia.dimensions, [3, 3]);
+        assert_eq!(inertia.scalars[..3], ["I_xx", "I_xy", "I_xz"]);
+        assert_eq!(d.variable("M").unwrap().start, Some(2.0));
+    }
+
+    const ARRAYS: &str = r#"<fmiModelDescription fmiVersion="3.0" instantiationToken="{t}">
+<CoSimulation modelIdentifier="M"/><ModelVariables>
+<Float64 name="time" valueReference="3"/>
+<Float64 name="I" valueReference="0"><Annotations><Annotation type="org.mechfmu.scalars">a b b c</Annotation></Annotations><Dimension start="2"/><Dimension start="2"/></Float64>
+<Float64 name="g" valueReference="2"/>
+</ModelVariables></fmiModelDescription>"#;
+
+    #[test]
+    fn elements_are_named_row_major_and_a_repeated_scalar_by_its_first_place() {
+        let names = ModelDescription::parse(ARRAYS).unwrap().element_names();
+        let expected = [("a", "I[1,1]"), ("b", "I[1,2]"), ("c", "I[2,2]")];
+        assert_eq!(names, expected.map(|(s, e)| (s.to_string(), e.to_string())));
+    }
+
+    #[test]
+    fn a_description_without_its_token_is_refused() {
+        let err = ModelDescription::parse(&ARRAYS.replace("instantiationToken", "guid"));
+        assert!(err.unwrap_err().contains("no instantiationToken"));
+    }
+}

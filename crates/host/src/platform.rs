@@ -1,0 +1,102 @@
+//! The platforms mechfmu builds FMU binaries for, and where each platform's binary is in an
+//! FMU of each FMI version.
+//!
+//! FMI 2.0 names the x86-64 platforms `linux64` and `win64`; for any other, FMI 2.0.5
+//! (section 2.3) says to use FMI 3.0's platform tuple, so ARM Linux is `aarch64-linux` in
+//! both versions.
+
+use mechfmu::contract::Version;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Platform {
+    X86_64Linux,
+    X86_64Windows,
+    Aarch64Linux,
+}
+
+impl Platform {
+    pub const ALL: [Platform; 3] = [
+        Platform::X86_64Linux,
+        Platform::X86_64Windows,
+        Platform::Aarch64Linux,
+    ];
+
+    /// The platform this program runs on, when it is one FMUs are built for.
+    pub fn host() -> Option<Platform> {
+        Platform::ALL.into_iter().find(|p| {
+            p.rust_target().starts_with(std::env::consts::ARCH)
+                && p.rust_target().contains(std::env::consts::OS)
+        })
+    }
+
+    /// FMI 3.0's platform tuple, which is also the platform's name on the command line.
+    pub fn tuple(self) -> &'static str {
+        match self {
+            Platform::X86_64Linux => "x86_64-linux",
+            Platform::X86_64Windows => "x86_64-windows",
+            Platform::Aarch64Linux => "aarch64-linux",
+        }
+    }
+
+    /// The folder under `binaries/` in an FMU of `version`.
+    pub fn folder(self, version: Version) -> &'static str {
+        match (version, self) {
+            (Version::Fmi2, Platform::X86_64Linux) => "linux64",
+            (Version::Fmi2, Platform::X86_64Windows) => "win64",
+            _ => self.tuple(),
+        }
+    }
+
+    /// A platform's name: FMI 3.0's tuple, FMI 2.0's folder or Rust's target triple.
+    pub fn parse(name: &str) -> Option<Platform> {
+        Platform::ALL.into_iter().find(|p| {
+            name == p.tuple() || name == p.folder(Version::Fmi2) || name == p.rust_target()
+        })
+    }
+
+    /// Rust's target triple (the GNU toolchains).
+    pub fn rust_target(self) -> &'static str {
+        match self {
+            Platform::X86_64Linux => "x86_64-unknown-linux-gnu",
+            Platform::X86_64Windows => "x86_64-pc-windows-gnu",
+            Platform::Aarch64Linux => "aarch64-unknown-linux-gnu",
+        }
+    }
+
+    /// The extension of a shared library.
+    pub fn extension(self) -> &'static str {
+        match self {
+            Platform::X86_64Windows => "dll",
+            _ => "so",
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn folders_follow_each_standard() {
+        assert_eq!(Platform::X86_64Linux.folder(Version::Fmi2), "linux64");
+        assert_eq!(Platform::X86_64Windows.folder(Version::Fmi2), "win64");
+        assert_eq!(
+            Platform::Aarch64Linux.folder(Version::Fmi2),
+            "aarch64-linux"
+        );
+        assert_eq!(
+            Platform::X86_64Windows.folder(Version::Fmi3),
+            "x86_64-windows"
+        );
+    }
+
+    #[test]
+    fn this_machine_is_a_platform() {
+        if cfg!(all(target_arch = "x86_64", target_os = "linux")) {
+            assert_eq!(Platform::host(), Some(Platform::X86_64Linux));
+        }
+        if cfg!(all(target_arch = "aarch64", target_os = "linux")) {
+            assert_eq!(Platform::host(), Some(Platform::Aarch64Linux));
+        }
+    }
+}
