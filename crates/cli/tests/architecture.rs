@@ -1,7 +1,8 @@
 //! The architecture `docs/architecture.md` draws is the one the code has: every crate's
 //! normal dependencies are those of the page's crate table, every module of the runtime uses
-//! only the layers above its own in the page's layer table, and no mechanism crate (nor the
-//! `mechfmu new` template) allows `unsafe`.
+//! only the layers above its own in the page's layer table, no two modules of a crate of
+//! `crates/` and no two files of any workspace crate use each other in a circle, and no
+//! mechanism crate (nor the `mechfmu new` template) allows `unsafe`.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -313,4 +314,340 @@ fn no_crate_has_modules_that_use_each_other_in_a_circle() {
             }
         }
     }
+}
+
+/// The folders of the workspace's crates: the members of the root `Cargo.toml` (`dir/*`
+/// standing for every folder of `dir` with a `Cargo.toml`), less its `exclude`.
+fn workspace_crate_folders() -> Vec<PathBuf> {
+    let manifest = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
+    // The quoted strings of the array `key = [...]` of the root manifest.
+    let array = |key: &str| -> Vec<String> {
+        let Some(start) = manifest
+            .lines()
+            .position(|l| l.trim_start().starts_with(key) && l.contains('='))
+        else {
+            return Vec::new();
+        };
+        let text: String = manifest.lines().skip(start).collect::<Vec<_>>().join("\n");
+        let inside = &text[text.find('[').unwrap() + 1..text.find(']').unwrap()];
+        inside
+            .split('"')
+            .skip(1)
+            .step_by(2)
+            .map(String::from)
+            .collect()
+    };
+    let excluded: BTreeSet<PathBuf> = array("exclude").iter().map(|e| root().join(e)).collect();
+    let mut folders = Vec::new();
+    for member in array("members") {
+        match member.strip_suffix("/*") {
+            Some(parent) => {
+                let mut found: Vec<PathBuf> = std::fs::read_dir(root().join(parent))
+                    .unwrap()
+                    .flatten()
+                    .map(|e| e.path())
+                    .filter(|p| p.join("Cargo.toml").is_file())
+                    .collect();
+                found.sort();
+                folders.extend(found);
+            }
+            None => folders.push(root().join(member)),
+        }
+    }
+    folders.retain(|f| !excluded.contains(f));
+    assert!(folders.len() >= 10, "workspace members: {folders:?}");
+    folders
+}
+
+/// A module of a crate as the names from its root (`["model", "layout"]`; the root: none).
+type ModulePath = Vec<String>;
+
+/// The file of each module of the crate whose sources are in `src`: `a.rs` and `a/mod.rs`
+/// are module `a`, `lib.rs` and `main.rs` the root. Tests (`tests.rs`, `tests/`) are left out.
+fn files_by_module(src: &Path) -> BTreeMap<ModulePath, PathBuf> {
+    let mut files = BTreeMap::new();
+    let mut dirs = vec![src.to_path_buf()];
+    while let Some(dir) = dirs.pop() {
+        for path in std::fs::read_dir(&dir).unwrap().flatten().map(|e| e.path()) {
+            let name = path.file_name().unwrap().to_string_lossy().into_owned();
+            if path.is_dir() {
+                if name != "tests" {
+                    dirs.push(path);
+                }
+                continue;
+            }
+            let Some(stem) = name.strip_suffix(".rs") else {
+                continue;
+            };
+            if stem == "tests" {
+                continue;
+            }
+            let mut module: ModulePath = path
+                .parent()
+                .unwrap()
+                .strip_prefix(src)
+                .unwrap()
+                .iter()
+                .map(|s| s.to_string_lossy().into_owned())
+                .collect();
+            let root_file = module.is_empty() && (stem == "lib" || stem == "main");
+            if stem != "mod" && !root_file {
+                module.push(stem.to_string());
+            }
+            files.insert(module, path);
+        }
+    }
+    files
+}
+
+/// A file's code before its `#[cfg(test)] mod name {`, with `//` comments blanked (lines
+/// kept, so positions give line numbers).
+fn code_outside_tests(path: &Path) -> String {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut end = text.len();
+    for (at, attribute) in text.match_indices("#[cfg(test)]") {
+        let rest = text[at + attribute.len()..].trim_start();
+        let rest = rest.strip_prefix("pub").map_or(rest, str::trim_start);
+        let Some(rest) = rest.strip_prefix("mod") else {
+            continue;
+        };
+        if !rest.starts_with(char::is_whitespace) {
+            continue;
+        }
+        let rest = rest.trim_start();
+        let name_len = rest
+            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .unwrap_or(rest.len());
+        if name_len > 0 && rest[name_len..].trim_start().starts_with('{') {
+            end = at;
+            break;
+        }
+    }
+    text[..end]
+        .lines()
+        .map(|l| l.find("//").map_or(l, |i| &l[..i]))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+fn is_word_char(c: char) -> bool {
+    c.is_ascii_alphanumeric() || c == '_'
+}
+
+/// The places in `code` where the word `word` starts.
+fn word_starts<'a>(code: &'a str, word: &'a str) -> impl Iterator<Item = usize> + 'a {
+    code.match_indices(word).map(|(i, _)| i).filter(move |&i| {
+        !code[..i].ends_with(is_word_char) && !code[i + word.len()..].starts_with(is_word_char)
+    })
+}
+
+fn line_at(code: &str, at: usize) -> usize {
+    code[..at].matches('\n').count() + 1
+}
+
+/// The paths of a use tree: `crate::a::{b, c::d as e}` gives `crate::a::b` and `crate::a::c::d`.
+fn use_tree_paths(prefix: &str, tree: &str, out: &mut Vec<String>) {
+    let mut depth = 0;
+    let mut parts = Vec::new();
+    let mut start = 0;
+    for (i, c) in tree.char_indices() {
+        match c {
+            '{' => depth += 1,
+            '}' => depth -= 1,
+            ',' if depth == 0 => {
+                parts.push(&tree[start..i]);
+                start = i + 1;
+            }
+            _ => {}
+        }
+    }
+    parts.push(&tree[start..]);
+    for part in parts.iter().map(|p| p.trim()).filter(|p| !p.is_empty()) {
+        let unspaced = |s: &str| s.split_whitespace().collect::<String>();
+        match part.split_once('{') {
+            Some((head, rest)) => {
+                let inner = &rest[..rest.rfind('}').unwrap_or(rest.len())];
+                use_tree_paths(&format!("{prefix}{}", unspaced(head)), inner, out);
+            }
+            None => {
+                let path = part.split_whitespace().collect::<Vec<_>>();
+                let path = match path.iter().position(|w| *w == "as") {
+                    Some(n) => path[..n].concat(),
+                    None => path.concat(),
+                };
+                out.push(format!("{prefix}{path}"));
+            }
+        }
+    }
+}
+
+/// Every path that starts with `crate`, `super` or `self` in `code`, with its line: those
+/// of `use` declarations first, then every one written out.
+fn relative_paths(code: &str) -> Vec<(String, usize)> {
+    let mut paths = Vec::new();
+    for at in word_starts(code, "use") {
+        let rest = &code[at + 3..];
+        let tree = rest.trim_start();
+        let starts_relative = ["crate", "super", "self"]
+            .iter()
+            .any(|k| tree.starts_with(k) && !tree[k.len()..].starts_with(is_word_char));
+        if rest.starts_with(char::is_whitespace) && starts_relative {
+            if let Some(end) = tree.find(';') {
+                let mut expanded = Vec::new();
+                use_tree_paths("", &tree[..end], &mut expanded);
+                let line = line_at(code, at);
+                paths.extend(expanded.into_iter().map(|p| (p, line)));
+            }
+        }
+    }
+    let mut written = Vec::new();
+    for keyword in ["crate", "super", "self"] {
+        for at in word_starts(code, keyword) {
+            let mut path = keyword.to_string();
+            let mut rest = &code[at + keyword.len()..];
+            while let Some(after) = rest.strip_prefix("::") {
+                let len = after
+                    .find(|c: char| !is_word_char(c))
+                    .unwrap_or(after.len());
+                if len == 0 || after.starts_with(|c: char| c.is_ascii_digit()) {
+                    break;
+                }
+                path = format!("{path}::{}", &after[..len]);
+                rest = &after[len..];
+            }
+            if path != keyword {
+                written.push((at, path));
+            }
+        }
+    }
+    written.sort();
+    paths.extend(written.into_iter().map(|(at, p)| (p, line_at(code, at))));
+    paths
+}
+
+/// The module a path names from module `here`: the longest start of it that is a module of
+/// `modules`.
+fn module_named<'a>(
+    path: &str,
+    here: &ModulePath,
+    modules: &'a BTreeMap<ModulePath, PathBuf>,
+) -> Option<&'a ModulePath> {
+    let mut segments: Vec<&str> = path.split("::").collect();
+    let mut base: ModulePath = Vec::new();
+    if segments[0] == "crate" {
+        segments.remove(0);
+    } else {
+        base.clone_from(here);
+        while let Some(&first) = segments.first() {
+            match first {
+                "super" => {
+                    base.pop();
+                }
+                "self" => {}
+                _ => break,
+            }
+            segments.remove(0);
+        }
+    }
+    let mut named = None;
+    for n in 0..=segments.len() {
+        let candidate: ModulePath = base
+            .iter()
+            .cloned()
+            .chain(segments[..n].iter().map(|s| s.to_string()))
+            .collect();
+        if let Some((module, _)) = modules.get_key_value(&candidate) {
+            named = Some(module);
+        }
+    }
+    named
+}
+
+/// Which file of the crate in `folder` uses which, `"a/b"` -> `"c"` (the root: `crate`),
+/// with the first place of each arrow. A module naming itself or one of its own
+/// descendants (a parent presenting its children) draws none.
+fn file_arrows(folder: &Path) -> BTreeMap<(String, String), String> {
+    let modules = files_by_module(&folder.join("src"));
+    let name = |m: &ModulePath| {
+        if m.is_empty() {
+            "crate".to_string()
+        } else {
+            m.join("/")
+        }
+    };
+    let mut arrows = BTreeMap::new();
+    for (here, file) in &modules {
+        let code = code_outside_tests(file);
+        for (path, line) in relative_paths(&code) {
+            let Some(target) = module_named(&path, here, &modules) else {
+                continue;
+            };
+            if target.starts_with(here) {
+                continue;
+            }
+            let place = format!(
+                "{}:{line}",
+                file.strip_prefix(root()).unwrap_or(file).display()
+            );
+            arrows.entry((name(here), name(target))).or_insert(place);
+        }
+    }
+    arrows
+}
+
+/// The circles of a graph: its sets of two or more nodes each of which reaches every other.
+fn circles_among(arrows: &BTreeMap<(String, String), String>) -> Vec<Vec<String>> {
+    let nodes: BTreeSet<&String> = arrows.keys().map(|(a, _)| a).collect();
+    let reach = |from: &String| {
+        let mut seen = BTreeSet::new();
+        let mut stack = vec![from];
+        while let Some(node) = stack.pop() {
+            for (_, next) in arrows.keys().filter(|(a, _)| a == node) {
+                if seen.insert(next) {
+                    stack.push(next);
+                }
+            }
+        }
+        seen
+    };
+    let reached: BTreeMap<&String, BTreeSet<&String>> =
+        nodes.iter().map(|&n| (n, reach(n))).collect();
+    let mut circles = BTreeSet::new();
+    for &node in &nodes {
+        let circle: Vec<String> = nodes
+            .iter()
+            .filter(|&&other| reached[node].contains(other) && reached[other].contains(node))
+            .map(|&other| other.clone())
+            .collect();
+        if circle.len() > 1 {
+            circles.insert(circle);
+        }
+    }
+    circles.into_iter().collect()
+}
+
+#[test]
+fn no_crate_has_files_that_use_each_other_in_a_circle() {
+    let mut found = Vec::new();
+    for folder in workspace_crate_folders() {
+        if !folder.join("src").is_dir() {
+            continue;
+        }
+        let arrows = file_arrows(&folder);
+        for circle in circles_among(&arrows) {
+            let krate = folder.strip_prefix(root()).unwrap_or(&folder).display();
+            found.push(format!("{krate}: {}", circle.join(" <-> ")));
+            for ((a, b), place) in &arrows {
+                if circle.contains(a) && circle.contains(b) {
+                    found.push(format!("    {a} -> {b}   {place}"));
+                }
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "files that use each other in a circle (through `crate::`, `super::` or `self::` \
+         paths; a parent naming its own children does not count):\n{}",
+        found.join("\n")
+    );
 }
