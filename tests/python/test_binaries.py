@@ -112,7 +112,7 @@ def test_missing_toolchain_is_named_and_the_rest_is_built(tmp_path):
                           capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     assert ("not built for x86_64-windows: the linker x86_64-w64-mingw32-gcc is missing "
-            "(install: apt-get install gcc-mingw-w64-x86-64)") in done.stdout
+            "(install: apt-get install gcc-mingw-w64-x86-64 mingw-w64-x86-64-dev)") in done.stdout
     assert "not built for aarch64-linux: the linker aarch64-linux-gnu-gcc is missing" in done.stdout
     assert "Oscillator.fmu (" in done.stdout and "): linux64\n" in done.stdout
     with zipfile.ZipFile(tmp_path / "Oscillator.fmu") as z:
@@ -125,3 +125,23 @@ def test_missing_toolchain_is_named_and_the_rest_is_built(tmp_path):
     done = subprocess.run([str(MECHFMU), "build", "--platform", "darwin64"], cwd=REPO_ROOT, capture_output=True,
                           text=True)
     assert done.returncode != 0 and "unknown platform `darwin64`" in done.stderr
+
+
+def test_a_cross_linker_without_its_c_library_is_named(tmp_path):
+    """Debian installs a cross linker without its C library when recommendations are left out,
+    and the link then fails on a missing crti.o: `mechfmu build` names the package instead."""
+    cargo_bin = os.path.dirname(subprocess.run(["rustup", "which", "cargo"], capture_output=True,
+                                               text=True).stdout.strip() or "/root/.cargo/bin/cargo")
+    linkers = tmp_path / "bin"
+    linkers.mkdir()
+    # a linker that finds no file: `-print-file-name=F` answers the bare F, as gcc does
+    fake = linkers / "aarch64-linux-gnu-gcc"
+    fake.write_text('#!/bin/sh\necho "${1#-print-file-name=}"\n')
+    fake.chmod(0o755)
+    env = {k: v for k, v in os.environ.items() if not k.startswith("CARGO_TARGET_")}
+    env["PATH"] = f"{linkers}:{cargo_bin}"
+    done = subprocess.run([str(MECHFMU), "build", "Oscillator", "--out", str(tmp_path / "out")], cwd=REPO_ROOT,
+                          env=env, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert ("not built for aarch64-linux: the C library for aarch64-linux-gnu-gcc (crti.o) is missing "
+            "(install: apt-get install libc6-dev-arm64-cross)") in done.stdout

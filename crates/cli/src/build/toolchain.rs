@@ -45,6 +45,26 @@ fn cross_linker(platform: Platform) -> (&'static str, &'static str) {
     }
 }
 
+/// A file of the C library the cross linker links every binary of `platform` against, and the
+/// Debian package with it: Debian installs the linker without it when recommendations are
+/// left out, and the link then fails on a missing `crti.o`.
+fn cross_c_library(platform: Platform) -> (&'static str, &'static str) {
+    match platform {
+        Platform::X86_64Linux => ("crti.o", "libc6-dev-amd64-cross"),
+        Platform::X86_64Windows => ("libmsvcrt.a", "mingw-w64-x86-64-dev"),
+        Platform::Aarch64Linux => ("crti.o", "libc6-dev-arm64-cross"),
+    }
+}
+
+/// Whether `linker` finds `file` in its search path (`-print-file-name` answers the bare
+/// name when it does not).
+fn linker_finds(linker: &str, file: &str) -> bool {
+    Command::new(linker)
+        .arg(format!("-print-file-name={file}"))
+        .output()
+        .is_ok_and(|out| Path::new(String::from_utf8_lossy(&out.stdout).trim()).is_absolute())
+}
+
 /// `CARGO_TARGET_<TRIPLE>_<key>`, cargo's per-target settings in the environment.
 fn cargo_variable(platform: Platform, key: &str) -> String {
     format!(
@@ -55,7 +75,7 @@ fn cargo_variable(platform: Platform, key: &str) -> String {
 
 /// What this machine lacks to build `platform`'s binary: the Rust target's standard library
 /// and, unless it is this machine's own platform or cargo has been given a linker for it,
-/// the cross linker.
+/// the cross linker and the target's C library.
 pub fn missing(platform: Platform) -> Option<MissingToolchain> {
     let mut missing = Vec::new();
     if !rust_target_installed(platform.rust_target()) {
@@ -68,10 +88,16 @@ pub fn missing(platform: Platform) -> Option<MissingToolchain> {
         && std::env::var_os(cargo_variable(platform, "LINKER")).is_none()
     {
         let (linker, package) = cross_linker(platform);
+        let (library, library_package) = cross_c_library(platform);
         if !on_path(linker) {
             missing.push((
                 format!("the linker {linker}"),
-                format!("apt-get install {package}"),
+                format!("apt-get install {package} {library_package}"),
+            ));
+        } else if !linker_finds(linker, library) {
+            missing.push((
+                format!("the C library for {linker} ({library})"),
+                format!("apt-get install {library_package}"),
             ));
         }
     }
