@@ -10,7 +10,13 @@ importer reads them.
   unique value references);
 * it shows the FMI 2.0 description's variables: the scalars of the arrays of
   docs/mechanisms/README.md ("FMI 3.0, arrays") grouped into arrays of their shape, start values
-  element by element, every other scalar as it is, and ``time``.
+  element by element, every other scalar as it is with FMI 2.0's value reference plus one, and
+  ``time`` with value reference 0;
+* ``<ModelStructure>`` as FMI 3.0 section 2.4.8 defines each list's knowns: ``<Output>``,
+  ``<ContinuousStateDerivative>`` and ``<EventIndicator>`` depend on inputs, continuous states,
+  parameters and the time only, ``<InitialUnknown>`` on inputs, ``initial="exact"`` variables and
+  the time only, without the kinds that list does not allow (``fixed``, ``tunable``); every
+  ``derivative`` points back, as in FMI 2.0.
 
 Needs no built FMU: it reads the committed XML (regenerate with
 ``MECHFMU_BLESS=1 cargo test -p <crate> model_description``).
@@ -110,10 +116,10 @@ def test_the_fmi2_variables_grouped_into_arrays(model):
     variables = {v.name: v for v in fmi3.modelVariables}
     replaced = {name for _, elements in arrays.values() for name in elements}
 
-    # time: the independent variable, with the value reference after FMI 2.0's last one
+    # time: the independent variable, with value reference 0 (as the Reference-FMUs have it)
     time = variables["time"]
     assert (time.causality, time.variability, time.start) == ("independent", "continuous", None)
-    assert time.valueReference == len(fmi2.modelVariables)
+    assert time.valueReference == 0
     assert fmi3.modelVariables[0] is time
 
     # as many variables as the scalars less those grouped, plus the arrays and the time
@@ -122,7 +128,7 @@ def test_the_fmi2_variables_grouped_into_arrays(model):
         v = variables[name]
         first = scalars[elements[0]]
         assert v.shape == shape and prod(shape) == len(elements), name
-        assert v.valueReference == first.valueReference, name
+        assert v.valueReference == first.valueReference + 1, name
         assert (v.causality, v.variability) == (first.causality, first.variability), name
         assert v.unit == (first.unit or first.declaredType.unit), name
         if first.start is None:
@@ -134,7 +140,7 @@ def test_the_fmi2_variables_grouped_into_arrays(model):
             assert name not in variables or name in arrays, name
             continue
         v = variables[name]
-        assert v.shape == () and v.valueReference == s.valueReference, name
+        assert v.shape == () and v.valueReference == s.valueReference + 1, name
         assert (v.causality, v.variability, v.initial) == (s.causality, s.variability, s.initial), name
         assert v.start == s.start, name
         assert v.unit == (s.unit or s.declaredType.unit), name
@@ -143,3 +149,40 @@ def test_the_fmi2_variables_grouped_into_arrays(model):
     assert fmi3.numberOfContinuousStates == len(fmi2.derivatives)
     states = [d.variable.derivative.valueReference for d in fmi3.derivatives]
     assert states == sorted(states)
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_dependencies_are_the_knowns_of_each_list(model):
+    fmi3, _ = _read(model)
+    variables = fmi3.modelVariables
+    states = {id(d.variable.derivative) for d in fmi3.derivatives}
+    independent = {id(v) for v in variables if v.causality == "independent"}
+    inputs = {id(v) for v in variables if v.causality == "input"}
+    parameters = {id(v) for v in variables if v.causality == "parameter"}
+    exact = {id(v) for v in variables if v.initial == "exact" or v.causality == "parameter"}
+    continuous_time = inputs | states | parameters | independent
+    every_kind = {"dependent", "constant", "fixed", "tunable"}
+    for name, unknowns, knowns, kinds in [
+        ("Output", fmi3.outputs, continuous_time, every_kind),
+        ("ContinuousStateDerivative", fmi3.derivatives, continuous_time, every_kind),
+        ("EventIndicator", fmi3.eventIndicators, continuous_time, every_kind),
+        ("InitialUnknown", fmi3.initialUnknowns, inputs | exact | independent, {"dependent", "constant"}),
+    ]:
+        for u in unknowns:
+            assert u.dependencies is not None, f"{name} {u.variable.name} lists no dependencies"
+            assert len(u.dependenciesKind) == len(u.dependencies)
+            others = [d.name for d in u.dependencies if id(d) not in knowns]
+            assert not others, f"{name} {u.variable.name} depends on {others}, which are no knowns there"
+            assert set(u.dependenciesKind) <= kinds, f"{name} {u.variable.name}: {u.dependenciesKind}"
+            references = [d.valueReference for d in u.dependencies]
+            assert references == sorted(references)
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_every_derivative_points_back(model):
+    variables = list(etree.parse(str(FMI3_DIR / f"{model}.xml")).getroot().find("ModelVariables"))
+    seen: set[str] = set()
+    for v in variables:
+        state = v.get("derivative")
+        assert state is None or state in seen, f"{v.get('name')} is the derivative of {state}, written after it"
+        seen.add(v.get("valueReference"))

@@ -293,8 +293,10 @@ mod tests {
                 .find(|v| v.name == n && v.dimensions.is_empty())
                 .map(|v| v.vr)
         };
-        assert_eq!(scalar("M"), Some(0));
-        assert_eq!(scalar("E_kin"), Some(25));
+        // FMI 2.0's value references plus one
+        assert_eq!(scalar("M"), Some(1));
+        assert_eq!(scalar("E_kin"), Some(26));
+        assert_eq!(scalar("time"), Some(0));
         assert_eq!(scalar("w"), None, "an array is not a scalar");
         let inertia = d.variable("I_C").unwrap();
         assert_eq!(inertia.dimensions, [3, 3]);

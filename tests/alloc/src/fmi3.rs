@@ -5,7 +5,7 @@
 use super::{allocated, Work};
 use mechfmu::fmi3::ffi::*;
 use mechfmu::fmi3::functions;
-use mechfmu::model::{Causality, Mechanism};
+use mechfmu::model::{Causality, Mechanism, Shapes};
 use mechfmu_testkit::fmi3::Fmi3Harness;
 
 /// Runs `M` as [`check`](super::check) does, through its FMI 3.0 Co-Simulation functions.
@@ -24,7 +24,7 @@ pub fn check<M: Mechanism>(n: u64) -> Work {
         (chosen.iter().map(|s| s.reference as u32).collect(), n)
     };
     let (mut all, n_all) = of(&|_| true);
-    all.push(shapes.time_reference() as u32);
+    all.push(Shapes::TIME_REFERENCE as u32);
     let (outputs, n_outputs) = of(&|c| c == Causality::Output);
     let (inputs, n_inputs) = of(&|c| c == Causality::Input);
     let mut values = vec![0.0; n_all + 1];

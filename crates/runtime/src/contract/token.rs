@@ -7,11 +7,11 @@ use crate::model::Mechanism;
 
 /// Bump when the modelDescription generator changes what it writes from the same
 /// declaration, so binaries and XML of different generator versions never match.
-const GENERATOR_VERSION: &str = "mechfmu-md-3";
+const GENERATOR_VERSION: &str = "mechfmu-md-4";
 
 /// The same for what only the FMI 3.0 model description writes (the arrays, the
 /// independent variable, the FMI 3.0 model structure).
-const FMI3_GENERATOR_VERSION: &str = "mechfmu-md3-2";
+const FMI3_GENERATOR_VERSION: &str = "mechfmu-md3-3";
 
 /// 64-bit FNV-1a over a stream of fields (each prefixed by its length, so field boundaries
 /// count).

@@ -60,9 +60,9 @@ pub fn interface<M: Mechanism>() -> Result<String, String> {
 fn fmi3_arrays<M: Mechanism>() -> Result<String, String> {
     let shapes = Shapes::new(M::VARIABLES, M::ARRAYS)?;
     let mut md = format!(
-        "\nIn the FMI 3.0 FMU, the variables keep their value references; `time` is the \
-         independent variable, value reference {}.",
-        shapes.time_reference()
+        "\nIn the FMI 3.0 FMU, each variable's value reference is the one in this table plus \
+         one; `time` is the independent variable, value reference {}.",
+        Shapes::TIME_REFERENCE
     );
     let arrays: Vec<_> = shapes.variables.iter().filter(|s| s.is_array()).collect();
     if arrays.is_empty() {
@@ -71,7 +71,7 @@ fn fmi3_arrays<M: Mechanism>() -> Result<String, String> {
     }
     md.push_str(
         " These arrays replace the scalars they group (row-major), each with the value \
-         reference of its first element:\n\n\
+         reference of its first element plus one:\n\n\
          | array | value ref. | dimensions | elements | description |\n\
          |---|---:|---|---|---|\n",
     );

@@ -104,9 +104,10 @@ fn page<M: Mechanism>(version: Version) -> Result<String, String> {
          it was built for: <code>{linux}/{name}.so</code> (Linux x86-64), <code>{windows}/{name}.dll</code> \
          (Windows x86-64), <code>aarch64-linux/{name}.so</code> (Linux ARM 64-bit{arm_note})</li>\n\
          <li><code>documentation/index.html</code>: this page</li>\n\
-         <li><code>extra/org.fmi-standard.fmi-ls-ref/</code> (when present): reference results of the default experiment \
+         <li><code>extra/org.fmi-standard.fmi-ls-ref/</code> (when present): reference results \
          (<code>{name}_ref.csv</code>, with <code>{name}_in.csv</code> and <code>{name}_ref.opt</code> in the FMI \
-         cross-check conventions), computed by an independent high-accuracy solution, not by this FMU</li>",
+         cross-check conventions) over the default experiment's time from the start values, driven by the inputs \
+         of <code>{name}_in.csv</code>, computed by an independent high-accuracy solution, not by this FMU</li>",
         linux = match version {
             Version::Fmi2 => "linux64",
             Version::Fmi3 => "x86_64-linux",

@@ -103,7 +103,7 @@ pub(super) fn fmi3_variable_table<M: Mechanism>() -> Result<String, String> {
         h,
         "<tr><td><code>time</code></td><td class=\"num\">{}</td><td></td><td>independent</td><td>continuous</td>\
          <td></td><td>s</td><td></td><td></td><td></td><td>Simulation time</td></tr>",
-        shapes.time_reference()
+        Shapes::TIME_REFERENCE
     );
     for shaped in &shapes.variables {
         let v = shaped.variable(M::VARIABLES);

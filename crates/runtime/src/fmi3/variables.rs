@@ -1,7 +1,7 @@
-//! FMI 3.0's variables by value reference: scalars keep FMI 2.0's, an array stands for its
-//! elements (row-major, `nValues` counts them), the independent `time` is read-only; the
-//! typed getters and setters of types this FMU has none of; directional, adjoint and
-//! output derivatives over the same references. Each call expands the references into the
+//! FMI 3.0's variables by value reference ([`Shapes`] maps them: FMI 2.0's plus one, `time`
+//! 0): an array stands for its elements (row-major, `nValues` counts them), the independent
+//! `time` is read-only; the typed getters and setters of types this FMU has none of;
+//! directional, adjoint and output derivatives over the same references. Each call expands the references into the
 //! simulation's scalar ones and hands them to [`common`](crate::fmi::common).
 
 use super::ffi::*;
@@ -24,7 +24,7 @@ fn shapes<M: Mechanism>(inst: &Instance<M>) -> Result<&Shapes, Failure> {
 fn expand(shapes: &Shapes, vrs: &[u32], scalars: &mut Vec<u32>) -> Result<(), Failure> {
     scalars.clear();
     for &vr in vrs {
-        if vr as usize == shapes.time_reference() {
+        if vr as usize == Shapes::TIME_REFERENCE {
             scalars.push(TIME);
             continue;
         }
@@ -209,8 +209,8 @@ pub fn get_adjoint_derivative<M: Mechanism>(
     }
     if let Some(j) = sensitivity.iter().position(|x| !x.is_finite()) {
         return Err(error(format!(
-            "the sensitivity to value reference {} is not a finite number (a seed too large?)",
-            knowns[j]
+            "the sensitivity to `{}` is not a finite number (a seed too large?)",
+            M::VARIABLES[knowns[j] as usize].name
         )));
     }
     Ok(OK)

@@ -4,9 +4,11 @@
 //! which of them make up one array variable of FMI 3.0, in which order.
 //!
 //! [`Shapes`] is the list of variables FMI 3.0 sees: every scalar that is in no array, and
-//! every array at the place of its first element. A variable keeps its value reference
-//! (FMI 2.0's): an array takes the value reference of its first element, whose own and
-//! those of its other elements are then not variables of FMI 3.0.
+//! every array at the place of its first element. FMI 3.0's value references are FMI 2.0's
+//! plus one ([`Shapes::reference_of`]), so that the independent variable `time` has value
+//! reference 0 ([`Shapes::TIME_REFERENCE`]), as the Reference-FMUs have it: an array takes
+//! the value reference of its first element, and those of its other elements are then no
+//! variables of FMI 3.0.
 
 use super::const_text::{str_eq, ConstMessage};
 use super::Variable;
@@ -102,7 +104,8 @@ pub const fn check_arrays(variables: &[Variable], arrays: &[Array]) {
 /// One variable as FMI 3.0 sees it: a scalar, or an array of scalars.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Shaped {
-    /// Its value reference: the scalar's, or the array's first element's.
+    /// Its FMI 3.0 value reference: [`Shapes::reference_of`] the scalar, or the array's
+    /// first element.
     pub reference: usize,
     pub name: &'static str,
     pub description: &'static str,
@@ -236,7 +239,7 @@ impl Shapes {
             if a == NONE {
                 shapes.owner[vr] = shapes.variables.len();
                 shapes.variables.push(Shaped {
-                    reference: vr,
+                    reference: Self::reference_of(vr),
                     name: v.name,
                     description: v.description(),
                     dimensions: &[],
@@ -249,7 +252,7 @@ impl Shapes {
                     shapes.owner[e] = index;
                 }
                 shapes.variables.push(Shaped {
-                    reference: groups[a][0],
+                    reference: Self::reference_of(groups[a][0]),
                     name: arrays[a].name,
                     description: arrays[a].description,
                     dimensions: arrays[a].dimensions,
@@ -309,22 +312,32 @@ impl Shapes {
         Ok(())
     }
 
-    /// The variable with value reference `vr` (none for an array's element other than its
-    /// first, nor for a value reference of no variable).
-    pub fn get(&self, vr: usize) -> Option<&Shaped> {
-        let shaped = &self.variables[*self.owner.get(vr)?];
-        (shaped.reference == vr).then_some(shaped)
+    /// The value reference of the independent variable `time` in FMI 3.0.
+    pub const TIME_REFERENCE: usize = 0;
+
+    /// The FMI 3.0 value reference of declared scalar `vr` (its FMI 2.0 value reference):
+    /// the one place the two are mapped. One more, so that 0 is free for `time`, and an
+    /// FMI 2.0 reference is found in FMI 3.0 by adding one.
+    pub const fn reference_of(vr: usize) -> usize {
+        vr + 1
     }
 
-    /// The variable scalar `vr` belongs to.
+    /// The variable with FMI 3.0 value reference `reference` (none for `time`, for an
+    /// array's element other than its first, nor for a value reference of no variable).
+    pub fn get(&self, reference: usize) -> Option<&Shaped> {
+        let vr = reference.checked_sub(Self::reference_of(0))?;
+        let shaped = &self.variables[*self.owner.get(vr)?];
+        (shaped.reference == reference).then_some(shaped)
+    }
+
+    /// The variable declared scalar `vr` (FMI 2.0's value reference) belongs to.
     pub fn owner(&self, vr: usize) -> Option<&Shaped> {
         self.owner.get(vr).map(|&i| &self.variables[i])
     }
 
-    /// The value reference of the independent variable `time` in FMI 3.0: one past the
-    /// last variable's, so that every variable keeps FMI 2.0's.
-    pub fn time_reference(&self) -> usize {
-        self.owner.len()
+    /// One past the largest FMI 3.0 value reference: the first that is no variable.
+    pub fn references_end(&self) -> usize {
+        Self::reference_of(self.owner.len())
     }
 
     /// Whether any variable is an array.

@@ -4,18 +4,22 @@
 //! What FMI 3.0 sees differs from FMI 2.0 in three ways:
 //! - the variables are [`Shapes`]: the declared scalars, but those grouped into
 //!   [`Mechanism::ARRAYS`] shown as one `<Float64>` array each (`<Dimension>`, a start value
-//!   per element in row-major order, FMI 3.0 section 2.2.7.1), with FMI 2.0's value
-//!   references, and an annotation ([`SCALARS_ANNOTATION`]) naming the FMI 2.0 scalars
-//!   its elements are; the independent variable `time` comes first, with the value
-//!   reference after the last variable's;
+//!   per element in row-major order, FMI 3.0 section 2.4.7.2), with FMI 2.0's value
+//!   references plus one ([`Shapes::reference_of`]), and an annotation
+//!   ([`SCALARS_ANNOTATION`]) naming the FMI 2.0 scalars its elements are; the independent
+//!   variable `time` comes first, with value reference 0 ([`Shapes::TIME_REFERENCE`]), as
+//!   in the Reference-FMUs; the others follow in declaration order, each state before its
+//!   derivative, as in FMI 2.0's;
 //! - the names follow `variableNamingConvention="structured"` (section 2.4.7.5.1): every
 //!   name is an identifier, and an array's element is named `I_C[1,2]` (1-based);
-//! - `<ModelStructure>` lists variables by value reference, an array once, and its
-//!   dependencies have FMI 3.0's knowns ([`Knowns::Fmi3`]: the parameters and the time
-//!   too), found numerically scalar by scalar and taken over to the variables the scalars
-//!   belong to (an array depends on what any element depends on).
+//! - `<ModelStructure>` (section 2.4.8) lists variables by value reference, an array once,
+//!   and its dependencies have FMI 3.0's knowns ([`Knowns::Fmi3`]: the parameters and the
+//!   time too), found numerically scalar by scalar and taken over to the variables the
+//!   scalars belong to (an array depends on what any element depends on, by the least
+//!   particular kind of any pair of elements); `<EventIndicator>`s have their
+//!   dependencies too, with the knowns of `<Output>`.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::io;
 
 use quick_xml::events::BytesText;
@@ -25,7 +29,7 @@ use super::shared::{
     self, generation_tool, one_line, pairs, real, write_default_experiment, write_log_categories,
     write_units, Attributes, UnitInfo,
 };
-use super::structure::{self, Knowns, Unknown};
+use super::structure::{self, Dependency, DependencyKind, Knowns, Unknown};
 use crate::contract::{self, FMI3_CAPABILITIES};
 use crate::model::{Mechanism, Shaped, Shapes, Variable};
 
@@ -42,7 +46,6 @@ pub fn model_description<M: Mechanism>() -> Result<String, String> {
     let units = shared::check_declaration(name, variables, M::EXPERIMENT)?;
     let shapes = Shapes::new(variables, M::ARRAYS).map_err(|e| format!("{name}: {e}"))?;
     check_names(name, &shapes, &units)?;
-    let mut event_indicators = Vec::with_capacity(M::EVENT_INDICATORS.len());
     for indicator in M::EVENT_INDICATORS {
         let owner = (variables.iter().position(|v| v.name == *indicator))
             .and_then(|vr| shapes.owner(vr))
@@ -54,7 +57,6 @@ pub fn model_description<M: Mechanism>() -> Result<String, String> {
                 owner.name
             ));
         }
-        event_indicators.push(owner.reference);
     }
     let structure = structure::model_structure_with::<M>(Knowns::Fmi3)?;
     let lists = Lists {
@@ -66,12 +68,25 @@ pub fn model_description<M: Mechanism>() -> Result<String, String> {
             &structure.initial_unknowns,
             "initial unknown",
         )?,
-        event_indicators,
+        event_indicators: by_variable(
+            name,
+            &shapes,
+            &structure.event_indicators,
+            "event indicator",
+        )?,
     };
-    let rows = (shapes.variables.iter())
-        .map(|s| row(name, variables, &shapes, s, &units))
+    let written = shared::states_before_derivatives(shapes.variables.len(), |i| {
+        state_of(variables, &shapes, &shapes.variables[i]).and_then(|state| {
+            shapes
+                .variables
+                .iter()
+                .position(|s| s.reference == state.reference)
+        })
+    });
+    let rows = (written.iter())
+        .map(|&i| row(name, variables, &shapes, &shapes.variables[i], &units))
         .collect::<Result<Vec<_>, String>>()?;
-    shared::finish(name, write::<M>(&shapes, &rows, &units, &lists))
+    shared::finish(name, write::<M>(&rows, &units, &lists))
 }
 
 /// Checks the names FMI 3.0 sees: identifiers (`structured` names without hierarchy or
@@ -114,13 +129,14 @@ struct Lists {
     outputs: Vec<Unknown>,
     derivatives: Vec<Unknown>,
     initial_unknowns: Vec<Unknown>,
-    event_indicators: Vec<usize>,
+    event_indicators: Vec<Unknown>,
 }
 
 /// Scalar unknowns taken over to the variables they belong to, in order of first
 /// appearance: an array once, depending on the union of its elements' dependencies, each
-/// dependency the value reference of the variable its scalar belongs to (the time keeps
-/// its own). Every element of an array must be in `unknowns` if one is.
+/// dependency the value reference of the variable its scalar belongs to (the time its
+/// own), of the least particular kind among the pairs of scalars it stands for. Every
+/// element of an array must be in `unknowns` if one is.
 fn by_variable(
     model: &str,
     shapes: &Shapes,
@@ -129,9 +145,10 @@ fn by_variable(
 ) -> Result<Vec<Unknown>, String> {
     let reference = |vr: usize| match shapes.owner(vr) {
         Some(owner) => owner.reference,
-        None => shapes.time_reference(),
+        None => Shapes::TIME_REFERENCE,
     };
-    let mut grouped: Vec<(&Shaped, BTreeSet<usize>, BTreeSet<usize>)> = Vec::new();
+    type Kinds = BTreeMap<usize, DependencyKind>;
+    let mut grouped: Vec<(&Shaped, BTreeSet<usize>, Kinds)> = Vec::new();
     for u in unknowns {
         let Some(owner) = shapes.owner(u.vr) else {
             return Err(format!(
@@ -144,14 +161,15 @@ fn by_variable(
         {
             Some(i) => i,
             None => {
-                grouped.push((owner, BTreeSet::new(), BTreeSet::new()));
+                grouped.push((owner, BTreeSet::new(), BTreeMap::new()));
                 grouped.len() - 1
             }
         };
         grouped[i].1.insert(u.vr);
-        grouped[i]
-            .2
-            .extend(u.dependencies.iter().map(|&d| reference(d)));
+        for d in &u.dependencies {
+            let kind = grouped[i].2.entry(reference(d.known)).or_insert(d.kind);
+            *kind = (*kind).max(d.kind);
+        }
     }
     grouped
         .into_iter()
@@ -164,7 +182,9 @@ fn by_variable(
             }
             Ok(Unknown {
                 vr: owner.reference,
-                dependencies: dependencies.into_iter().collect(),
+                dependencies: (dependencies.into_iter())
+                    .map(|(known, kind)| Dependency { known, kind })
+                    .collect(),
             })
         })
         .collect()
@@ -238,13 +258,7 @@ fn row(
             s.name
         ));
     }
-    // The state this variable is the derivative of: a state array's derivative is an array
-    // of the same shape (`Shapes::new` checks it), pointing at the state array.
-    let state = variables
-        .iter()
-        .position(|w| w.derivative == Some(v.name))
-        .and_then(|vr| shapes.owner(vr));
-    if let Some(state) = state {
+    if let Some(state) = state_of(variables, shapes, s) {
         a.push(("derivative", state.reference.to_string()));
     }
     Ok(Row {
@@ -254,12 +268,16 @@ fn row(
     })
 }
 
-fn write<M: Mechanism>(
-    shapes: &Shapes,
-    rows: &[Row],
-    units: &[UnitInfo],
-    lists: &Lists,
-) -> io::Result<Vec<u8>> {
+/// The variable `s` is the derivative of: a state array's derivative is an array of the
+/// same shape (`Shapes::new` checks it), pointing at the state array.
+fn state_of<'a>(variables: &[Variable], shapes: &'a Shapes, s: &Shaped) -> Option<&'a Shaped> {
+    let v = s.variable(variables);
+    (variables.iter())
+        .position(|w| w.derivative == Some(v.name))
+        .and_then(|vr| shapes.owner(vr))
+}
+
+fn write<M: Mechanism>(rows: &[Row], units: &[UnitInfo], lists: &Lists) -> io::Result<Vec<u8>> {
     let mut w = shared::writer()?;
     let token = contract::instantiation_token::<M>();
     let mut root: Attributes = vec![
@@ -300,7 +318,7 @@ fn write<M: Mechanism>(
             write_types(w, units)?;
             write_log_categories(w, &categories)?;
             write_default_experiment(w, &M::EXPERIMENT)?;
-            write_variables(w, shapes, rows)?;
+            write_variables(w, rows)?;
             write_structure(w, lists)
         })?;
     Ok(w.into_inner())
@@ -332,13 +350,13 @@ fn write_types(w: &mut Writer<Vec<u8>>, units: &[UnitInfo]) -> io::Result<()> {
     Ok(())
 }
 
-fn write_variables(w: &mut Writer<Vec<u8>>, shapes: &Shapes, rows: &[Row]) -> io::Result<()> {
+fn write_variables(w: &mut Writer<Vec<u8>>, rows: &[Row]) -> io::Result<()> {
     w.create_element("ModelVariables")
         .write_inner_content(|w| {
             w.create_element("Float64")
                 .with_attributes(pairs(&vec![
                     ("name", "time".into()),
-                    ("valueReference", shapes.time_reference().to_string()),
+                    ("valueReference", Shapes::TIME_REFERENCE.to_string()),
                     ("description", "Simulation time".into()),
                     ("causality", "independent".into()),
                     ("variability", "continuous".into()),
@@ -372,8 +390,8 @@ fn write_variables(w: &mut Writer<Vec<u8>>, shapes: &Shapes, rows: &[Row]) -> io
     Ok(())
 }
 
-/// `<Output>`, `<ContinuousStateDerivative>` and `<InitialUnknown>` with their dependencies
-/// (all of kind `dependent`: no particular structure is claimed), then `<EventIndicator>`.
+/// `<Output>`, `<ContinuousStateDerivative>`, `<InitialUnknown>` and `<EventIndicator>`, in
+/// the schema's order, each with its dependencies and their kinds.
 fn write_structure(w: &mut Writer<Vec<u8>>, lists: &Lists) -> io::Result<()> {
     let empty = lists.outputs.is_empty()
         && lists.derivatives.is_empty()
@@ -389,11 +407,11 @@ fn write_structure(w: &mut Writer<Vec<u8>>, lists: &Lists) -> io::Result<()> {
                 ("Output", &lists.outputs),
                 ("ContinuousStateDerivative", &lists.derivatives),
                 ("InitialUnknown", &lists.initial_unknowns),
+                ("EventIndicator", &lists.event_indicators),
             ] {
                 for u in unknowns {
-                    let references: Vec<String> =
-                        u.dependencies.iter().map(usize::to_string).collect();
-                    let kinds = vec!["dependent"; u.dependencies.len()];
+                    let references: Vec<String> = u.knowns().map(|k| k.to_string()).collect();
+                    let kinds: Vec<&str> = u.dependencies.iter().map(|d| d.kind.as_str()).collect();
                     w.create_element(element)
                         .with_attributes(pairs(&vec![
                             ("valueReference", u.vr.to_string()),
@@ -402,11 +420,6 @@ fn write_structure(w: &mut Writer<Vec<u8>>, lists: &Lists) -> io::Result<()> {
                         ]))
                         .write_empty()?;
                 }
-            }
-            for vr in &lists.event_indicators {
-                w.create_element("EventIndicator")
-                    .with_attribute(("valueReference", vr.to_string().as_str()))
-                    .write_empty()?;
             }
             Ok(())
         })?;

@@ -7,9 +7,15 @@
 //! - [`model_description_with`]: the writer itself, from a plain [`FmuInfo`].
 //!
 //! Units come from [`units`] (base-unit exponents, `deg` display units, quantities), the
-//! `<ModelStructure>` dependencies from [`structure`] (found numerically). The FMI 3.0
-//! model description of the same declaration is [`fmi3`]'s; what both write alike (units,
-//! log categories, the default experiment, numbers) is written by one private module.
+//! `<ModelStructure>` dependencies and their kinds from [`structure`] (found numerically).
+//! The FMI 3.0 model description of the same declaration is [`fmi3`]'s; what both write
+//! alike (units, log categories, the default experiment, numbers, the order of the
+//! variables) is written by one private module.
+//!
+//! The `ScalarVariable`s keep the declaration's value references (its order), but are
+//! written with each state before its derivative (`shared::states_before_derivatives`):
+//! a `ScalarVariable` index (what `derivative` and `<ModelStructure>` refer to, 1-based)
+//! is then the variable's place in that order, not its value reference plus one.
 
 pub mod fmi3;
 mod shared;
@@ -90,14 +96,12 @@ fn check<'a>(info: &FmuInfo<'a>) -> Result<Vec<UnitInfo<'a>>, String> {
         }
     }
     let s = info.structure;
-    let lists = [
-        Some(&s.outputs),
-        Some(&s.derivatives),
-        Some(&s.initial_unknowns),
-    ];
-    for unknown in lists.into_iter().flatten().flatten() {
+    for unknown in [&s.outputs, &s.derivatives, &s.initial_unknowns]
+        .into_iter()
+        .flatten()
+    {
         let n = info.variables.len();
-        if unknown.vr >= n || unknown.dependencies.iter().any(|&d| d >= n) {
+        if unknown.vr >= n || unknown.knowns().any(|d| d >= n) {
             return Err(format!(
                 "{name}: the model structure refers to a variable that does not exist"
             ));
@@ -148,10 +152,38 @@ fn write(info: &FmuInfo, units: &[UnitInfo]) -> io::Result<Vec<u8>> {
             write_types(w, units)?;
             write_log_categories(w, info.log_categories)?;
             write_default_experiment(w, &info.experiment)?;
-            write_variables(w, info, units)?;
-            write_structure(w, info.structure)
+            let order = Order::new(info.variables);
+            write_variables(w, info, units, &order)?;
+            write_structure(w, info.structure, &order)
         })?;
     Ok(w.into_inner())
+}
+
+/// The order the `ScalarVariable`s are written in: each state before its derivative.
+struct Order {
+    /// Value references, in the order written.
+    written: Vec<usize>,
+    /// For each value reference, its `ScalarVariable` index (1-based).
+    index: Vec<usize>,
+}
+
+impl Order {
+    fn new(variables: &[Variable]) -> Self {
+        let written =
+            shared::states_before_derivatives(variables.len(), |vr| state_of(variables, vr));
+        let mut index = vec![0; variables.len()];
+        for (i, &vr) in written.iter().enumerate() {
+            index[vr] = i + 1;
+        }
+        Order { written, index }
+    }
+}
+
+/// The variable (value reference) that variable `vr` is the derivative of.
+fn state_of(variables: &[Variable], vr: usize) -> Option<usize> {
+    variables
+        .iter()
+        .position(|v| v.derivative == Some(variables[vr].name))
 }
 
 fn write_types(w: &mut Writer<Vec<u8>>, units: &[UnitInfo]) -> io::Result<()> {
@@ -183,17 +215,22 @@ fn write_types(w: &mut Writer<Vec<u8>>, units: &[UnitInfo]) -> io::Result<()> {
     Ok(())
 }
 
-fn write_variables(w: &mut Writer<Vec<u8>>, info: &FmuInfo, units: &[UnitInfo]) -> io::Result<()> {
+/// The `ScalarVariable`s in `order`. Each `<Real>` carries the attributes of FMI 2.0.5
+/// section 2.2.7 in the schema's order (`fmi2ScalarVariable.xsd`: declaredType, the real
+/// attributes of section 2.2.3, start, derivative): its `unit` and `displayUnit` as well as
+/// its `declaredType`, which defines them too, since importers that read `unit` on the
+/// variable only (OMSimulator) would see no unit and connect a length to a force.
+fn write_variables(
+    w: &mut Writer<Vec<u8>>,
+    info: &FmuInfo,
+    units: &[UnitInfo],
+    order: &Order,
+) -> io::Result<()> {
     let variables = info.variables;
-    // For a state derivative: the state (value reference) it is the derivative of.
-    let state_of = |vr: usize| {
-        variables
-            .iter()
-            .position(|v| v.derivative == Some(variables[vr].name))
-    };
     w.create_element("ModelVariables")
         .write_inner_content(|w| {
-            for (vr, v) in variables.iter().enumerate() {
+            for &vr in &order.written {
+                let v = &variables[vr];
                 let mut sv: Attributes =
                     vec![("name", v.name.into()), ("valueReference", vr.to_string())];
                 let description = one_line(v.description());
@@ -209,9 +246,10 @@ fn write_variables(w: &mut Writer<Vec<u8>>, info: &FmuInfo, units: &[UnitInfo]) 
                 let mut typed: Attributes = Vec::new();
                 if let Some(u) = unit {
                     typed.push(("declaredType", u.type_name.clone()));
-                }
-                if let Some(start) = v.start {
-                    typed.push(("start", real(start)));
+                    typed.push(("unit", u.name.into()));
+                    if let Some(d) = &u.display {
+                        typed.push(("displayUnit", d.name.clone()));
+                    }
                 }
                 if let Some(min) = v.min {
                     typed.push(("min", real(min)));
@@ -219,11 +257,11 @@ fn write_variables(w: &mut Writer<Vec<u8>>, info: &FmuInfo, units: &[UnitInfo]) 
                 if let Some(max) = v.max {
                     typed.push(("max", real(max)));
                 }
-                if let Some(d) = unit.and_then(|u| u.display.as_ref()) {
-                    typed.push(("displayUnit", d.name.clone()));
+                if let Some(start) = v.start {
+                    typed.push(("start", real(start)));
                 }
-                if let Some(state) = state_of(vr) {
-                    typed.push(("derivative", (state + 1).to_string()));
+                if let Some(state) = state_of(variables, vr) {
+                    typed.push(("derivative", order.index[state].to_string()));
                 }
                 w.create_element("ScalarVariable")
                     .with_attributes(pairs(&sv))
@@ -239,17 +277,30 @@ fn write_variables(w: &mut Writer<Vec<u8>>, info: &FmuInfo, units: &[UnitInfo]) 
     Ok(())
 }
 
-fn write_unknowns(w: &mut Writer<Vec<u8>>, element: &str, unknowns: &[Unknown]) -> io::Result<()> {
+/// One list of `<ModelStructure>` in the order given, each `<Unknown>` by `ScalarVariable`
+/// index with its dependencies ordered by index ("ordered according to magnitude", FMI
+/// 2.0.5 section 2.2.8) and their kinds.
+fn write_unknowns(
+    w: &mut Writer<Vec<u8>>,
+    element: &str,
+    unknowns: &[Unknown],
+    order: &Order,
+) -> io::Result<()> {
     if unknowns.is_empty() {
         return Ok(());
     }
     w.create_element(element).write_inner_content(|w| {
         for u in unknowns {
-            let indices: Vec<String> = u.dependencies.iter().map(|d| (d + 1).to_string()).collect();
-            let kinds = vec!["dependent"; u.dependencies.len()];
+            let mut dependencies: Vec<(usize, &str)> = (u.dependencies.iter())
+                .map(|d| (order.index[d.known], d.kind.as_str()))
+                .collect();
+            dependencies.sort_unstable();
+            let (indices, kinds): (Vec<String>, Vec<&str>) = (dependencies.into_iter())
+                .map(|(i, kind)| (i.to_string(), kind))
+                .unzip();
             w.create_element("Unknown")
                 .with_attributes(pairs(&vec![
-                    ("index", (u.vr + 1).to_string()),
+                    ("index", order.index[u.vr].to_string()),
                     ("dependencies", indices.join(" ")),
                     ("dependenciesKind", kinds.join(" ")),
                 ]))
@@ -260,17 +311,22 @@ fn write_unknowns(w: &mut Writer<Vec<u8>>, element: &str, unknowns: &[Unknown]) 
     Ok(())
 }
 
-fn write_structure(w: &mut Writer<Vec<u8>>, s: &ModelStructure) -> io::Result<()> {
+/// `<Outputs>` in value-reference order, `<Derivatives>` in the states' order (the order
+/// of the continuous-state vector), `<InitialUnknowns>` by `ScalarVariable` index, as
+/// FMI 2.0.5 section 2.2.8 requires of that list.
+fn write_structure(w: &mut Writer<Vec<u8>>, s: &ModelStructure, order: &Order) -> io::Result<()> {
     let derivatives = &s.derivatives;
     if s.outputs.is_empty() && derivatives.is_empty() && s.initial_unknowns.is_empty() {
         w.create_element("ModelStructure").write_empty()?;
         return Ok(());
     }
+    let mut initial_unknowns = s.initial_unknowns.clone();
+    initial_unknowns.sort_by_key(|u| order.index[u.vr]);
     w.create_element("ModelStructure")
         .write_inner_content(|w| {
-            write_unknowns(w, "Outputs", &s.outputs)?;
-            write_unknowns(w, "Derivatives", derivatives)?;
-            write_unknowns(w, "InitialUnknowns", &s.initial_unknowns)
+            write_unknowns(w, "Outputs", &s.outputs, order)?;
+            write_unknowns(w, "Derivatives", derivatives, order)?;
+            write_unknowns(w, "InitialUnknowns", &initial_unknowns, order)
         })?;
     Ok(())
 }

@@ -1,5 +1,6 @@
-//! `<ModelStructure>`: which unknowns the importer can read, and on which knowns each one
-//! depends, found numerically from the mechanism's own equations.
+//! `<ModelStructure>`: which unknowns the importer can read, on which knowns each one
+//! depends, and how ([`DependencyKind`]), found numerically from the mechanism's own
+//! equations.
 //!
 //! A dependency is detected by perturbing one known and watching the unknown change: at the
 //! start values and at two pseudo-random points near them (fixed seed, so the result is
@@ -9,28 +10,47 @@
 //! depends on that known. The random points
 //! also move the time, the parameters and the states, so that a dependency hidden at the
 //! start point (a term `l sin(phi)` at `phi = 0`, `F0 sin(omega t)` at `t = 0`, a damping
-//! that starts at 0) still shows.
+//! that starts at 0) still shows. How each dependency enters ([`DependencyKind`]) is found
+//! with exact derivatives at the same points.
+
+mod kinds;
+mod probe;
 
 use std::collections::BTreeSet;
 
-use crate::model::{evaluate_all, Causality, Initial, Layout, Mechanism, ValueSet, Variable};
-use crate::simulation::start_values;
+pub use kinds::DependencyKind;
+use kinds::Mode;
 
-/// One `<Unknown>`: a variable and the knowns it depends on, as value references (0-based;
-/// the FMI 2.0 XML writes 1-based `ScalarVariable` indices), ascending. With
-/// [`Knowns::Fmi3`], the value reference `VARIABLES.len()` stands for the time (FMI 3.0's
-/// independent variable has the value reference after the last variable's).
+use crate::model::{evaluate_all, Causality, Initial, Layout, Mechanism, ValueSet, Variable};
+
+/// One known an unknown depends on, and how it enters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Dependency {
+    /// Its value reference (0-based; the FMI 2.0 XML writes 1-based `ScalarVariable`
+    /// indices). With [`Knowns::Fmi3`], `VARIABLES.len()` stands for the time.
+    pub known: usize,
+    pub kind: DependencyKind,
+}
+
+/// One unknown: a variable and the knowns it depends on, ascending by value reference.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Unknown {
     pub vr: usize,
-    pub dependencies: Vec<usize>,
+    pub dependencies: Vec<Dependency>,
 }
 
-/// The three lists of `<ModelStructure>`, by scalar variable.
+impl Unknown {
+    /// The value references of its knowns.
+    pub fn knowns(&self) -> impl Iterator<Item = usize> + '_ {
+        self.dependencies.iter().map(|d| d.known)
+    }
+}
+
+/// The lists of `<ModelStructure>`, by scalar variable.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct ModelStructure {
-    /// Every output, in value-reference order. Knowns: the inputs, and the continuous
-    /// states (and, for FMI 3.0, the parameters and the time).
+    /// Every output, in value-reference order. Knowns: the inputs, the continuous states
+    /// (and, for FMI 3.0, the parameters and the time).
     pub outputs: Vec<Unknown>,
     /// The state derivatives in state order. Knowns: as for the outputs.
     pub derivatives: Vec<Unknown>,
@@ -39,19 +59,27 @@ pub struct ModelStructure {
     /// Knowns: the inputs and the variables with `initial="exact"` (and, for FMI 3.0, the
     /// time).
     pub initial_unknowns: Vec<Unknown>,
+    /// The event indicators (`Mechanism::EVENT_INDICATORS`), in their order. Knowns: as
+    /// for the outputs. FMI 3.0 lists them (`<EventIndicator>`); FMI 2.0 has no such list.
+    pub event_indicators: Vec<Unknown>,
 }
 
 /// Which variables are the knowns of `dependencies`: the two standards differ.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Knowns {
-    /// FMI 2.0.5, section 2.2.8: outputs and derivatives depend on the inputs and the
-    /// continuous states; initial unknowns on the inputs and the `initial="exact"`
-    /// variables.
+    /// FMI 2.0.5, section 2.2.8 (attribute `dependencies` of `<Unknown>`): outputs and
+    /// derivatives depend on the inputs and the continuous-time states; initial unknowns
+    /// on the inputs and the `initial="exact"` variables. The time is a known of both, but
+    /// no variable of ours: "it is assumed that the Unknown depends explicitly on the
+    /// independent variable".
     Fmi2,
-    /// FMI 3.0, section 2.4.8 (`dependencies`): the parameters (`causality="parameter"`)
-    /// and the independent variable are knowns too, for outputs and derivatives; the
-    /// independent variable for initial unknowns. An unknown whose dependencies leave a
-    /// known out has a partial derivative of zero with respect to it.
+    /// FMI 3.0, section 2.4.8 (attribute `dependencies`): the knowns of `<Output>` and
+    /// `<ContinuousStateDerivative>` are the inputs, the continuous states, the parameters
+    /// (`causality="parameter"`) and the independent variable; of `<InitialUnknown>` the
+    /// inputs, the `initial="exact"` variables and the independent variable. "If the known
+    /// is not listed among the dependencies then the partial derivative of the unknown with
+    /// respect to that known is identically zero": so a parameter or the time an output or
+    /// a derivative depends on is listed.
     Fmi3,
 }
 
@@ -75,7 +103,11 @@ pub fn model_structure<M: Mechanism>() -> Result<ModelStructure, String> {
 pub fn model_structure_with<M: Mechanism>(standard: Knowns) -> Result<ModelStructure, String> {
     let variables = M::VARIABLES;
     let layout = Layout::new(variables).map_err(|e| format!("{}: {e}", M::NAME))?;
-    let points = points::<M>()?;
+    let points = probe::points::<M>()?;
+    let probe = Probe::<M> {
+        points: &points,
+        layout: &layout,
+    };
     // The time, as a known of FMI 3.0.
     let time = (standard == Knowns::Fmi3).then_some(variables.len());
 
@@ -84,41 +116,21 @@ pub fn model_structure_with<M: Mechanism>(standard: Knowns) -> Result<ModelStruc
     let mut knowns: Vec<usize> = layout.inputs.clone();
     knowns.extend(&layout.states);
     if standard == Knowns::Fmi3 {
-        knowns.extend(
-            (variables.iter().enumerate())
-                .filter(|(_, v)| v.causality == Causality::Parameter)
-                .map(|(vr, _)| vr),
-        );
+        knowns.extend(&layout.parameters);
     }
     knowns.sort_unstable();
     knowns.dedup();
     knowns.extend(time);
 
-    // An output that is a state is a known itself: it depends on itself only.
-    let computed: Vec<usize> = layout
-        .outputs
-        .iter()
-        .copied()
-        .filter(|vr| !layout.states.contains(vr))
-        .collect();
-    let deps = dependencies::<M>(&points, &computed, &knowns);
-    let outputs = layout
-        .outputs
-        .iter()
-        .map(|&vr| Unknown {
-            vr,
-            dependencies: match computed.iter().position(|&c| c == vr) {
-                Some(i) => deps[i].clone(),
-                None => vec![vr],
-            },
+    let outputs = probe.unknowns(&layout.outputs, &knowns, Mode::ContinuousTime);
+    let derivatives = probe.unknowns(&layout.derivatives, &knowns, Mode::ContinuousTime);
+    let indicators: Vec<usize> = (M::EVENT_INDICATORS.iter())
+        .map(|name| {
+            (variables.iter().position(|v| v.name == *name))
+                .ok_or_else(|| format!("{}: event indicator `{name}` is not a variable", M::NAME))
         })
-        .collect();
-
-    let deps = dependencies::<M>(&points, &layout.derivatives, &knowns);
-    let derivatives = (layout.derivatives.iter())
-        .zip(deps)
-        .map(|(&vr, dependencies)| Unknown { vr, dependencies })
-        .collect();
+        .collect::<Result<_, _>>()?;
+    let event_indicators = probe.unknowns(&indicators, &knowns, Mode::ContinuousTime);
 
     // InitialUnknowns, knowns in Initialization Mode: inputs and initial="exact" (and for
     // FMI 3.0 the time).
@@ -148,121 +160,46 @@ pub fn model_structure_with<M: Mechanism>(standard: Knowns) -> Result<ModelStruc
         .map(|(vr, _)| vr)
         .collect();
     initial_knowns.extend(time);
-    let deps = dependencies::<M>(&points, &unknowns, &initial_knowns);
-    let initial_unknowns = unknowns
-        .iter()
-        .zip(deps)
-        .map(|(&vr, dependencies)| Unknown { vr, dependencies })
-        .collect();
+    let initial_unknowns = probe.unknowns(&unknowns, &initial_knowns, Mode::Initialization);
 
     Ok(ModelStructure {
         outputs,
         derivatives,
         initial_unknowns,
+        event_indicators,
     })
 }
 
-/// SplitMix64: a tiny deterministic generator for the probe points.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Uniform in [-1, 1).
-    fn symmetric(&mut self) -> f64 {
-        2.0 * self.unit() - 1.0
-    }
+/// The probe points of one mechanism, and its layout.
+struct Probe<'a, M: Mechanism> {
+    points: &'a [M::Values<f64>],
+    layout: &'a Layout,
 }
 
-/// Number of probe points: the start values and this many minus one random neighbours.
-const POINTS: usize = 3;
-
-/// The probe points, each with its calculated parameters computed: the start values at the
-/// start time, then points whose time lies in the default experiment and whose inputs,
-/// parameters and state start values are moved by up to 10 % (up to 0.1 from zero), within
-/// their bounds and where `calculate` accepts them.
-fn points<M: Mechanism>() -> Result<Vec<M::Values<f64>>, String> {
-    let experiment = M::EXPERIMENT;
-    let mut start = start_values::<M>(experiment.start);
-    M::calculate(&mut start)
-        .map_err(|e| format!("{}: the start values are rejected: {e}", M::NAME))?;
-    let span = experiment.stop - experiment.start;
-    let span = if span.is_finite() && span > 0.0 {
-        span
-    } else {
-        1.0
-    };
-    let mut points = vec![start];
-    let mut rng = SplitMix64(0x6d65_6368_666d_7500);
-    for _ in 0..100 {
-        if points.len() == POINTS {
-            break;
-        }
-        let mut p = start_values::<M>(experiment.start + span * rng.unit());
-        for (vr, v) in M::VARIABLES.iter().enumerate() {
-            let Some(x) = v.start else { continue };
-            let scale = if x != 0.0 { x.abs() } else { 1.0 };
-            let dx = 0.1 * scale * rng.symmetric();
-            // Outside its bounds, the other way (a damping that starts at its minimum 0 is
-            // moved up, so that the terms it multiplies show).
-            if let Some(y) = [x + dx, x - dx]
-                .into_iter()
-                .find(|&y| v.check_value(y).is_ok())
-            {
-                p.set(vr, y);
-            }
-        }
-        if M::calculate(&mut p).is_ok() {
-            points.push(p);
-        }
-    }
-    Ok(points)
-}
-
-/// `p` with known `vr` moved by 1e-3 relative (1e-3 absolute from zero), upwards unless
-/// that leaves its bounds or `calculate` refuses it; `None` when neither direction works.
-/// `vr = VARIABLES.len()` is the time, moved upwards.
-fn perturbed<M: Mechanism>(p: &M::Values<f64>, vr: usize) -> Option<M::Values<f64>> {
-    let step = |x: f64| if x != 0.0 { 1e-3 * x.abs() } else { 1e-3 };
-    if vr == M::VARIABLES.len() {
-        let mut q = p.clone();
-        q.set_time(p.time() + step(p.time()));
-        return Some(q);
-    }
-    let x = p.get(vr)?;
-    let delta = step(x);
-    let variable = &M::VARIABLES[vr];
-    [x + delta, x - delta].into_iter().find_map(|y| {
-        if variable.check_value(y).is_err() {
-            return None;
-        }
-        let mut q = p.clone();
-        q.set(vr, y);
-        M::calculate(&mut q).ok().map(|()| q)
-    })
-}
-
-/// Whether an unknown moved: by more than rounding (1e-10 relative), so that an expression
-/// such as `m a / (m g)` does not make a dependency on `m` out of its last bits. A genuine
-/// dependency moves it by about 1e-3 times its relative sensitivity.
-fn changed(a: Option<f64>, b: Option<f64>) -> bool {
-    match (a, b) {
-        (Some(a), Some(b)) if a.is_finite() && b.is_finite() => {
-            (a - b).abs() > 1e-10 * a.abs().max(b.abs())
-        }
-        (Some(a), Some(b)) => !(a == b || (a.is_nan() && b.is_nan())),
-        _ => false,
+impl<M: Mechanism> Probe<'_, M> {
+    /// `vrs` as unknowns of `knowns`, with the kind of each dependency. An unknown that is
+    /// a known itself (an output that is a state, an input that is a state's derivative)
+    /// depends on itself only, by a factor of 1.
+    fn unknowns(&self, vrs: &[usize], knowns: &[usize], mode: Mode) -> Vec<Unknown> {
+        let computed: Vec<usize> = (vrs.iter().copied())
+            .filter(|vr| !knowns.contains(vr))
+            .collect();
+        let deps = dependencies::<M>(self.points, &computed, knowns);
+        let kinds = kinds::kinds::<M>(self.points, self.layout, &computed, &deps, mode);
+        vrs.iter()
+            .map(|&vr| {
+                let dependencies = match computed.iter().position(|&c| c == vr) {
+                    Some(i) => (deps[i].iter().zip(&kinds[i]))
+                        .map(|(&known, &kind)| Dependency { known, kind })
+                        .collect(),
+                    None => vec![Dependency {
+                        known: vr,
+                        kind: DependencyKind::Constant,
+                    }],
+                };
+                Unknown { vr, dependencies }
+            })
+            .collect()
     }
 }
 
@@ -279,7 +216,7 @@ fn dependencies<M: Mechanism>(
         let mut base = p.clone();
         evaluate_all::<M, f64>(&mut base);
         for &k in knowns {
-            let Some(mut q) = perturbed::<M>(p, k) else {
+            let Some(mut q) = probe::perturbed::<M>(p, k) else {
                 deps.iter_mut().for_each(|d| {
                     d.insert(k);
                 });
@@ -287,7 +224,7 @@ fn dependencies<M: Mechanism>(
             };
             evaluate_all::<M, f64>(&mut q);
             for (d, &u) in deps.iter_mut().zip(unknowns) {
-                if changed(base.get(u), q.get(u)) {
+                if probe::changed(base.get(u), q.get(u)) {
                     d.insert(k);
                 }
             }
@@ -343,31 +280,46 @@ mod tests {
 
     // Value references: a 0, b 1, u 2, x 3, x_dot 4, y 5, z 6, b2 7.
 
-    fn unknown(vr: usize, dependencies: &[usize]) -> Unknown {
+    use DependencyKind::{Constant, Dependent, Fixed};
+
+    fn unknown(vr: usize, dependencies: &[(usize, DependencyKind)]) -> Unknown {
         Unknown {
             vr,
-            dependencies: dependencies.to_vec(),
+            dependencies: (dependencies.iter())
+                .map(|&(known, kind)| Dependency { known, kind })
+                .collect(),
         }
     }
 
     #[test]
     fn states_are_knowns() {
         let s = model_structure::<Probe>().unwrap();
+        // The output x is a state: itself, by a factor 1; y = a x + sin(u): the factor of x
+        // is the fixed parameter a, sin(u) has none.
         assert_eq!(
             s.outputs,
-            vec![unknown(3, &[3]), unknown(5, &[2, 3]), unknown(6, &[])]
+            vec![
+                unknown(3, &[(3, Constant)]),
+                unknown(5, &[(2, Dependent), (3, Fixed)]),
+                unknown(6, &[])
+            ]
         );
-        assert_eq!(s.derivatives, vec![unknown(4, &[2, 3])]);
-        // x_dot (local, calculated) is an initial unknown here too.
+        assert_eq!(
+            s.derivatives,
+            vec![unknown(4, &[(2, Constant), (3, Fixed)])]
+        );
+        // x_dot (local, calculated) is an initial unknown here too. In Initialization Mode a
+        // is a known: the factor it makes is no constant one.
         assert_eq!(
             s.initial_unknowns,
             vec![
-                unknown(4, &[0, 2, 3]),
-                unknown(5, &[0, 2, 3]),
-                unknown(6, &[1]),
-                unknown(7, &[1])
+                unknown(4, &[(0, Dependent), (2, Constant), (3, Dependent)]),
+                unknown(5, &[(0, Dependent), (2, Dependent), (3, Dependent)]),
+                unknown(6, &[(1, Dependent)]),
+                unknown(7, &[(1, Dependent)])
             ]
         );
+        assert_eq!(s.event_indicators, []);
     }
 
     #[test]
@@ -376,14 +328,64 @@ mod tests {
         // The parameters a (0) and b (1) are knowns now; the time (8) moves nothing here.
         assert_eq!(
             s.outputs,
-            vec![unknown(3, &[3]), unknown(5, &[0, 2, 3]), unknown(6, &[1])]
+            vec![
+                unknown(3, &[(3, Constant)]),
+                unknown(5, &[(0, Dependent), (2, Dependent), (3, Fixed)]),
+                unknown(6, &[(1, Dependent)])
+            ]
         );
-        assert_eq!(s.derivatives, vec![unknown(4, &[0, 2, 3])]);
+        assert_eq!(
+            s.derivatives,
+            vec![unknown(4, &[(0, Dependent), (2, Constant), (3, Fixed)])]
+        );
         // In Initialization Mode the parameters were knowns already (initial="exact").
         assert_eq!(
             s.initial_unknowns,
             model_structure::<Probe>().unwrap().initial_unknowns
         );
+    }
+
+    crate::mechanism! {
+        /// y = 2 x0 + x, where x0 is the state's value when `calculate` ran.
+        pub struct Offset / OffsetValues {
+            /// State
+            x: Variable::state("m", 1.0, "x_dot"),
+            /// Its rate: -x
+            x_dot: Variable::local("m/s"),
+            /// Twice the state as calculated
+            x0_2: Variable::calculated("m"),
+            /// 2 x0 + x
+            y: Variable::output("m"),
+        }
+    }
+
+    impl Mechanism for Offset {
+        const EXPERIMENT: Experiment = Experiment {
+            start: 0.0,
+            stop: 1.0,
+            step: 0.1,
+            tolerance: 1e-6,
+        };
+        fn calculate(v: &mut OffsetValues<f64>) -> Result<(), String> {
+            v.x0_2 = 2.0 * v.x;
+            Ok(())
+        }
+        fn evaluate<S: Scalar>(v: &mut OffsetValues<S>) {
+            v.x_dot = -v.x;
+            v.y = v.x0_2 + v.x;
+        }
+    }
+
+    #[test]
+    fn a_known_calculate_reads_enters_with_no_particular_structure() {
+        // The dual numbers see y = x0_2 + x (a factor 1); `calculate` makes it 3 x. Every
+        // unknown depending on a known that `calculate` reads says no more than `dependent`.
+        let s = model_structure::<Offset>().unwrap();
+        assert_eq!(
+            s.outputs,
+            vec![unknown(0, &[(0, Constant)]), unknown(3, &[(0, Dependent)])]
+        );
+        assert_eq!(s.derivatives, vec![unknown(1, &[(0, Dependent)])]);
     }
 
     #[test]

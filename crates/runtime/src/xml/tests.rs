@@ -268,13 +268,45 @@ fn units_types_and_display_units() {
          <Real quantity=\"AngularAcceleration\" unit=\"rad/s2\" displayUnit=\"deg/s2\"/>"
     ));
     assert!(xml.contains("<SimpleType name=\"Dimensionless\">\n      <Real unit=\"1\"/>"));
-    // A variable refers to its type; angles show in degrees.
+    // A variable refers to its type, and carries its unit too; angles show in degrees.
     assert!(xml.contains(
         "<ScalarVariable name=\"phi\" valueReference=\"7\" description=\"Cable angle from the vertical\" \
          causality=\"output\" variability=\"continuous\" initial=\"exact\">\n      \
-         <Real declaredType=\"Angle\" start=\"0.2\" displayUnit=\"deg\"/>"
+         <Real declaredType=\"Angle\" unit=\"rad\" displayUnit=\"deg\" start=\"0.2\"/>"
     ));
-    assert!(xml.contains("<Real declaredType=\"Mass\" start=\"2.0\" min=\"0.0\"/>"));
+    assert!(xml.contains("<Real declaredType=\"Mass\" unit=\"kg\" min=\"0.0\" start=\"2.0\"/>"));
+}
+
+/// Importers that read `unit` on `<Real>` only (OMSimulator) see every variable's unit:
+/// each `<Real>` of a variable has its type's unit and display unit (FMI 2.0.5 section
+/// 2.2.7: the attributes of section 2.2.3 on the variable itself).
+#[test]
+fn every_real_has_the_unit_and_display_unit_of_its_type() {
+    let elements = parse_back(&swing());
+    let mut types = std::collections::HashMap::new();
+    let mut current = None;
+    let mut reals = 0;
+    for (_, e) in &elements {
+        match e.name.as_str() {
+            "SimpleType" => current = e.get("name"),
+            "ScalarVariable" => current = None,
+            "Real" if current.is_some() => {
+                types.insert(current.unwrap(), (e.get("unit"), e.get("displayUnit")));
+            }
+            "Real" => {
+                reals += 1;
+                let declared = e.get("declaredType").expect("every Real has a type");
+                assert_eq!(
+                    (e.get("unit"), e.get("displayUnit")),
+                    types[declared],
+                    "{e:?}"
+                );
+                assert!(e.get("unit").is_some(), "{e:?}");
+            }
+            _ => {}
+        }
+    }
+    assert_eq!(reals, Swing::VARIABLES.len());
 }
 
 #[test]
@@ -291,13 +323,64 @@ fn derivative_attribute_points_at_the_state() {
             .unwrap();
         reals[i].get("derivative")
     };
-    // ScalarVariable indices: x 6, x_dot 7, phi 8, phi_dot 9.
-    assert_eq!(derivative("x_dot"), Some("6"));
-    assert_eq!(derivative("x_ddot"), Some("7")); // an input
+    // ScalarVariable indices: x 5, x_dot 6, x_ddot 7 (an input declared before both, written
+    // after them), phi 8, phi_dot 9.
+    assert_eq!(derivative("x_dot"), Some("5"));
+    assert_eq!(derivative("x_ddot"), Some("6"));
     assert_eq!(derivative("phi_dot"), Some("8"));
     assert_eq!(derivative("phi_ddot"), Some("9"));
     assert_eq!(derivative("x"), None);
     assert_eq!(derivative("T"), None);
+}
+
+/// Every `derivative` points back, to a `ScalarVariable` written before it, and every
+/// variable keeps its value reference (the declaration's order).
+#[test]
+fn states_come_before_their_derivatives_with_their_value_references() {
+    let elements = parse_back(&swing());
+    let variables = find(&elements, "ScalarVariable");
+    let reals = find(&elements, "Real");
+    let reals = &reals[reals.len() - variables.len()..];
+    for (i, real) in reals.iter().enumerate() {
+        if let Some(state) = real.get("derivative") {
+            let state: usize = state.parse().unwrap();
+            assert!(state <= i, "{:?} points at {state}", variables[i]);
+        }
+    }
+    for (vr, declared) in Swing::VARIABLES.iter().enumerate() {
+        let written = variables
+            .iter()
+            .find(|v| v.get("name") == Some(declared.name))
+            .unwrap();
+        assert_eq!(written.get("valueReference"), Some(vr.to_string().as_str()));
+    }
+    let names: Vec<&str> = variables.iter().map(|v| v.get("name").unwrap()).collect();
+    assert_eq!(
+        names[..9],
+        ["m", "l", "g", "c", "x", "x_dot", "x_ddot", "phi", "phi_dot"]
+    );
+}
+
+#[test]
+fn the_order_puts_each_chain_of_states_before_its_derivative() {
+    // 0 is the derivative of 2, 2 of 3; 1 of 4; 5 stands alone.
+    let state_of = |i: usize| match i {
+        0 => Some(2),
+        2 => Some(3),
+        1 => Some(4),
+        _ => None,
+    };
+    assert_eq!(
+        shared::states_before_derivatives(6, state_of),
+        [3, 2, 0, 4, 1, 5]
+    );
+    // Declared in order already: unchanged.
+    let state_of = |i: usize| (i % 2 == 1).then(|| i - 1);
+    assert_eq!(shared::states_before_derivatives(4, state_of), [0, 1, 2, 3]);
+    // A circle (no declaration has one) still writes each variable once.
+    let mut circle = shared::states_before_derivatives(3, |i| Some((i + 1) % 3));
+    circle.sort_unstable();
+    assert_eq!(circle, [0, 1, 2]);
 }
 
 #[test]
@@ -324,23 +407,28 @@ fn model_structure_with_directional_derivatives() {
     let xml = model_description_for::<Swing>(&capabilities).unwrap();
     parse_back(&xml);
     assert!(xml.contains("providesDirectionalDerivative=\"true\""));
-    // States as knowns; Derivatives in state order: x_dot, x_ddot (the input), phi_dot,
-    // phi_ddot.
-    assert!(
-        xml.contains("<Unknown index=\"6\" dependencies=\"6\" dependenciesKind=\"dependent\"/>")
-    );
+    // States as knowns (an output that is a state: itself, by a factor 1); Derivatives in
+    // state order: x_dot, x_ddot (the input), phi_dot, phi_ddot, whose factor of phi_dot is
+    // the tunable damping's -c/(m l^2).
+    assert!(xml.contains("<Unknown index=\"5\" dependencies=\"5\" dependenciesKind=\"constant\"/>"));
     assert!(xml.contains(
         "    <Derivatives>\n      \
-         <Unknown index=\"7\" dependencies=\"7\" dependenciesKind=\"dependent\"/>\n      \
-         <Unknown index=\"5\" dependencies=\"5\" dependenciesKind=\"dependent\"/>\n      \
-         <Unknown index=\"9\" dependencies=\"9\" dependenciesKind=\"dependent\"/>\n      \
-         <Unknown index=\"10\" dependencies=\"5 8 9\" \
-         dependenciesKind=\"dependent dependent dependent\"/>\n    \
+         <Unknown index=\"6\" dependencies=\"6\" dependenciesKind=\"constant\"/>\n      \
+         <Unknown index=\"7\" dependencies=\"7\" dependenciesKind=\"constant\"/>\n      \
+         <Unknown index=\"9\" dependencies=\"9\" dependenciesKind=\"constant\"/>\n      \
+         <Unknown index=\"10\" dependencies=\"7 8 9\" \
+         dependenciesKind=\"dependent dependent tunable\"/>\n    \
          </Derivatives>"
     ));
     assert!(xml.contains(
-        "<Unknown index=\"11\" dependencies=\"5 8 9\" \
+        "<Unknown index=\"11\" dependencies=\"7 8 9\" \
          dependenciesKind=\"dependent dependent dependent\"/>"
+    ));
+    // Initial unknowns by index; in Initialization Mode the parameters are knowns too.
+    assert!(xml.contains(
+        "    <InitialUnknowns>\n      \
+         <Unknown index=\"10\" dependencies=\"1 2 3 4 7 8 9\" \
+         dependenciesKind=\"dependent dependent dependent dependent dependent dependent dependent\"/>"
     ));
 }
 

@@ -5,12 +5,12 @@ use super::{ok, Fmi3Harness};
 use crate::harness::Harness;
 use mechfmu::fmi3::ffi::*;
 use mechfmu::fmi3::functions;
-use mechfmu::model::Mechanism;
+use mechfmu::model::{Mechanism, Shapes};
 
 impl<M: Mechanism> Fmi3Harness<M> {
     /// The value reference of `time`.
     pub fn time_vr(&self) -> fmi3ValueReference {
-        self.shapes.time_reference() as fmi3ValueReference
+        Shapes::TIME_REFERENCE as fmi3ValueReference
     }
 
     /// The FMI 3.0 value reference of a variable (scalar or array) or of `time`, by name
@@ -135,7 +135,7 @@ impl<M: Mechanism> Fmi3Harness<M> {
         self.set_float64(&[vr], &values)
     }
 
-    /// Every scalar's value by (FMI 2.0) value reference, read through FMI 3.0's variables
+    /// Every scalar's value by FMI 2.0 value reference, read through FMI 3.0's variables
     /// in one call.
     pub fn all_values(&mut self) -> Vec<f64> {
         let vrs: Vec<u32> = self
@@ -209,8 +209,8 @@ mod tests {
         assert_eq!((fmu.get("a12"), fmu.get("A[1,2]")), (0.5, 0.5));
         assert_eq!(fmu.get_array("y"), [1.0, 3.0]);
         assert_eq!(fmu.get("y_dot[2]"), -(0.5 + 4.0 * 3.0));
-        assert_eq!((fmu.vr("A"), fmu.vr("y"), fmu.vr("time")), (0, 3, 7));
-        assert_eq!(fmu.len_of(&[0, 3, 7]), 4 + 2 + 1);
+        assert_eq!((fmu.vr("A"), fmu.vr("y"), fmu.vr("time")), (1, 4, 0));
+        assert_eq!(fmu.len_of(&[1, 4, 0]), 4 + 2 + 1);
         fmu.step_to(0.3, 0.1).unwrap();
         assert_eq!(fmu.get("time"), fmu.time());
         let values = fmu.all_values();

@@ -41,14 +41,17 @@ fn without_arrays_every_scalar_is_a_variable() {
     let shapes = shapes(&[]).unwrap();
     assert_eq!(shapes.variables.len(), VARIABLES.len());
     for (vr, s) in shapes.variables.iter().enumerate() {
-        assert_eq!((s.reference, s.name), (vr, VARIABLES[vr].name));
+        assert_eq!((s.reference, s.name), (vr + 1, VARIABLES[vr].name));
         assert_eq!((s.elements.as_slice(), s.is_array()), (&[vr][..], false));
-        assert_eq!(shapes.get(vr), Some(s));
+        assert_eq!(shapes.get(vr + 1), Some(s));
         assert_eq!(shapes.owner(vr), Some(s));
     }
     assert!(!shapes.has_arrays());
-    assert_eq!(shapes.time_reference(), 9);
-    assert_eq!((shapes.get(9), shapes.owner(9)), (None, None));
+    // 0 is the time's, and no variable's.
+    assert_eq!(Shapes::TIME_REFERENCE, 0);
+    assert_eq!(shapes.get(0), None);
+    assert_eq!(shapes.references_end(), 10);
+    assert_eq!((shapes.get(10), shapes.owner(9)), (None, None));
 }
 
 #[test]
@@ -57,24 +60,24 @@ fn an_array_stands_at_its_first_element_with_its_reference() {
     assert_eq!(
         summary(&shapes),
         [
-            (0, "M", vec![0, 1, 1, 2]),
-            (3, "u", vec![3]),
-            (4, "x", vec![4, 5]),
-            (6, "v", vec![6, 7]),
-            (8, "E", vec![8]),
+            (1, "M", vec![0, 1, 1, 2]),
+            (4, "u", vec![3]),
+            (5, "x", vec![4, 5]),
+            (7, "v", vec![6, 7]),
+            (9, "E", vec![8]),
         ]
     );
     assert!(shapes.has_arrays());
     assert_eq!(shapes.variables[0].dimensions, [2, 2]);
     assert_eq!(shapes.variables[0].description, "Mass matrix");
     // Only an array's first element names it.
-    assert_eq!(shapes.get(0).map(|s| s.name), Some("M"));
-    assert_eq!(shapes.get(1), None);
+    assert_eq!(shapes.get(1).map(|s| s.name), Some("M"));
+    assert_eq!(shapes.get(2), None);
     assert_eq!(shapes.owner(1).map(|s| s.name), Some("M"));
     assert_eq!(shapes.owner(7).map(|s| s.name), Some("v"));
     assert_eq!(shapes.variables[2].variable(&VARIABLES).name, "x_1");
-    // Every variable keeps its value reference: the time comes after the last one.
-    assert_eq!(shapes.time_reference(), 9);
+    // Every variable has FMI 2.0's value reference plus one.
+    assert_eq!(shapes.references_end(), 10);
 }
 
 #[test]
@@ -82,7 +85,7 @@ fn an_array_may_take_the_name_of_its_own_element() {
     static E: [Array; 1] = [Array::new("E", "Energy", &[1], &["E"])];
     let shapes = shapes(&E).unwrap();
     assert_eq!(
-        shapes.get(8).map(|s| (s.name, s.is_array())),
+        shapes.get(9).map(|s| (s.name, s.is_array())),
         Some(("E", true))
     );
 }

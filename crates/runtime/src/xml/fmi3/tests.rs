@@ -49,7 +49,8 @@ impl Mechanism for Drive {
     }
 }
 
-// Drive's value references: m 0, c 1, F0 2, w 3, u 4, x 5, v 6, a 7, p 8, half_w 9; time 10.
+// Drive's FMI 3.0 value references: time 0, m 1, c 2, F0 3, w 4, u 5, x 6, v 7, a 8, p 9,
+// half_w 10 (FMI 2.0's plus one).
 
 crate::mechanism! {
     /// Two masses on springs, with a symmetric mass matrix.
@@ -118,8 +119,8 @@ impl Mechanism for Plate {
     }
 }
 
-// Plate's value references: M 0 (m_11; m_12 1, m_22 2), k 3, f 4 (f_1; f_2 5), x 6 (x_1;
-// x_2 7), v 8 (v_1; v_2 9), a 10 (a_1; a_2 11), E 12, det 13; time 14.
+// Plate's FMI 3.0 value references: time 0, M 1 (m_11; m_12 2, m_22 3), k 4, f 5 (f_1; f_2
+// 6), x 7 (x_1; x_2 8), v 9 (v_1; v_2 10), a 11 (a_1; a_2 12), E 13, det 14.
 
 fn variables(xml: &str) -> Vec<(usize, Element)> {
     let elements = parse_back(xml);
@@ -204,11 +205,14 @@ fn capability_flags_are_spelled_and_ordered_as_the_schema_has_them() {
     assert!(plate.contains("needsCompletedIntegratorStep=\"false\"/>"));
     assert!(plate.contains("mightReturnEarlyFromDoStep=\"false\""));
     assert!(!plate.contains("<EventIndicator"));
-    assert!(drive.contains("    <EventIndicator valueReference=\"5\"/>\n  </ModelStructure>"));
+    assert!(drive.contains(
+        "    <EventIndicator valueReference=\"6\" dependencies=\"6\" dependenciesKind=\"constant\"/>\n  \
+         </ModelStructure>"
+    ));
 }
 
 #[test]
-fn time_comes_first_with_the_reference_after_the_last() {
+fn time_comes_first_with_value_reference_0() {
     for xml in [model_description::<Drive>(), model_description::<Plate>()] {
         let xml = xml.unwrap();
         let elements = variables(&xml);
@@ -220,16 +224,15 @@ fn time_comes_first_with_the_reference_after_the_last() {
     }
     let plate = model_description::<Plate>().unwrap();
     assert!(plate.contains(
-        "<Float64 name=\"time\" valueReference=\"14\" description=\"Simulation time\" \
+        "<Float64 name=\"time\" valueReference=\"0\" description=\"Simulation time\" \
          causality=\"independent\" variability=\"continuous\"/>"
     ));
 }
 
 #[test]
-fn value_references_are_unique_and_fmi_2s() {
-    let mut drive: Vec<usize> = (0..=10).collect();
-    drive.rotate_right(1); // the time first
-    let plate = vec![14, 0, 3, 4, 6, 8, 10, 12, 13];
+fn value_references_are_fmi_2s_plus_one() {
+    let drive: Vec<usize> = (0..=10).collect();
+    let plate = vec![0, 1, 4, 5, 7, 9, 11, 13, 14];
     for (xml, expected) in [
         (model_description::<Drive>(), drive),
         (model_description::<Plate>(), plate),
@@ -249,7 +252,7 @@ fn arrays_have_dimensions_and_a_start_value_per_element() {
     let xml = model_description::<Plate>().unwrap();
     // The symmetric matrix: m_12 at two places; no min (the off-diagonal element has none).
     assert!(xml.contains(
-        "    <Float64 name=\"M\" valueReference=\"0\" description=\"Mass matrix\" \
+        "    <Float64 name=\"M\" valueReference=\"1\" description=\"Mass matrix\" \
          causality=\"parameter\" variability=\"fixed\" declaredType=\"Mass\" initial=\"exact\" \
          unit=\"kg\" start=\"2.0 0.5 0.5 3.0\">\n      \
          <Annotations>\n        \
@@ -258,7 +261,7 @@ fn arrays_have_dimensions_and_a_start_value_per_element() {
          <Dimension start=\"2\"/>\n      <Dimension start=\"2\"/>\n    </Float64>"
     ));
     assert!(xml.contains(
-        "    <Float64 name=\"f\" valueReference=\"4\" description=\"Forces\" causality=\"input\" \
+        "    <Float64 name=\"f\" valueReference=\"5\" description=\"Forces\" causality=\"input\" \
          variability=\"continuous\" declaredType=\"Force\" unit=\"N\" start=\"0.0 1.0\">\n      \
          <Annotations>\n        \
          <Annotation type=\"org.mechfmu.scalars\">f_1 f_2</Annotation>\n      \
@@ -267,12 +270,12 @@ fn arrays_have_dimensions_and_a_start_value_per_element() {
     ));
     // A scalar keeps its bound; a unit without a quantity has no type.
     assert!(xml.contains(
-        "<Float64 name=\"k\" valueReference=\"3\" description=\"Stiffness\" \
+        "<Float64 name=\"k\" valueReference=\"4\" description=\"Stiffness\" \
          causality=\"parameter\" variability=\"tunable\" declaredType=\"TranslationalSpringConstant\" \
          initial=\"exact\" unit=\"N/m\" min=\"0.0\" start=\"4.0\"/>"
     ));
     assert!(xml.contains(
-        "<Float64 name=\"det\" valueReference=\"13\" description=\"Determinant of the mass matrix\" \
+        "<Float64 name=\"det\" valueReference=\"14\" description=\"Determinant of the mass matrix\" \
          causality=\"calculatedParameter\" variability=\"fixed\" initial=\"calculated\" unit=\"kg2\"/>"
     ));
     let elements = variables(&xml);
@@ -303,13 +306,13 @@ fn derivatives_point_at_their_states() {
     let elements = variables(&plate);
     let derivative = |name: &str| float64(&elements, name).get("derivative");
     assert_eq!(derivative("x"), None);
-    assert_eq!(derivative("v"), Some("6"));
-    assert_eq!(derivative("a"), Some("8"));
+    assert_eq!(derivative("v"), Some("7"));
+    assert_eq!(derivative("a"), Some("9"));
     let drive = model_description::<Drive>().unwrap();
     let elements = variables(&drive);
     let derivative = |name: &str| float64(&elements, name).get("derivative");
-    assert_eq!(derivative("v"), Some("5"));
-    assert_eq!(derivative("a"), Some("6"));
+    assert_eq!(derivative("v"), Some("6"));
+    assert_eq!(derivative("a"), Some("7"));
     // Angles' rates show in degrees.
     assert_eq!(float64(&elements, "w").get("displayUnit"), Some("deg/s"));
     assert!(drive.contains(
@@ -318,15 +321,23 @@ fn derivatives_point_at_their_states() {
     ));
 }
 
-/// `<tag valueReference=".." dependencies=".." dependenciesKind="dependent ..."/>`.
-fn unknown(tag: &str, vr: usize, dependencies: &[usize]) -> String {
-    let references: Vec<String> = dependencies.iter().map(usize::to_string).collect();
+/// `<tag valueReference=".." dependencies=".." dependenciesKind=".."/>`.
+fn unknown(tag: &str, vr: usize, dependencies: &[(usize, DependencyKind)]) -> String {
+    let references: Vec<String> = dependencies.iter().map(|(k, _)| k.to_string()).collect();
+    let kinds: Vec<&str> = dependencies.iter().map(|(_, kind)| kind.as_str()).collect();
     format!(
         "<{tag} valueReference=\"{vr}\" dependencies=\"{}\" dependenciesKind=\"{}\"/>",
         references.join(" "),
-        vec!["dependent"; dependencies.len()].join(" ")
+        kinds.join(" ")
     )
 }
+
+/// `knowns` each entering as `dependent`.
+fn dependent(knowns: &[usize]) -> Vec<(usize, DependencyKind)> {
+    knowns.iter().map(|&k| (k, Dependent)).collect()
+}
+
+use DependencyKind::{Constant, Dependent, Fixed, Tunable};
 
 /// The elements of `<ModelStructure>`, one per line.
 fn structure(xml: &str) -> Vec<String> {
@@ -343,20 +354,24 @@ fn structure(xml: &str) -> Vec<String> {
 #[test]
 fn model_structure_of_scalars_has_the_parameters_and_the_time_as_knowns() {
     let xml = model_description::<Drive>().unwrap();
-    let a = [0, 1, 2, 3, 4, 6, 10];
+    // a = (F0 sin(w t) + u - c v) / m: by 1/m (m fixed) in u, by -c/m (c tunable) in v;
+    // nonlinear in the time and the parameters.
+    let mut a = dependent(&[0, 1, 2, 3, 4]);
+    a.extend([(5, Fixed), (7, Tunable)]);
     assert_eq!(
         structure(&xml),
         [
-            unknown("Output", 5, &[5]),
-            unknown("Output", 6, &[6]),
-            unknown("Output", 7, &a),
-            unknown("Output", 8, &[0, 6]),
-            unknown("ContinuousStateDerivative", 6, &[6]),
-            unknown("ContinuousStateDerivative", 7, &a),
-            unknown("InitialUnknown", 7, &a),
-            unknown("InitialUnknown", 8, &[0, 6]),
-            unknown("InitialUnknown", 9, &[3]),
-            "<EventIndicator valueReference=\"5\"/>".to_string(),
+            unknown("Output", 6, &[(6, Constant)]),
+            unknown("Output", 7, &[(7, Constant)]),
+            unknown("Output", 8, &a),
+            unknown("Output", 9, &[(1, Dependent), (7, Fixed)]),
+            unknown("ContinuousStateDerivative", 7, &[(7, Constant)]),
+            unknown("ContinuousStateDerivative", 8, &a),
+            // In Initialization Mode the parameters are knowns: no factor is constant.
+            unknown("InitialUnknown", 8, &dependent(&[0, 1, 2, 3, 4, 5, 7])),
+            unknown("InitialUnknown", 9, &dependent(&[1, 7])),
+            unknown("InitialUnknown", 10, &dependent(&[4])),
+            unknown("EventIndicator", 6, &[(6, Constant)]),
         ]
     );
 }
@@ -364,19 +379,20 @@ fn model_structure_of_scalars_has_the_parameters_and_the_time_as_knowns() {
 #[test]
 fn model_structure_lists_an_array_once() {
     let xml = model_description::<Plate>().unwrap();
-    let a = [0, 3, 4, 6];
+    // a = M^-1 (f - k x): by the fixed M^-1 in f, by -k M^-1 (k tunable) in x.
+    let a = [(1, Dependent), (4, Dependent), (5, Fixed), (7, Tunable)];
     assert_eq!(
         structure(&xml),
         [
-            unknown("Output", 6, &[6]),
-            unknown("Output", 8, &[8]),
-            unknown("Output", 10, &a),
-            unknown("Output", 12, &[0, 3, 6, 8]),
-            unknown("ContinuousStateDerivative", 8, &[8]),
-            unknown("ContinuousStateDerivative", 10, &a),
-            unknown("InitialUnknown", 10, &a),
-            unknown("InitialUnknown", 12, &[0, 3, 6, 8]),
-            unknown("InitialUnknown", 13, &[0]),
+            unknown("Output", 7, &[(7, Constant)]),
+            unknown("Output", 9, &[(9, Constant)]),
+            unknown("Output", 11, &a),
+            unknown("Output", 13, &dependent(&[1, 4, 7, 9])),
+            unknown("ContinuousStateDerivative", 9, &[(9, Constant)]),
+            unknown("ContinuousStateDerivative", 11, &a),
+            unknown("InitialUnknown", 11, &dependent(&[1, 4, 5, 7])),
+            unknown("InitialUnknown", 13, &dependent(&[1, 4, 7, 9])),
+            unknown("InitialUnknown", 14, &dependent(&[1])),
         ]
     );
 }
