@@ -331,12 +331,9 @@ fn record(fmu: &mut impl GetSet, prep: &Prepared, t: f64) -> Result<Vec<f64>, St
 }
 
 /// The crate's import of the FMU, its model description without the attributes the
-/// crate's schema does not know ([`crate::units`]).
+/// crate's schema does not know ([`crate::schema_gaps`]).
 fn import(exp: &Experiment) -> Result<Fmi3Import, String> {
-    let cannot = |e: &dyn std::fmt::Display| format!("cannot import {}: {e}", exp.fmu.display());
-    let bytes = std::fs::read(&exp.fmu).map_err(|e| cannot(&e))?;
-    let archive = crate::units::without_unit_attributes(&bytes).map_err(|e| cannot(&e))?;
-    fmi::import::new(std::io::Cursor::new(archive)).map_err(|e| cannot(&e))
+    crate::schema_gaps::import(&exp.fmu)
 }
 
 /// Runs the experiment in Co-Simulation (step mode: no event mode, no early return); the

@@ -116,14 +116,20 @@
 //! of the FMU at several places (a symmetric matrix's off-diagonal) must be named at each
 //! with the same value: the FMU refuses the array otherwise, and so the run.
 //!
-//! The crate's FMI 3.0 schema lacks the unit attributes of `<Float64>` variables and reads
-//! strictly, so it would refuse every mechfmu FMU: `src/units.rs` removes exactly these
-//! attributes from the model description the crate is given (nothing a run uses).
+//! # What the crate cannot read
+//!
+//! The crate reads the model description strictly and its schema refuses some attributes a
+//! legal one may carry: XML's namespace declarations (`xmlns:xsi` on `<fmiModelDescription>`,
+//! which many exporters write), FMI 2.0's `canHandleMultipleSetPerTimeInstant`, and FMI
+//! 3.0's unit attributes of `<Float64>` (which every mechfmu FMU has).
+//! `src/schema_gaps.rs` removes exactly these from the model description the crate is given,
+//! in both versions (nothing a run uses), so that the crate's limits are not reported as the
+//! FMU's faults.
 
 mod fmi2;
 mod fmi3;
 mod me;
-mod units;
+mod schema_gaps;
 
 use fmi::schema::{traits::FmiModelDescription, MajorVersion};
 use serde::Deserialize;

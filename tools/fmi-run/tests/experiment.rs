@@ -204,3 +204,55 @@ fn a_missing_fmu_and_bad_usage_are_errors() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("usage: mechfmu-fmi-run"));
 }
+
+/// `fmu` with `edit` applied to its `modelDescription.xml`, written under `name`.
+fn edited_copy(fmu: &std::path::Path, name: &str, edit: impl Fn(&str) -> String) -> PathBuf {
+    use std::io::{Read, Write};
+    let mut archive = zip::ZipArchive::new(std::fs::File::open(fmu).unwrap()).unwrap();
+    let path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("fmi-run-tests/{name}.fmu"));
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    let mut writer = zip::ZipWriter::new(std::fs::File::create(&path).unwrap());
+    for i in 0..archive.len() {
+        let mut file = archive.by_index(i).unwrap();
+        let entry = file.name().to_string();
+        if file.is_dir() {
+            continue;
+        }
+        let mut data = Vec::new();
+        file.read_to_end(&mut data).unwrap();
+        if entry == "modelDescription.xml" {
+            data = edit(std::str::from_utf8(&data).unwrap()).into_bytes();
+        }
+        writer
+            .start_file(entry.as_str(), zip::write::SimpleFileOptions::default())
+            .unwrap();
+        writer.write_all(&data).unwrap();
+    }
+    writer.finish().unwrap();
+    path
+}
+
+#[test]
+fn xml_namespace_declarations_are_not_the_fmus_fault() {
+    // legal XML the crate's schema refuses (`unknown field "xmlns:xsi"`): the runner gives
+    // the crate the model description without it, and the run is the same to the bit
+    let declared = edited_copy(&oscillator(), "namespaces", |xml| {
+        let xml = xml.replacen(
+            "<fmiModelDescription",
+            "<fmiModelDescription xmlns:xsi=\"http://www.w3.org/2001/XMLSchema-instance\" \
+             xsi:noNamespaceSchemaLocation=\"fmi2ModelDescription.xsd\"",
+            1,
+        );
+        xml.replacen(
+            "<ScalarVariable ",
+            "<ScalarVariable canHandleMultipleSetPerTimeInstant=\"true\" ",
+            1,
+        )
+    });
+    let exp = |fmu: &std::path::Path| {
+        Experiment::from_json(&experiment(fmu, r#", "start_values": {"c": 0.4}"#)).unwrap()
+    };
+    let plain = mechfmu_fmi_run::run(&exp(&oscillator())).unwrap();
+    let with_namespaces = mechfmu_fmi_run::run(&exp(&declared)).unwrap();
+    assert_eq!(plain, with_namespaces);
+}
