@@ -65,8 +65,11 @@ class Case:
     scale: Mapping[str, float] = field(default_factory=dict)
     #: extra FMU variables to record (those ``derived`` and ``metric`` need)
     record: Sequence[str] = ()
-    #: the mechanism's default experiment: its reference is what `--write-references` writes
+    #: the mechanism's default experiment
     default_experiment: bool = False
+    #: the columns of the reference files `--write-references` takes from this case (at most
+    #: 10 outputs); without such a case, the default experiment's outputs are
+    reference_files: Sequence[str] = ()
     #: the signals drawn against the reference in the report's plot (default: the compared
     #: signals that vary, at most eight); every signal's error is drawn in any case
     plot: Sequence[str] = ()

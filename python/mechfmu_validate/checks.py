@@ -2,19 +2,23 @@
 
 * ``fmpy validate``: FMPy's own validation (schema, names, causality/variability/initial
   combinations, start values, units, ModelStructure);
-* what FMPy does not check: value references unique, no ``initial``
-  on inputs, start within [min, max], every Real variable with a unit and every unit and
+* what FMPy does not check: value references and their aliases (FMI 2.0 allows variables
+  to share one: one value, so one type, no constant beside a variable, no two start values
+  that differ), no ``initial`` on inputs, start within [min, max], every Real variable with a
+  unit and every unit and
   display unit used defined, ``modelIdentifier`` = the binary's name in the archive (and the
   binary exports the 34 FMI 2.0 Co-Simulation functions, and the modelDescription it carries
   is the archive's), the GUID in the XML accepted by ``fmi2Instantiate`` and a wrong one
   refused;
 * the files every mechfmu FMU carries: ``documentation/index.html``, and the reference
-  results of the default experiment in ``extra/org.fmi-standard.fmi-ls-ref/`` in the FMI
-  cross-check CSV conventions (checked against the case's reference when there is one).
+  results in ``extra/org.fmi-standard.fmi-ls-ref/`` in the FMI cross-check CSV conventions
+  (checked against the reference case's reference when there is one).
 
-An FMU built by another exporter is held to the standard, not to mechfmu's own rules: a Real
-variable without a unit, a unit without ``<BaseUnit>``, other libraries beside the binary and
-a missing ``documentation/index.html`` are notes, and its reference files are read by
+An FMU built by another exporter is held to the standard, not to mechfmu's own rules: a
+problem names the clause of the standard it breaks (``FMI 2.0.5 §2.2.7 start: ...``); aliases
+(which mechfmu never declares), a Real variable without a unit, a unit without
+``<BaseUnit>``, a start outside [min, max], other libraries beside the binary and a missing
+``documentation/index.html`` are notes, and its reference files are read by
 :mod:`.embedded_reference` (whose rows say whether they can be).
 """
 
@@ -24,6 +28,7 @@ import ctypes
 import xml.etree.ElementTree as ET
 import zipfile
 from dataclasses import dataclass, field
+from typing import Iterator
 
 import numpy as np
 
@@ -90,6 +95,81 @@ def check_fmpy(fmu: Fmu) -> Check:
     return c
 
 
+#: FMI 2.0's base types, by which value references are shared (fmi2GetInteger reads both)
+BASE_TYPE = {"Real": "Real", "Integer": "Integer", "Enumeration": "Integer", "Boolean": "Boolean", "String": "String"}
+
+#: the clause of the standard the alias rules are (FMI 2.0.5, section 2.2.7, ScalarVariable)
+ALIASES = "FMI 2.0.5 §2.2.7"
+
+
+def _alias_set_problems(members: list[tuple[ET.Element, ET.Element | None]], types: dict[str, ET.Element],
+                        key: tuple[str, str]) -> tuple[list[str], list[str]]:
+    """What makes an alias set (the variables of one base type and one value reference) not
+    one value: (problems, notes)."""
+    problems, notes = [], []
+    where = f"the {key[0]} value reference {key[1]} ({', '.join(sv.get('name') for sv, _ in members)})"
+    kinds = sorted({e.tag for _, e in members if e is not None})
+    if len(kinds) > 1:
+        problems.append(f"{ALIASES} valueReference: {where} is one value, of one type, but declared "
+                        f"{' and '.join(kinds)}")
+    constant = [sv.get("name") for sv, _ in members if sv.get("variability") == "constant"]
+    if constant and len(constant) < len(members):
+        problems.append(f"{ALIASES} variability: {where} mixes constants ({', '.join(constant)}) with variables "
+                        "that change: one value cannot be both")
+    starts = {sv.get("name"): e.get("start") for sv, e in members if e is not None and e.get("start") is not None}
+    given = {n: v for n, v in starts.items() if n not in constant}
+    kind = next((e.tag for _, e in members if e is not None), "")
+    values = {n: _start_value(kind, v) for n, v in starts.items()}
+    if len({values[n] for n in given}) > 1 or (constant and len(set(values.values())) > 1):
+        problems.append(f"{ALIASES} start: {where} has conflicting start values "
+                        f"({', '.join(f'{n}={v}' for n, v in starts.items())})")
+    elif len(given) > 1:
+        notes.append(f"{ALIASES} start: {where}: {len(given)} aliases give the same start value; the standard "
+                     "asks for at most one")
+    variabilities = {sv.get("variability") or "continuous" for sv, _ in members}
+    if len(variabilities) > 1 and not constant:
+        notes.append(f"{where}: aliases of variabilities {', '.join(sorted(variabilities))}")
+
+    units = {_unit(e, types) for _, e in members if e is not None} - {None}
+    if len(units) > 1:
+        notes.append(f"{where}: aliases in units {', '.join(sorted(units))}")
+    return problems, notes
+
+
+def _unit(e: ET.Element, types: dict[str, ET.Element]) -> str | None:
+    """A variable's unit, its own or its declared type's."""
+    dt = types.get(e.get("declaredType")) if e.get("declaredType") else None
+    return e.get("unit") or (dt.get("unit") if dt is not None else None)
+
+
+def check_value_references(fmu: Fmu, svs: list[ET.Element], types: dict[str, ET.Element]) -> Check:
+    """Variables of one base type sharing a value reference are aliases, which FMI 2.0 allows
+    (FMI 2.0.5 section 2.2.7, valueReference): one value, so one type, no constant beside a
+    variable, no two different start values. Aliases of different variabilities or units
+    are notes. mechfmu declares no aliases: in its own FMUs a shared value reference is a
+    fault."""
+    c = Check("value references and aliases")
+    sets: dict[tuple[str, str], list[tuple[ET.Element, ET.Element | None]]] = {}
+    for sv in svs:
+        e = _type_element(sv)
+        key = (BASE_TYPE.get(e.tag, e.tag) if e is not None else "?", sv.get("valueReference"))
+        sets.setdefault(key, []).append((sv, e))
+    for key, members in sets.items():
+        if len(members) < 2:
+            continue
+        if fmu.by_mechfmu:
+            c.problems.append(f"{', '.join(sv.get('name') for sv, _ in members)} share the {key[0]} value reference "
+                              f"{key[1]} (mechfmu declares no aliases)")
+            continue
+        problems, notes = _alias_set_problems(members, types, key)
+        c.problems += problems
+        c.notes += notes
+    aliased = sum(len(m) > 1 for m in sets.values())
+    if aliased and not fmu.by_mechfmu:
+        c.notes.insert(0, f"{aliased} alias sets (variables sharing a value reference, {ALIASES}: allowed)")
+    return c
+
+
 def check_model_description(fmu: Fmu) -> list[Check]:
     """Value references, initial on inputs, start within bounds, units."""
     with zipfile.ZipFile(fmu.path) as z:
@@ -108,25 +188,18 @@ def check_model_description(fmu: Fmu) -> list[Check]:
         for u in ud.findall("Unit"):
             units[u.get("name")] = u
 
-    vr = Check("value references unique")
-    seen: dict[tuple[str, str], str] = {}
-    for sv in svs:
-        e = _type_element(sv)
-        key = (e.tag if e is not None else "?", sv.get("valueReference"))
-        if key in seen:
-            vr.problems.append(f"{sv.get('name')} and {seen[key]} share the {key[0]} value reference {key[1]}")
-        else:
-            seen[key] = sv.get("name")
+    vr = check_value_references(fmu, svs, types)
 
     inputs = Check("no initial on inputs")
     for sv in svs:
         if sv.get("causality") == "input" and sv.get("initial") is not None:
-            inputs.problems.append(f"input {sv.get('name')} has initial=\"{sv.get('initial')}\" "
-                                   "(FMI 2.0: inputs carry no initial attribute)")
+            inputs.problems.append(f"FMI 2.0.5 §2.2.7 initial: input {sv.get('name')} has "
+                                   f"initial=\"{sv.get('initial')}\" (inputs carry no initial attribute)")
         if sv.get("causality") == "input":
             e = _type_element(sv)
             if e is not None and e.get("start") is None:
-                inputs.problems.append(f"input {sv.get('name')} has no start value")
+                inputs.problems.append(f"FMI 2.0.5 §2.2.7 start: input {sv.get('name')} has no start value "
+                                       "(an input must have one)")
 
     bounds = Check("start within [min, max]")
     for sv in svs:
@@ -143,11 +216,14 @@ def check_model_description(fmu: Fmu) -> list[Check]:
 
         start, lo, hi = float(e.get("start")), attr("min"), attr("max")
         if lo is not None and hi is not None and lo > hi:
-            bounds.problems.append(f"{sv.get('name')}: min {lo} > max {hi}")
+            bounds.problems.append(f"{sv.get('name')}: min {lo} > max {hi} (no value is within both)")
+        # the range an FMU is designed to operate in (FMI 2.0.5 §2.2.7 min, max): mechfmu
+        # starts every variable within it; another exporter's start outside it is a note
+        outside = bounds.problems if fmu.by_mechfmu else bounds.notes
         if lo is not None and start < lo:
-            bounds.problems.append(f"{sv.get('name')}: start {start} < min {lo}")
+            outside.append(f"{sv.get('name')}: start {start} < min {lo}")
         if hi is not None and start > hi:
-            bounds.problems.append(f"{sv.get('name')}: start {start} > max {hi}")
+            outside.append(f"{sv.get('name')}: start {start} > max {hi}")
 
     un = Check("units declared and defined")
     # mechfmu's rules, beyond the standard's: problems for its own FMUs, notes for others'
@@ -249,7 +325,11 @@ def check_guid(fmu: Fmu) -> Check:
     if wrong == guid:
         wrong = "{11111111-1111-1111-1111-111111111111}"
     if instantiate(wrong):
-        c.problems.append(f"fmi2Instantiate accepted a wrong GUID {wrong}: it does not check the GUID")
+        said = f"fmi2Instantiate accepted a wrong GUID {wrong}: it does not check the GUID"
+        if fmu.by_mechfmu:
+            c.problems.append(said)
+        else:  # the standard gives the GUID to check with but does not require the check
+            c.notes.append(f"{said} (allowed: FMI 2.0 does not require the check)")
     return c
 
 
@@ -274,7 +354,7 @@ def read_csv(text: str) -> tuple[list[str], np.ndarray]:
     return names, np.array(rows, dtype=float).reshape(len(rows), len(names))
 
 
-def check_files(fmu: Fmu, default_case: Case | None) -> Check:
+def check_files(fmu: Fmu, reference_case: Case | None) -> Check:
     """documentation/index.html, and the reference results in the cross-check conventions."""
     c = Check("documentation and reference files")
     ident = fmu.model
@@ -299,8 +379,8 @@ def check_files(fmu: Fmu, default_case: Case | None) -> Check:
         opt_name = f"{REFERENCE_DIR}/{ident}_ref.opt"
         in_name = f"{REFERENCE_DIR}/{ident}_in.csv"
         if ref_name not in names:
-            if default_case is not None:
-                c.problems.append(f"no {ref_name}, but the mechanism has a default-experiment case "
+            if reference_case is not None:
+                c.problems.append(f"no {ref_name}, but the mechanism has a reference case "
                                   "(write it with `mechfmu validate --write-references`, then rebuild)")
             else:
                 c.notes.append(f"no {ref_name}")
@@ -328,10 +408,10 @@ def check_files(fmu: Fmu, default_case: Case | None) -> Check:
                 not_inputs = [n for n in cols[1:] if n in variables and variables[n].causality != "input"]
                 if not_inputs:
                     c.problems.append(f"{name}: {not_inputs} are not inputs")
-            elif default_case is not None and not unknown and table.size:
+            elif reference_case is not None and not unknown and table.size:
                 t = table[:, 0]
                 try:
-                    ref = default_case.reference(t)
+                    ref = reference_case.reference(t)
                     worst, where = 0.0, ""
                     for j, n in enumerate(cols[1:], start=1):
                         want = np.broadcast_to(np.asarray(ref[n], dtype=float), t.shape)
@@ -341,7 +421,7 @@ def check_files(fmu: Fmu, default_case: Case | None) -> Check:
                     c.max_error, c.tolerance = worst, REFERENCE_CSV_TOLERANCE
                     if not worst <= REFERENCE_CSV_TOLERANCE:
                         c.problems.append(
-                            f"{name} differs from the case {default_case.name!r}'s reference by {worst:.2e} of "
+                            f"{name} differs from the case {reference_case.name!r}'s reference by {worst:.2e} of "
                             f"range ({where}): stale? regenerate with `mechfmu validate --write-references`")
                 except Exception as e:
                     c.problems.append(f"{name}: cannot compare with the reference: {type(e).__name__}: {e}")
@@ -359,6 +439,22 @@ def check_files(fmu: Fmu, default_case: Case | None) -> Check:
     return c
 
 
-def run_checks(fmu: Fmu, default_case: Case | None = None) -> list[Check]:
-    return [check_fmpy(fmu), *check_model_description(fmu), check_binary(fmu), check_guid(fmu),
-            check_files(fmu, default_case)]
+def _start_value(kind: str, text: str) -> float | bool | str:
+    """A start attribute as the value it writes (``1`` and ``1.0`` are one Real)."""
+    try:
+        if kind in ("Real", "Integer", "Enumeration"):
+            return float(text)
+        if kind == "Boolean":
+            return text.strip() in ("true", "1")
+    except ValueError:
+        pass
+    return text
+
+
+def run_checks(fmu: Fmu, reference_case: Case | None = None) -> Iterator[Check]:
+    """The checks, each made when it is taken (what the FMU writes while one runs is its own)."""
+    yield check_fmpy(fmu)
+    yield from check_model_description(fmu)
+    yield check_binary(fmu)
+    yield check_guid(fmu)
+    yield check_files(fmu, reference_case)

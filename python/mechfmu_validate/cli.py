@@ -1,8 +1,9 @@
 """``python -m mechfmu_validate`` (what ``mechfmu validate`` runs).
 
-    python -m mechfmu_validate FMU [FMU ...] [--cases MODEL=cases.py ...] [--case TEXT ...]
+    python -m mechfmu_validate FMU|DIR [...] [--cases MODEL=cases.py ...] [--case TEXT ...]
                                [--report DIR] [--json FILE] [--junit FILE] [--readme DIR]
-                               [--no-libcosim] [--no-fmi-crate] [--no-model-exchange] [--no-fmi3]
+                               [--cross-check-results DIR] [--time-limit SECONDS] [--no-libcosim]
+                               [--no-fmi-crate] [--no-model-exchange] [--no-fmi3]
     python -m mechfmu_validate references FMU [FMU ...] --cases MODEL=cases.py ...
 
 Each case runs under FMPy (against the case's reference), then under libcosim and under the
@@ -12,11 +13,19 @@ and Euler and the fmi crate's RK4, against the reference (:mod:`.model_exchange`
 the FMI 3.0 FMU is beside the FMI 2.0 one (``<dir>/fmi3/<Name>.fmu``; ``--no-fmi3`` leaves it
 out), under FMPy's and the fmi crate's FMI 3.0 (:mod:`.fmi3`). An FMI 3.0 FMU given on the
 command line gets its checks and the FMI 3.0 rows alone (:mod:`.validation`). An FMU without
-cases is run against the reference results it carries, if any (:mod:`.embedded_reference`);
-one that cannot be opened is one FAIL row saying why (:mod:`.opening`).
+cases is run against the reference results it carries (:mod:`.embedded_reference`) and those
+beside it, ``<Model>_ref.csv`` with ``_in.csv`` and ``_ref.opt`` (:mod:`.cross_check`); one
+against which nothing was simulated fails, saying so; one that cannot be opened is one FAIL
+row saying why (:mod:`.opening`). A directory is walked for FMUs, an FMI cross-check tree's
+as its rules lay them out, and ``--cross-check-results DIR`` writes the importer's results
+the rules ask for (:mod:`.cross_check`). Each FMU is validated in a child process of its own:
+one that crashes, or makes no progress for ``--time-limit`` seconds, is one FAIL row, and what
+the importers write to the console goes into the rows (:mod:`.isolation`). The table and the
+JUnit suites name an FMU by its model, or by its path where files given share a model name.
 
 Exit status: 0 when everything passes, 1 when a row fails (the table is printed), 2 for a
-usage error, 3 when the validator itself failed (a bug of mechfmu's: the traceback says where).
+usage error, 3 when the validator itself failed (a bug of mechfmu's: the traceback says where),
+130 when interrupted (Ctrl-C).
 """
 
 from __future__ import annotations
@@ -33,19 +42,32 @@ import numpy as np
 
 import fmpy
 
+from .cross_check import take_outputs, walk, write_results
 from .fmi_crate import fmi_crate_available
 from .importers import Fmu, capture_fmu_log, libcosim_available
+from .isolation import TIME_LIMIT, Job, validate_isolated
 from .junit import write_junit
-from .loader import default_case, load_cases
+from .loader import default_case, load_cases, reference_case
 from .reference import write_references
 from .platform_rows import session as platform_session
 from .report import limit_text, platform_lines, result_text
-from .validation import validate_fmu
+
+
+def _positive_seconds(text: str) -> float:
+    """``--time-limit``'s value: a finite number of seconds above 0."""
+    try:
+        seconds = float(text)
+    except ValueError:
+        seconds = math.nan
+    if not (math.isfinite(seconds) and seconds > 0):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds above 0")
+    return seconds
 
 
 def make_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="mechfmu validate", description=__doc__.split("\n\n")[0])
-    p.add_argument("fmus", nargs="+", type=Path, help="the FMU files")
+    p.add_argument("fmus", nargs="+", type=Path, metavar="FMU",
+                   help="the FMU files, or directories to find them in (an FMI cross-check tree)")
     p.add_argument("--cases", action="append", default=[], metavar="MODEL=PATH",
                    help="the validation/cases.py of a model identifier (repeatable)")
     p.add_argument("--case", action="append", default=[], metavar="TEXT",
@@ -56,6 +78,12 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--readme", type=Path, metavar="DIR",
                    help="write DIR/validation.md (the validation tables) and the highlighted cases' plots "
                         "in DIR/validation/")
+    p.add_argument("--cross-check-results", type=Path, metavar="DIR",
+                   help="for each FMU of an FMI cross-check tree, write what an importer submits to "
+                        "DIR/results/<version>/<cs|me>/<platform>/mechfmu/<version>/<tool>/<version>/<model>/")
+    p.add_argument("--time-limit", type=_positive_seconds, default=TIME_LIMIT, metavar="SECONDS",
+                   help="stop an FMU's validation as hung after SECONDS without progress (no result, no FMI call; "
+                        f"default {TIME_LIMIT:g})")
     p.add_argument("--no-libcosim", action="store_true", help="do not run the cases under libcosim")
     p.add_argument("--no-fmi-crate", action="store_true",
                    help="do not run the cases under the Rust fmi crate (mechfmu-fmi-run)")
@@ -103,6 +131,12 @@ def print_table(rows: list[dict]) -> None:
             if not s["passed"] and "scale" in s:
                 print(f"  - {name}: {s['max_error']:.3e} of scale {s['scale']:.4g} at t = {s['at_time']:g} "
                       f"(tolerance {s['tolerance']:.0e})")
+        said = (r.get("output") or "").strip().splitlines()
+        if said:
+            last = ", the last 10" if len(said) > 10 else ""
+            print(f"  the importer's and the FMU's console output ({len(said)} lines{last}):")
+            for line in said[-10:]:
+                print(f"  | {line}")
     skipped = [r for r in rows if r.get("skipped")]
     for r in skipped:
         print(f"\nSKIP {r['fmu']} / {r['case']} / {r['importer']}: {'; '.join(r['problems'])}")
@@ -112,9 +146,28 @@ def print_table(rows: list[dict]) -> None:
         for n in r.get("notes", [])[:4]:
             print(f"  ({n})")
     n_fail = len(failed)
+    talkative = [r for r in rows if r["passed"] and (r.get("output") or "").strip()]
+    if talkative:
+        print(f"\n({len(talkative)} rows that pass captured the importers' console output: "
+              "in the JSON and JUnit files)")
     print(f"\n{len(rows) - n_fail - len(skipped) - len(limited)} passed, {n_fail} failed" +
           (f", {len(limited)} at the importer's limit" if limited else "") +
           (f", {len(skipped)} skipped" if skipped else ""))
+
+
+def _name_files_apart(rows: list[dict], plots: list[dict]) -> None:
+    """The FMU column names a model; where two FMU files given are models of one name (an FMI
+    2.0 and an FMI 3.0 FMU, a model from several exporters), each file's rows and plots are
+    named by its path instead, so that neither the table nor the JUnit suites merge them."""
+    models: dict[str, set[str]] = {}
+    for r in rows:
+        models.setdefault(r["fmu"], set()).add(r["file"])
+    shared = {name for name, files in models.items() if len(files) > 1}
+    for item in (*rows, *plots):
+        if item.get("fmu") in shared:
+            item["fmu"] = item["file"]
+            if item.get("anchor"):
+                item["anchor"] = f"{item['file']}-{item['case']}".replace(" ", "-").replace("/", "-")
 
 
 def _jsonable(x):
@@ -145,17 +198,46 @@ def references_main(argv: list[str]) -> int:
                 status = 1
                 continue
             cases_file = cases_map[fmu.model]
-            case = default_case(load_cases(cases_file, fmu.model))
+            cases = load_cases(cases_file, fmu.model)
+            case = reference_case(cases)
             if case is None:
-                print(f"{fmu.model}: no case in {cases_file} is marked default_experiment=True", file=sys.stderr)
+                print(f"{fmu.model}: no case in {cases_file} names reference_files or is marked "
+                      "default_experiment=True", file=sys.stderr)
                 status = 1
                 continue
             directory = cases_file.resolve().parent.parent / "reference"
-            for written in write_references(fmu, case, directory):
+            try:
+                written_files = write_references(fmu, case, directory, default_case(cases))
+            except ValueError as e:
+                print(f"{fmu.model}: {e}", file=sys.stderr)
+                status = 1
+                continue
+            for written in written_files:
                 print(f"{fmu.model:<20} {written}")
         finally:
             fmu.cleanup()
     return status
+
+
+def _fmu_files(targets: list[Path]) -> list[Path] | None:
+    """The FMU files given, and those found in the directories given (:func:`.cross_check.walk`);
+    None after saying what is wrong (a usage error)."""
+    paths = []
+    for target in targets:
+        if target.is_dir():
+            found, left_out = walk(target)
+            if left_out:
+                print(f"mechfmu validate: {left_out}", file=sys.stderr)
+            if not found:
+                print(f"mechfmu validate: no FMU to validate in {target}", file=sys.stderr)
+                return None
+            paths += found
+        elif target.is_file():
+            paths.append(target)
+        else:
+            print(f"mechfmu validate: {target} does not exist", file=sys.stderr)
+            return None
+    return paths
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -183,30 +265,30 @@ def main(argv: list[str] | None = None) -> int:
     rows: list[dict] = []
     plots: list[dict] = []
     details: list[dict] = []
-    missing = [p for p in args.fmus if not p.is_file()]
-    if missing:
-        print(f"mechfmu validate: {missing[0]} does not exist", file=sys.stderr)
+    paths = _fmu_files(args.fmus)
+    if paths is None:
         return 2
     # the Windows binaries run under one wine session (when scripts/cross-runners prepared it)
     with platform_session(use_fmi_crate):
-        for path in args.fmus:
+        for path in paths:
             md_model = None
             try:
                 md_model = fmpy.read_model_description(str(path), validate=False).coSimulation.modelIdentifier
             except Exception:
                 pass
-            try:
-                validate_fmu(path, cases_map.get(md_model or path.stem), args.case, use_libcosim, rows, plots,
-                             details, use_fmi_crate=use_fmi_crate, use_model_exchange=not args.no_model_exchange,
-                             use_fmi3=not args.no_fmi3)
-            except Exception as e:  # noqa: BLE001 (a bug of ours on this FMU: its row, and on to the next)
-                where = traceback.extract_tb(e.__traceback__)[-1]
-                rows.append(dict(kind="check", fmu=md_model or path.name, case="(validation stopped)", importer="-",
-                                 max_error=math.inf, tolerance=None, passed=False, notes=[], problems=[
-                                     f"mechfmu validate failed on {path}: {type(e).__name__}: {e} "
-                                     f"(at {Path(where.filename).name}:{where.lineno}: a bug of mechfmu's)"]))
+            # in a child process: an FMU that crashes or hangs is one FAIL row (:mod:`.isolation`)
+            job = Job(path, md_model or path.name, cases_map.get(md_model or path.stem), tuple(args.case),
+                      use_libcosim, use_fmi_crate, not args.no_model_exchange, not args.no_fmi3)
+            fmu_rows, fmu_plots, fmu_details = validate_isolated(job, args.time_limit)
+            for item in (*fmu_rows, *fmu_plots):
+                item["file"] = str(path)
+            rows += fmu_rows
+            plots += fmu_plots
+            details += fmu_details
+    _name_files_apart(rows, plots)
     header = dict(fmpy=fmpy.__version__, libcosim=libcosim_info, fmi_crate=fmi_crate_info,
                   python=platform.python_version())
+    outputs = take_outputs(rows)
     print_table(rows)
     platforms = platform_lines(rows)
     if platforms:
@@ -232,6 +314,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.junit:
         write_junit(args.junit, rows)
         print(f"junit: {args.junit}")
+    if args.cross_check_results:
+        written = write_results(args.cross_check_results, paths, rows, outputs, header)
+        print(f"cross-check results: {len(written)} in {args.cross_check_results / 'results'}")
     return 0 if all(r["passed"] for r in rows) else 1
 
 
@@ -240,6 +325,9 @@ def run(argv: list[str] | None = None) -> int:
     fails: status 1 always means FAIL rows in a printed table."""
     try:
         return main(argv)
+    except KeyboardInterrupt:
+        print("\nmechfmu validate: interrupted", file=sys.stderr)
+        return 130
     except Exception:  # noqa: BLE001
         traceback.print_exc()
         print("mechfmu validate: the validator failed (the traceback above): a bug of mechfmu's", file=sys.stderr)

@@ -8,14 +8,13 @@ failed, never an exception out of these functions.
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import replace
 from typing import Any
 
 from .case import Case, Evaluation, Result, evaluate
 from .fmi_crate import FMI_CRATE_NOTE, run_fmi_crate
-from .importers import LIBCOSIM_NOTE, Fmu, NotSupported, agreement, run_fmpy, run_libcosim
+from .importers import LIBCOSIM_NOTE, Fmu, NotSupported, agreement, run_fmpy, run_fmpy_as_libcosim, run_libcosim
 
 __all__ = ["LIBCOSIM_TOLERANCE", "FMI_CRATE_TOLERANCE", "FMI_CRATE", "fmpy_row", "libcosim_row", "fmi_crate_row",
            "unknown_names", "real_signals"]
@@ -70,7 +69,7 @@ def fmpy_row(fmu: Fmu, case: Case, anchor: str = "", kind: str = "case",
         result = run_fmpy(fmu, case)
         ev = evaluate(case, result)
     except Exception as e:  # noqa: BLE001 (a row, not a crash)
-        row = _row(fmu, case, "FMPy", anchor, kind, max_error=math.inf, tolerance=None, passed=False,
+        row = _row(fmu, case, "FMPy", anchor, kind, max_error=None, tolerance=None, passed=False,
                    problems=[*(problems or []), f"FMPy run failed: {type(e).__name__}: {e}"])
         return row, None, None
     worst = ev.worst
@@ -87,17 +86,19 @@ def fmpy_row(fmu: Fmu, case: Case, anchor: str = "", kind: str = "case",
 def libcosim_row(fmu: Fmu, case: Case, fmpy_result: Result | None, ev: Evaluation | None, anchor: str = "",
                  kind: str = "case") -> tuple[dict[str, Any], dict[str, Any] | None]:
     """The case under libcosim against FMPy at the same settings (libcosim passes no
-    tolerance): (row, what the report plots of it)."""
+    tolerance and no stop time: nor does that FMPy run): (row, what the report plots of it)."""
     row = _row(fmu, case, "libcosim", anchor, kind, tolerance=LIBCOSIM_TOLERANCE, notes=[LIBCOSIM_NOTE])
     try:
-        same = fmpy_result if (case.relative_tolerance is None and fmpy_result is not None) \
-            else run_fmpy(fmu, case, relative_tolerance=None)
         lc = run_libcosim(fmu, case)
-        floors = {s.name: s.scale for s in ev.signals} if ev is not None else {}
-        worst, where, when, over_time = agreement(lc, same, case.recorded(), floors)
     except Exception as e:  # noqa: BLE001 (a row, not a crash)
-        return dict(row, max_error=math.inf, passed=False,
-                    problems=[f"libcosim run failed: {type(e).__name__}: {e}"]), None
+        return dict(row, max_error=None, passed=False, problems=[f"libcosim run failed: {type(e).__name__}: {e}"]), None
+    try:
+        same = run_fmpy_as_libcosim(fmu, case)
+    except Exception as e:  # noqa: BLE001 (a row, not a crash)
+        return dict(row, max_error=None, passed=False, problems=[
+            f"FMPy's run at libcosim's settings (no tolerance, no stop time) failed: {type(e).__name__}: {e}"]), None
+    floors = {s.name: s.scale for s in ev.signals} if ev is not None else {}
+    worst, where, when, over_time = agreement(lc, same, case.recorded(), floors)
     row.update(max_error=worst, passed=bool(worst <= LIBCOSIM_TOLERANCE),
                notes=[f"worst signal {where} at t = {when:g}", LIBCOSIM_NOTE])
     return row, dict(time=lc.time, error_over_time=over_time, tolerance=LIBCOSIM_TOLERANCE, max_error=worst)
@@ -118,7 +119,7 @@ def fmi_crate_row(fmu: Fmu, case: Case, fmpy_result: Result | None, ev: Evaluati
     except NotSupported as e:  # what the runner does not do: not the FMU's failure
         return dict(row, max_error=None, passed=True, skipped=True, problems=[f"fmi crate: {e}"]), None
     except Exception as e:  # noqa: BLE001 (a row, not a crash)
-        return dict(row, max_error=math.inf, passed=False,
+        return dict(row, max_error=None, passed=False,
                     problems=[f"fmi crate run failed: {type(e).__name__}: {e}"]), None
     row.update(max_error=worst, passed=bool(worst <= FMI_CRATE_TOLERANCE),
                notes=[f"worst signal {where} at t = {when:g}", FMI_CRATE_NOTE],

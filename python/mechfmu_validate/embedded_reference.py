@@ -1,5 +1,7 @@
 """The reference results an FMU carries (FMI-LS-REF, ``extra/org.fmi-standard.fmi-ls-ref/``),
-as a :class:`~.case.Case` that ``mechfmu validate`` runs like its own reference cases.
+as a :class:`~.case.Case` that ``mechfmu validate`` runs like its own reference cases; the
+same reading serves the FMI cross-check's files beside an FMU file (:mod:`.cross_check` finds
+them and names their case).
 
 What is read, from that folder of the archive:
 
@@ -33,6 +35,7 @@ import io
 import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -44,8 +47,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from .arrays import ArrayMap
     from .importers import Fmu
 
-__all__ = ["REFERENCE_DIR", "CASE_NAME", "ReferenceProblem", "Unsupported", "EmbeddedReference", "find", "read",
-           "tolerance_for", "DEFAULT_TOLERANCE"]
+__all__ = ["REFERENCE_DIR", "CASE_NAME", "ReferenceProblem", "Unsupported", "Files", "EmbeddedReference", "find",
+           "carried", "read", "tolerance_for", "DEFAULT_TOLERANCE"]
 
 REFERENCE_DIR = "extra/org.fmi-standard.fmi-ls-ref"
 #: the case column of the embedded reference's rows
@@ -78,6 +81,17 @@ def tolerance_for(relative_tolerance: float | None) -> float:
 
 
 @dataclass
+class Files:
+    """A reference's files: the folder they are in, their names there by role (``"result"``,
+    ``"input"``, ``"options"``), the case they make and what it says of them."""
+
+    folder: Path
+    names: dict[str, str]
+    case_name: str = CASE_NAME
+    what: str = "the reference results the FMU carries"
+
+
+@dataclass
 class EmbeddedReference:
     """The files found, and the case made of them (:func:`read`)."""
 
@@ -86,6 +100,13 @@ class EmbeddedReference:
     #: what makes the comparison fail whatever the FMU does (a column naming no variable)
     problems: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    #: the compared signals as the case names them -> their columns as the results file names them
+    columns: dict[str, str] = field(default_factory=dict)
+    #: the results file's rows of the compared signals, ``time`` first (a structured array)
+    table: np.ndarray | None = None
+    #: the experiment's StartTime and StopTime (the options file's, else the DefaultExperiment's,
+    #: else the results file's first and last times)
+    window: tuple[float, float] = (0.0, 0.0)
 
 
 def _folder_files(fmu: Fmu) -> dict[str, str]:
@@ -128,6 +149,12 @@ def find(fmu: Fmu) -> dict[str, str]:
     return {k: v for k, v in found.items() if v is not None}
 
 
+def carried(fmu: Fmu) -> Files | None:
+    """The reference files in the archive (:func:`find`), None when it carries none."""
+    names = find(fmu)
+    return Files(fmu.directory, names) if names else None
+
+
 def _cell(text: str) -> float:
     low = text.strip().lower()
     if low in ("true", "false"):
@@ -154,11 +181,12 @@ def _numbers(cells: list[str]) -> list[list[float]] | None:
     return values if len({len(v) for v in values}) == 1 else None
 
 
-def read_table(fmu: Fmu, name: str, renames: dict[str, str] | None = None) -> tuple[list[str], np.ndarray, list[str]]:
-    """(names, numeric columns by row, left-out names) of a CSV of the archive: ``time`` first,
-    an array's column split into its elements (``y[1]``, ...); ``renames``: the names to give
-    some columns."""
-    text = (fmu.directory / name).read_text(encoding="utf-8", errors="replace")
+def read_table(fmu: Fmu, name: str, renames: dict[str, str] | None = None,
+               folder: Path | None = None) -> tuple[list[str], np.ndarray, list[str]]:
+    """(names, numeric columns by row, left-out names) of a CSV of ``folder`` (the archive's,
+    by default): ``time`` first, an array's column split into its elements (``y[1]``, ...);
+    ``renames``: the names to give some columns."""
+    text = ((folder or fmu.directory) / name).read_text(encoding="utf-8", errors="replace")
     lines = [row for row in csv.reader(io.StringIO(text), skipinitialspace=True) if any(c.strip() for c in row)]
     if len(lines) < 2:
         raise ReferenceProblem(f"{name} has no rows of values")
@@ -191,11 +219,11 @@ def read_table(fmu: Fmu, name: str, renames: dict[str, str] | None = None) -> tu
     return names, table, left_out
 
 
-def _options(fmu: Fmu, name: str | None) -> dict[str, float]:
+def _options(folder: Path, name: str | None) -> dict[str, float]:
     if name is None:
         return {}
     options = {}
-    for number, line in enumerate((fmu.directory / name).read_text(errors="replace").splitlines(), start=1):
+    for number, line in enumerate((folder / name).read_text(errors="replace").splitlines(), start=1):
         if line.strip():
             key, sep, value = line.partition(",")
             try:
@@ -254,11 +282,12 @@ def _communication_step(time: np.ndarray, options: dict[str, float], experiment,
     return stop / max(1, round(stop / h))
 
 
-def _input_table(fmu: Fmu, name: str, variables: dict, renames: dict[str, str],
+def _input_table(fmu: Fmu, files: Files, variables: dict, renames: dict[str, str],
                  problems: list[str]) -> np.ndarray | None:
     """FMPy's input table from the inputs file, without the columns that are not inputs of the
     FMU (each named in ``problems``)."""
-    names, table, left_out = read_table(fmu, name, renames)
+    name = files.names["input"]
+    names, table, left_out = read_table(fmu, name, renames, files.folder)
     not_inputs = [x for x in names[1:] + left_out
                   if x not in variables or getattr(variables[x], "causality", "input") != "input"]
     if not_inputs:
@@ -272,26 +301,27 @@ def _input_table(fmu: Fmu, name: str, variables: dict, renames: dict[str, str],
     return inputs
 
 
-def read(fmu: Fmu, names_of: ArrayMap | None = None) -> EmbeddedReference | None:
-    """The FMU's embedded reference as a case, None when it carries none. Raises
-    :class:`ReferenceProblem` (unreadable files) or :class:`Unsupported`. ``names_of``: an
-    FMI 3.0 FMU's FMI 2.0 names (:mod:`.arrays`), which its reference may use."""
-    files = find(fmu)
-    if not files:
+def read(fmu: Fmu, names_of: ArrayMap | None = None, files: Files | None = None) -> EmbeddedReference | None:
+    """The reference of ``files`` (by default the FMU's embedded one) as a case, None when
+    there is none. Raises :class:`ReferenceProblem` (unreadable files) or :class:`Unsupported`.
+    ``names_of``: an FMI 3.0 FMU's FMI 2.0 names (:mod:`.arrays`), which its reference may use."""
+    files = files or carried(fmu)
+    if files is None:
         return None
+    found = files.names
     problems, notes = [], []
     renames = _fmi2_names(names_of)
-    names, table, left_out = read_table(fmu, files["result"], renames)
+    names, table, left_out = read_table(fmu, found["result"], renames, files.folder)
     if left_out:
         notes.append(f"not compared (not numbers): {', '.join(left_out)}")
     variables = {**(names_of.variables if names_of is not None else {}), **fmu.variables}
     unknown = [n for n in names[1:] if n not in variables]
     outputs = [n for n in names[1:] if n in variables]
     if not outputs:
-        problems.append(f"{files['result']} names no variable of the FMU (its columns: {', '.join(names[1:])})")
+        problems.append(f"{found['result']} names no variable of the FMU (its columns: {', '.join(names[1:])})")
     elif unknown:
-        problems.append(f"{files['result']} has columns that are not variables of the FMU: {', '.join(unknown)}")
-    options = _options(fmu, files.get("options"))
+        problems.append(f"{found['result']} has columns that are not variables of the FMU: {', '.join(unknown)}")
+    options = _options(files.folder, found.get("options"))
     experiment = fmu.md.defaultExperiment
     time = table[:, 0]
     start = _setting(options, "StartTime", experiment, "startTime") or float(time[0])
@@ -302,13 +332,13 @@ def read(fmu: Fmu, names_of: ArrayMap | None = None) -> EmbeddedReference | None
                           "from t = 0")
     stop = float(time[-1])
     if stop <= 0:
-        raise ReferenceProblem(f"{files['result']} ends at t = {stop:g}")
+        raise ReferenceProblem(f"{found['result']} ends at t = {stop:g}")
     h = _communication_step(time, options, experiment, notes)
     wanted_stop = _setting(options, "StopTime", experiment, "stopTime") or stop
     if not math.isclose(wanted_stop, stop, rel_tol=1e-9):
         notes.append(f"the reference ends at t = {stop:g} (the experiment at {wanted_stop:g}): compared up to there")
     rtol = _setting(options, "RelTol", experiment, "tolerance")
-    inputs = _input_table(fmu, files["input"], variables, renames, problems) if "input" in files else None
+    inputs = _input_table(fmu, files, variables, renames, problems) if "input" in found else None
     interpolate = _interpolator(time, table[:, 1:], 1e-9 * h)
     columns = {n: j for j, n in enumerate(names[1:])}
 
@@ -316,9 +346,15 @@ def read(fmu: Fmu, names_of: ArrayMap | None = None) -> EmbeddedReference | None
         at = interpolate(t)
         return {n: at[:, columns[n]] for n in outputs}
 
-    case = Case(CASE_NAME, stop_time=stop, output_interval=h, outputs=outputs, reference=reference,
+    case = Case(files.case_name, stop_time=stop, output_interval=h, outputs=outputs, reference=reference,
                 input=inputs, relative_tolerance=rtol, tolerance=tolerance_for(rtol),
-                description=f"the reference results the FMU carries: {', '.join(files.values())}")
-    notes.append(f"{files['result']}: {len(outputs)} signals, tolerance {case.tolerance:g} of each one's range "
+                description=f"{files.what}: {', '.join(found.values())}")
+    notes.append(f"{found['result']}: {len(outputs)} signals, tolerance {case.tolerance:g} of each one's range "
                  + (f"(from RelTol {rtol:g})" if rtol else "(no relative tolerance given: the default)"))
-    return EmbeddedReference(list(files.values()), case, problems, notes)
+    inverse = {scalar: element for element, scalar in renames.items()}
+    rows = np.zeros(len(time), dtype=[("time", np.float64)] + [(n, np.float64) for n in outputs])
+    rows["time"] = time
+    for n in outputs:
+        rows[n] = table[:, 1 + columns[n]]
+    return EmbeddedReference(list(found.values()), case, problems, notes, {n: inverse.get(n, n) for n in outputs},
+                             rows, (0.0, wanted_stop))

@@ -159,7 +159,7 @@ def _row(f3: Fmi3, case: Case, anchor: str, importer: str, **kw) -> dict[str, An
 def _failed(row: dict[str, Any], what: str, e: Exception) -> dict[str, Any]:
     if isinstance(e, NotSupported):  # the importer's limit, not the FMU's failure
         return dict(row, max_error=None, passed=True, skipped=True, problems=[f"{what}: {e}"])
-    return dict(row, max_error=math.inf, passed=False, problems=[f"{what} failed: {type(e).__name__}: {e}"])
+    return dict(row, max_error=None, passed=False, problems=[f"{what} failed: {type(e).__name__}: {e}"])
 
 
 def cs_row(f3: Fmi3, case: Case, anchor: str = "") -> tuple[dict[str, Any], Result | None, Any]:
@@ -244,7 +244,7 @@ def agreement_row(f3: Fmi3, fmu2: Fmu) -> dict[str, Any]:
                 if err > worst or not where:
                     worst, where = err, name if k < 0 else f"{name} = {names.element_names_of(name)[0]}"
     except Exception as e:
-        return dict(row, max_error=math.inf, passed=False, problems=[f"{type(e).__name__}: {e}"])
+        return dict(row, max_error=None, passed=False, problems=[f"{type(e).__name__}: {e}"])
     row.update(max_error=worst, passed=worst <= AGREEMENT_TOLERANCE,
                notes=[f"{len(fmi2)} variables over {len(cs2)} points of the DefaultExperiment; worst: {where}"])
     if not row["passed"]:

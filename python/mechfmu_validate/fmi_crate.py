@@ -17,6 +17,7 @@ from __future__ import annotations
 import csv
 import json
 import os
+import signal
 import subprocess
 import tempfile
 from pathlib import Path
@@ -24,6 +25,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from . import progress
 from .case import Case, Result
 from .importers import NotSupported, input_events_on_grid, input_values
 
@@ -31,12 +33,35 @@ if TYPE_CHECKING:  # pragma: no cover
     from .arrays import ArrayMap
     from .importers import Fmu
 
-__all__ = ["FMI_CRATE_NOTE", "FMI_RUN_ENV", "fmi_crate_available", "run_fmi_crate"]
+__all__ = ["FMI_CRATE_NOTE", "FMI_RUN_ENV", "fmi_crate_available", "run_fmi_crate", "signal_name"]
 
 FMI_CRATE_NOTE = "the fmi crate (rust-fmi) through mechfmu-fmi-run: compared with FMPy at the case's tolerance"
 
 #: the environment variable naming the mechfmu-fmi-run executable
 FMI_RUN_ENV = "MECHFMU_FMI_RUN"
+
+#: how the runner says the crate could not import the FMU
+CANNOT_IMPORT = "mechfmu-fmi-run: cannot import "
+
+
+def signal_name(number: int) -> str:
+    """``SIGSEGV (signal 11)``."""
+    try:
+        return f"{signal.Signals(number).name} (signal {number})"
+    except ValueError:
+        return f"signal {number}"
+
+
+def _run_beating(command: list[str]) -> subprocess.CompletedProcess:
+    """``command`` run to its end, with a :func:`.progress.beat` every second it runs (a long
+    run is not a hung one)."""
+    with subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as proc:
+        while True:
+            try:
+                stdout, stderr = proc.communicate(timeout=1.0)
+                return subprocess.CompletedProcess(command, proc.returncode, stdout, stderr)
+            except subprocess.TimeoutExpired:
+                progress.beat()
 
 
 def fmi_crate_available() -> tuple[bool, str]:
@@ -95,16 +120,24 @@ def run_fmi_crate(fmu: Fmu, case: Case, relative_tolerance: float | None | str =
     with tempfile.TemporaryDirectory(prefix="mechfmu-fmi-run-") as tmp:
         spec, out = Path(tmp) / "experiment.json", Path(tmp) / "result.csv"
         spec.write_text(json.dumps(experiment, allow_nan=False))
-        proc = subprocess.run([found, str(spec), "--out", str(out), *options], capture_output=True, text=True)
+        proc = _run_beating([found, str(spec), "--out", str(out), *options])
         log = [line for line in proc.stderr.splitlines() if line.strip()]
         if options and proc.returncode == 2 and log and log[-1].startswith("usage:"):
             raise NotSupported(f"mechfmu-fmi-run does not accept {' '.join(options)} ({log[-1]})")
+        if proc.returncode < 0:
+            raise RuntimeError(f"mechfmu-fmi-run died of {signal_name(-proc.returncode)} running the FMU"
+                               + (f"; its last words: {' | '.join(log[-5:])}" if log else ""))
         if proc.returncode != 0:
             problem = next((line for line in reversed(log) if line.startswith("mechfmu-fmi-run:")),
                            log[-1] if log else f"exit status {proc.returncode}")
             fmu_log = [line for line in log if line.startswith("[FMU")][-5:]
             if problem.endswith("(not supported)"):  # what the runner does not do (not the FMU's fault)
                 raise NotSupported(problem)
+            if problem.startswith(CANNOT_IMPORT) and not fmu.by_mechfmu:  # the crate's reading, stricter than
+                # the standard: another exporter's legal FMU it refuses is its limit (mechfmu's must be read)
+                why = problem.removeprefix(CANNOT_IMPORT).removeprefix(f"{fmu.path}: ")
+                raise NotSupported(f"cannot read {fmu.path.name} ({why}): the crate's limit, stricter than the "
+                                   "standard (the checks hold the model description to the standard)")
             raise RuntimeError(problem + ("; FMU log: " + " | ".join(fmu_log) if fmu_log else ""))
         with out.open(newline="") as f:
             table = list(csv.reader(f))

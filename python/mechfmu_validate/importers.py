@@ -8,10 +8,11 @@ itself; libcosim and the fmi crate are fed, before every communication step, the
 FMPy's input logic gives at that communication point), a fixed communication step (the
 case's ``output_interval``) from 0 to ``stop_time``.
 
-libcosim calls ``fmi2SetupExperiment`` without a tolerance, so the FMU uses its
-DefaultExperiment tolerance; libcosimpy offers no way to pass one. The comparison
-"libcosim against FMPy at the same settings" therefore runs FMPy with
-``relative_tolerance=None`` (FMPy then passes the DefaultExperiment tolerance).
+libcosim calls ``fmi2SetupExperiment`` without a tolerance and without a stop time (its
+execution sets its slaves up with neither; libcosimpy offers no way to pass a tolerance), so
+an FMU with a solver of its own integrates at its own default tolerance, whatever its
+DefaultExperiment says. The comparison "libcosim against FMPy at the same settings" runs FMPy
+so too (:func:`run_fmpy_as_libcosim`).
 
 The fmi crate's runner takes the tolerance (and the stop time) like FMPy, so it is compared
 with FMPy at the case's own settings. The FMI 3.0 FMUs' runs are in :mod:`.fmi3`.
@@ -25,6 +26,7 @@ from before the event there, for the same reason.
 
 from __future__ import annotations
 
+import copy
 import shutil
 import tempfile
 from dataclasses import dataclass, field
@@ -36,18 +38,21 @@ import numpy as np
 import fmpy
 from fmpy import read_model_description
 
-from . import fmulog
+from . import fmulog, progress
 from .case import Case, Result, step_input
 
-__all__ = ["Fmu", "run_fmpy", "run_fmpy_me", "simulate_me", "held_input", "on_grid", "run_libcosim",
+__all__ = ["Fmu", "run_fmpy", "run_fmpy_as_libcosim", "run_fmpy_me", "simulate_me", "held_input", "on_grid", "run_libcosim",
            "libcosim_available", "input_values", "input_events_on_grid", "NotSupported", "capture_fmu_log",
            "LIBCOSIM_NOTE", "ME_CVODE_RTOL", "agreement"]
 
-LIBCOSIM_NOTE = ("libcosim passes no tolerance to fmi2SetupExperiment (the FMU uses its "
-                 "DefaultExperiment tolerance): compared with FMPy run at relative_tolerance=None")
+LIBCOSIM_NOTE = ("libcosim passes fmi2SetupExperiment no tolerance and no stop time (the FMU uses its own "
+                 "default): compared with FMPy run at the same settings")
 
 #: the relative tolerance of FMPy's CVode in the Model Exchange runs
 ME_CVODE_RTOL = 1e-10
+
+#: libcosim's steps between two beats of :func:`.progress.beat` (a long run is not a hung one)
+LIBCOSIM_BEAT = 100
 
 
 class NotSupported(RuntimeError):
@@ -122,8 +127,23 @@ def capture_fmu_log() -> None:
 
 
 def run_fmpy(fmu: Fmu, case: Case, relative_tolerance: float | None | str = "case") -> Result:
-    """``fmpy.simulate_fmu`` of the case; ``relative_tolerance="case"`` uses the case's."""
+    """``fmpy.simulate_fmu`` of the case; ``relative_tolerance="case"`` uses the case's,
+    ``None`` the DefaultExperiment's (as FMPy does)."""
     rtol = case.relative_tolerance if relative_tolerance == "case" else relative_tolerance
+    return _simulate(fmu, case, rtol)
+
+
+def run_fmpy_as_libcosim(fmu: Fmu, case: Case) -> Result:
+    """The case under FMPy at libcosim's settings: ``fmi2SetupExperiment`` without a tolerance
+    and without a stop time (libcosim's execution sets up its slaves with neither), so that an
+    FMU with a solver of its own integrates at its own default in both runs (FMPy, given no
+    tolerance, would pass the DefaultExperiment's)."""
+    md = copy.copy(fmu.md)
+    md.defaultExperiment = None
+    return _simulate(fmu, case, None, model_description=md, set_stop_time=False)
+
+
+def _simulate(fmu: Fmu, case: Case, rtol: float | None, **settings) -> Result:
     mark = fmulog.LogMark()
     table = fmpy.simulate_fmu(
         str(fmu.directory),
@@ -135,6 +155,7 @@ def run_fmpy(fmu: Fmu, case: Case, relative_tolerance: float | None | str = "cas
         input=case.input_table(),
         output=case.recorded(),
         validate=False,
+        **settings,
     )
     n = case.steps() + 1
     if len(table) != n:
@@ -317,15 +338,17 @@ def run_libcosim(fmu: Fmu, case: Case) -> Result:
         execution.add_manipulator(manipulator=manipulator)
 
     if manipulator is None:
-        ok = execution.simulate_until(target_time=n * h_ns)
-        if not ok:
-            raise RuntimeError(f"libcosim stopped: {execution.status()}")
+        for k in range(LIBCOSIM_BEAT, n + LIBCOSIM_BEAT, LIBCOSIM_BEAT):  # a beat every few steps: not hung
+            if not execution.simulate_until(target_time=min(k, n) * h_ns):
+                raise RuntimeError(f"libcosim stopped: {execution.status()}")
+            progress.beat()
     else:
         for k in range(n):
             _, values = input_values(case, fmu, k * h_ns * 1e-9)
             manipulator.slave_real_values(index, input_vrs, values)
             if not execution.step(1):
                 raise RuntimeError(f"libcosim step {k} failed: {execution.status()}")
+            progress.beat()
     status = execution.status()
     if status.current_time != n * h_ns:
         raise RuntimeError(f"libcosim reached {status.current_time} ns, not {n * h_ns} ns")

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from .case import Case
 
-__all__ = ["load_cases", "REFS_DIR", "default_case"]
+__all__ = ["load_cases", "REFS_DIR", "default_case", "reference_case"]
 
 #: mechfmu's independent reference solutions (the package ``refs``)
 REFS_DIR = Path(__file__).resolve().parents[2] / "tests" / "python"
@@ -46,9 +46,17 @@ def load_cases(path: str | Path, model: str = "") -> list[Case]:
         raise ValueError(f"{path}: duplicate case names {dup}")
     if sum(c.default_experiment for c in cases) > 1:
         raise ValueError(f"{path}: more than one case is marked default_experiment")
+    if sum(bool(c.reference_files) for c in cases) > 1:
+        raise ValueError(f"{path}: more than one case names reference_files")
     _loaded[path] = list(cases)
     return _loaded[path]
 
 
 def default_case(cases: list[Case]) -> Case | None:
     return next((c for c in cases if c.default_experiment), None)
+
+
+def reference_case(cases: list[Case]) -> Case | None:
+    """The case the reference files come from: the one naming ``reference_files``, else the
+    default experiment's."""
+    return next((c for c in cases if c.reference_files), None) or default_case(cases)

@@ -183,7 +183,7 @@ def cvode_row(fmu: Fmu, case: Case, anchor: str = "", entry: dict[str, Any] | No
     try:
         result, ev = run_cvode(fmu, case, run)
     except Exception as e:
-        return dict(row, max_error=math.inf, tolerance=None, passed=False,
+        return dict(row, max_error=None, tolerance=None, passed=False,
                     problems=[f"{importer} run failed: {type(e).__name__}: {e}"])
     worst = ev.worst
     limited = not ev.passed and ev.problem is None and all(x.passed or x.max_error <= CVODE_FLOOR
@@ -215,7 +215,7 @@ def fixed_step_row(fmu: Fmu, case: Case, method: FixedStep, anchor: str = "") ->
     except NotSupported as e:
         return dict(row, max_error=None, passed=True, skipped=True, problems=[str(e)])
     except Exception as e:
-        return dict(row, max_error=math.inf, passed=False, problems=[f"{method.importer} run failed: "
+        return dict(row, max_error=None, passed=False, problems=[f"{method.importer} run failed: "
                                                                      f"{type(e).__name__}: {e}"])
     worst = _worst(checks)
     note = f"fixed step h = {h:g} s and h/2: {rule}"

@@ -10,11 +10,10 @@ and not run, and why."""
 from __future__ import annotations
 
 import contextlib
-import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Iterator
 
-from .platforms import (NATIVE, PLATFORMS, NotPrepared, Runners, WineSession, binary_platforms,
+from .platforms import (FMI2_FOLDERS, NATIVE, PLATFORMS, NotPrepared, Runners, WineSession, binary_platforms,
                         cleanup_copies, compare, fmi_version, run_case)
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -73,27 +72,34 @@ class Platforms:
         self.runners, why_not = _load() if enabled else (None, "not asked for (--no-fmi-crate)")
         self.why_not = why_not
         self.foreign = [p for p in PLATFORMS if p in self.found and p != NATIVE]
+        # what the platforms row calls each platform: its folder's name in the FMU's own
+        # version (FMI 2.0's win64, linux64; FMI 3.0's x86_64-windows), never a mix of both
+        fmi2_names = {t: f for f, t in FMI2_FOLDERS.items()} if self.version.startswith("2.") else {}
+        self.folders = {p: self.found[p].split("/")[1] if p in self.found else fmi2_names.get(p, p)
+                        for p in (*self.found, *PLATFORMS)}
 
     def summary_row(self) -> dict:
         """The platforms this FMU has binaries for and which of them run here."""
         parts = []
         for platform in self.found:
             if platform == NATIVE:
-                parts.append(f"{platform}: run (every importer)")
+                parts.append(f"{self.folders[platform]}: run (every importer)")
             elif platform in HOW and self.runners is not None:
-                parts.append(f"{platform}: run {HOW[platform]} (fmi crate)")
+                parts.append(f"{self.folders[platform]}: run {HOW[platform]} (fmi crate)")
             else:
-                parts.append(f"{platform}: packaged, not run")
-        missing = [p for p in PLATFORMS if p not in self.found]
+                parts.append(f"{self.folders[platform]}: packaged, not run")
+        missing = [self.folders[p] for p in PLATFORMS if p not in self.found]
         notes = [f"binaries: {'; '.join(parts) or 'none'}"]
         if missing:
             notes.append(f"no binary for {', '.join(missing)}")
         if self.foreign and self.runners is None:
             notes.append(f"the other platforms' binaries were not run: {self.why_not}")
-        return dict(kind="note", fmu=self.name, case=f"(platforms, FMI {self.version})", importer=", ".join(self.found) or "-",
-                    max_error=None, tolerance=None, passed=NATIVE in self.found, problems=[] if NATIVE in self.found
-                    else [f"no {NATIVE} binary: nothing to run on this machine"], notes=notes,
-                    platforms=dict(found=list(self.found), run=[NATIVE] + (self.foreign if self.runners else [])))
+        return dict(kind="note", fmu=self.name, case=f"(platforms, FMI {self.version})",
+                    importer=", ".join(self.folders[p] for p in self.found) or "-", max_error=None, tolerance=None,
+                    passed=NATIVE in self.found, problems=[] if NATIVE in self.found
+                    else [f"no {self.folders[NATIVE]} binary: nothing to run on this machine"], notes=notes,
+                    platforms=dict(found=list(self.found), run=[NATIVE] + (self.foreign if self.runners else []),
+                                   names={p: self.folders[p] for p in (*self.found, *PLATFORMS)}))
 
     def case_rows(self, fmu: Fmu, case: Case) -> list[dict]:
         """The case on each foreign binary against this machine's."""
@@ -116,7 +122,7 @@ class Platforms:
                            notes=[f"{platform} binary {HOW[platform]} against the {NATIVE} binary: {c}"],
                            bit_identical=c.bit_identical)
             except Exception as e:  # noqa: BLE001 (a row, not a crash)
-                row.update(max_error=math.inf, passed=False,
+                row.update(max_error=None, passed=False,
                            problems=[f"{platform} run failed: {type(e).__name__}: {e}"])
             rows.append(row)
         return rows

@@ -57,7 +57,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .arrays import ArrayMap
     from .importers import Fmu
 
-__all__ = ["PLATFORMS", "NATIVE", "SCRIPT", "ENV_FILE", "NotPrepared", "Runners", "WineSession", "fmi_version",
+__all__ = ["PLATFORMS", "NATIVE", "FMI2_FOLDERS", "SCRIPT", "ENV_FILE", "NotPrepared", "Runners", "WineSession", "fmi_version",
            "binary_platforms", "aarch64_fmi2_copy", "cleanup_copies", "run_case", "Comparison", "compare"]
 
 #: FMI 3.0's platform tuples of the platforms mechfmu builds FMUs for

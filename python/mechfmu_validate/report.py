@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import html
 import math
+import re
 from types import SimpleNamespace
 from pathlib import Path
 from typing import Any
@@ -218,7 +219,9 @@ def platform_lines(rows: list[dict[str, Any]]) -> list[str]:
     for r in rows:
         if "platforms" in r:
             found, run = r["platforms"]["found"], r["platforms"]["run"]
-            not_run = [p for p in found if p not in run]
+            named = r["platforms"].get("names", {})
+            found, not_run, run = ([named.get(p, p) for p in group]
+                                   for group in (found, [p for p in found if p not in run], run))
             lines.append(f"{r['fmu']} ({r['case'][len('(platforms, '):-1]}): binaries for {', '.join(found) or 'none'}; "
                          f"run: {', '.join(run)}" + (f"; not run: {', '.join(not_run)}" if not_run else "")
                          + "".join(f"; {n}" for n in r["notes"][1:]))
@@ -262,7 +265,9 @@ def write_report(directory: Path, rows: list[dict[str, Any]], cases: list[dict[s
                  header: dict[str, Any]) -> None:
     directory.mkdir(parents=True, exist_ok=True)
     for entry in cases:
-        png = directory / entry["fmu"] / f"{entry['case']}.png"
+        # an FMU named by its path (two files of one model name): one folder, inside DIR
+        folder = re.sub(r"[^\w.-]+", "_", entry["fmu"]).strip("_.") or "fmu"
+        png = directory / folder / f"{entry['case']}.png"
         plot_case(entry, png)
         entry["png"] = png.relative_to(directory).as_posix()
     ok = all(r["passed"] for r in rows)

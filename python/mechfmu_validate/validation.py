@@ -6,34 +6,34 @@ its reference), libcosim and the fmi crate (each against FMPy), in Model Exchang
 (:mod:`.model_exchange`); and when its FMI 3.0 FMU was built beside it
 (``<dir>/fmi3/<Name>.fmu``), that one's checks (:mod:`.checks3`), the agreement of the two
 in Co-Simulation, and each case under the FMI 3.0 importers (:mod:`.fmi3`). An FMI 3.0 FMU
-given alone: :func:`validate_fmi3`.
+given alone: :func:`validate_fmi3`. The reference results the FMU carries and those beside
+it (:mod:`.embedded_reference`, :mod:`.cross_check`) run under FMPy, each also judged by FMPy's
+cross-check criterion (:mod:`.fmpy_criterion`). An FMU against which nothing was simulated
+(no case, no reference) fails, saying so.
 """
 
 from __future__ import annotations
 
-import math
-import sys
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterator
 
-from . import cs_rows, embedded_reference, fmi3, model_exchange
+from . import cross_check, cs_rows, embedded_reference, fmi3, model_exchange
 from .arrays import MappingError, fmi2_sibling, fmi3_sibling
 from .case import Case, describe
 from .checks import run_checks
 from .checks3 import run_checks3
 from .cs_rows import FMI_CRATE
-from .importers import Fmu
-from .loader import default_case, load_cases
+from .importers import Fmu, run_fmpy_me
+from .loader import load_cases, reference_case
 from .opening import OPENS, BrokenFmu, open_fmu
 from .platform_rows import Platforms
+from .progress import report
 
 __all__ = ["validate_fmu", "validate_fmi3"]
 
 
 def _progress(msg: str) -> None:
-    if sys.stderr.isatty():
-        sys.stderr.write(f"\r\033[K{msg}")
-        sys.stderr.flush()
+    report(msg)
 
 
 def _settings(case: Case) -> str:
@@ -47,12 +47,14 @@ def _settings(case: Case) -> str:
     return "; ".join(parts)
 
 
-def _check_rows(name: str, checks) -> list[dict]:
-    return [dict(kind="check", fmu=name, case=f"check: {c.name}",
-                 importer="fmpy" if c.name.endswith("fmpy validate") else "mechfmu",
-                 max_error=float(len(c.problems)) if c.max_error is None else c.max_error,
-                 tolerance=0.0 if c.tolerance is None else c.tolerance,
-                 passed=c.passed, problems=c.problems, notes=c.notes) for c in checks]
+def _check_rows(name: str, checks) -> Iterator[dict]:
+    """Each check's row, made as the check is (lazily: each row takes its own console output)."""
+    for c in checks:
+        yield dict(kind="check", fmu=name, case=f"check: {c.name}",
+                   importer="fmpy" if c.name.endswith("fmpy validate") else "mechfmu",
+                   max_error=float(len(c.problems)) if c.max_error is None else c.max_error,
+                   tolerance=0.0 if c.tolerance is None else c.tolerance,
+                   passed=c.passed, problems=c.problems, notes=c.notes)
 
 
 def _units(md, names=None) -> dict[str, str]:
@@ -106,27 +108,52 @@ def _load_cases(cases_file: Path | None, name: str, rows: list[dict]) -> list[Ca
 
 
 def _unknown_row(fmu: Fmu, case: Case, cases_file: Path | None, unknown: list[str]) -> dict:
-    return dict(kind="case", fmu=fmu.model, case=case.name, importer="FMPy", max_error=math.inf, tolerance=None,
+    return dict(kind="case", fmu=fmu.model, case=case.name, importer="FMPy", max_error=None, tolerance=None,
                 passed=False, notes=[], problems=[
                     f"the case {case.name!r} of {cases_file} names {', '.join(unknown)}, which "
                     f"{fmu.path.name} does not have (not a variable of its modelDescription.xml)"])
 
 
+def _nothing_simulated_row(path: Path, name: str, why: str | None = None) -> dict:
+    """The FAIL row of an FMU against which nothing was simulated (only its checks ran, or
+    nothing ran): ``why``, by default that it has no reference that could be run."""
+    why = why or (f"{path} has no reference that could be run: no validation/cases.py (--cases), and no "
+                  f"reference results in {embedded_reference.REFERENCE_DIR}/ of the archive or {path.stem}_ref.csv "
+                  "beside it that mechfmu validate can run (a SKIP row says why one cannot be); only the checks ran")
+    return dict(_note_row(name, "(nothing simulated)"), kind="check", importer="mechfmu", passed=False,
+                problems=[f"nothing simulated: {why}"])
+
+
 def _reference_rows(fmu: Fmu, rows: list[dict], plots: list[dict] | None, use_libcosim: bool,
-                    use_fmi_crate: bool) -> bool:
-    """The reference the FMU carries (:mod:`.embedded_reference`) under FMPy (plotted when
-    ``plots`` is given), and under libcosim and the fmi crate when ``use_libcosim``/
-    ``use_fmi_crate``; False when it carries none."""
+                    use_fmi_crate: bool, use_model_exchange: bool = True) -> bool:
+    """Each reference of the FMU (the one it carries, :mod:`.embedded_reference`, and the
+    files beside it, :mod:`.cross_check`) under FMPy (plotted when ``plots`` is given), judged
+    by FMPy's cross-check criterion too, and under libcosim and the fmi crate when
+    ``use_libcosim``/``use_fmi_crate``; False when none was simulated."""
+    found = False
+    for files, note in cross_check.sources(fmu):
+        found = _reference_source_rows(fmu, files, note, rows, plots, use_libcosim, use_fmi_crate,
+                                       use_model_exchange) or found
+    return found
+
+
+def _reference_source_rows(fmu: Fmu, files: embedded_reference.Files | None, note: str | None, rows: list[dict],
+                           plots: list[dict] | None, use_libcosim: bool, use_fmi_crate: bool,
+                           use_model_exchange: bool) -> bool:
+    """The rows of one reference (``files``; None: the one the FMU carries), see
+    :func:`_reference_rows`; False when there is none, or one that cannot be simulated (its
+    SKIP row says why)."""
     name = fmu.model
+    case_name = files.case_name if files is not None else embedded_reference.CASE_NAME
     try:
-        ref = embedded_reference.read(fmu)
+        ref = embedded_reference.read(fmu, files=files)
     except embedded_reference.Unsupported as e:
-        rows.append(dict(_note_row(name, embedded_reference.CASE_NAME), kind="reference", importer="FMPy",
-                         skipped=True, problems=[str(e)]))
-        return True
+        rows.append(dict(_note_row(name, case_name), kind="reference", importer="FMPy", skipped=True,
+                         problems=[str(e)]))
+        return False
     except embedded_reference.ReferenceProblem as e:
-        rows.append(dict(_note_row(name, embedded_reference.CASE_NAME), kind="reference", importer="FMPy",
-                         max_error=math.inf, passed=False, problems=[str(e)]))
+        rows.append(dict(_note_row(name, case_name), kind="reference", importer="FMPy", max_error=None,
+                         passed=False, problems=[str(e)]))
         return True
     if ref is None:
         return False
@@ -135,9 +162,11 @@ def _reference_rows(fmu: Fmu, rows: list[dict], plots: list[dict] | None, use_li
     entry = _entry(name, case, _units(fmu.md))
     anchor = entry["anchor"] if plots is not None else ""
     row, result, ev = cs_rows.fmpy_row(fmu, case, anchor, kind="reference", problems=ref.problems)
-    row["notes"] = [*row["notes"], *ref.notes]
+    row["notes"] = [*row["notes"], *ref.notes, *([note] if note else [])]
     rows.append(row)
     entry.update(evaluation=ev, result=result, passed=row["passed"])
+    me = (model_exchange.CVODE, lambda c: run_fmpy_me(fmu, c, "CVode")) if use_model_exchange else None
+    rows.extend(cross_check.criterion_rows(fmu, ref, row, result, "FMPy", me))
     runs = [("libcosim", cs_rows.libcosim_row)] if use_libcosim else []
     runs += [(FMI_CRATE, cs_rows.fmi_crate_row)] if use_fmi_crate else []
     real, why = cs_rows.real_signals(case, fmu)
@@ -164,7 +193,13 @@ def validate_fmu(path: Path, cases_file: Path | None, only: list[str], use_libco
                  use_model_exchange: bool = True, use_fmi3: bool = True) -> None:
     """An FMI 2.0 FMU's rows, and its FMI 3.0 FMU's (``<dir>/fmi3/<Name>.fmu``, when built and
     ``use_fmi3``); an FMI 3.0 FMU given alone: :func:`validate_fmi3`. An FMU that cannot be
-    opened is one FAIL row saying why."""
+    opened is one FAIL row saying why; one without Co-Simulation (or of FMI 1.0) a SKIP row
+    saying so and the FAIL row of nothing simulated."""
+    why = cross_check.not_validated(path)
+    if why is not None:
+        rows.append(cross_check.skip_row(path, why))
+        rows.append(_nothing_simulated_row(path, path.stem, f"{path} is not validated (the SKIP row says why)"))
+        return
     try:
         fmu = open_fmu(path)
     except BrokenFmu as e:
@@ -184,7 +219,7 @@ def validate_fmu(path: Path, cases_file: Path | None, only: list[str], use_libco
         cases = _load_cases(cases_file, name, rows)
         selected = [c for c in cases if not only or any(o in c.name for o in only)]
         _progress(f"{name}: checks")
-        rows.extend(_check_rows(name, run_checks(fmu, default_case(cases))))
+        rows.extend(_check_rows(name, run_checks(fmu, reference_case(cases))))
         if f3 is not None:
             rows.extend(_check_rows(name, run_checks3(f3)))
             rows.append(fmi3.agreement_row(f3, fmu))
@@ -196,10 +231,9 @@ def validate_fmu(path: Path, cases_file: Path | None, only: list[str], use_libco
         # (its default-experiment case already runs under every importer, and is plotted); alone,
         # under each importer, plotted
         alone = cases_file is None
-        if not _reference_rows(fmu, rows, plots if alone else None, use_libcosim and alone, use_fmi_crate and alone) \
-                and alone:
-            rows.append(_note_row(name, f"(no validation/cases.py and no {embedded_reference.REFERENCE_DIR}/: "
-                                        "nothing simulated)"))
+        if not _reference_rows(fmu, rows, plots if alone else None, use_libcosim and alone, use_fmi_crate and alone,
+                               use_model_exchange) and not selected:
+            rows.append(_nothing_simulated_row(fmu.path, name))
         units = _units(fmu.md)
         for case in selected:
             unknown = cs_rows.unknown_names(case, fmu)
@@ -271,9 +305,9 @@ def validate_fmi3(path: Path, cases_file: Path | None, only: list[str], rows: li
         binaries = Platforms(path, name, fmi3.FMI3_CRATE, names=f3.mapping, enabled=use_fmi_crate)
         rows.append(binaries.summary_row())
         alone = cases_file is None
-        if not _reference_rows3(f3, rows, plots if alone else None, use_fmi_crate and alone) and alone:
-            rows.append(_note_row(name, f"(no validation/cases.py and no {embedded_reference.REFERENCE_DIR}/: "
-                                        "nothing simulated)"))
+        if not _reference_rows3(f3, rows, plots if alone else None, use_fmi_crate and alone, use_model_exchange) \
+                and not selected:
+            rows.append(_nothing_simulated_row(f3.fmu.path, name))
         units = _units(f3.fmu.md, f3.mapping) if f3.mapping is not None else {}
         for case in selected:
             entry = dict(_entry(name, case, units), label="FMPy FMI 3.0 CS")
@@ -290,19 +324,33 @@ def validate_fmi3(path: Path, cases_file: Path | None, only: list[str], rows: li
         _progress("")
 
 
-def _reference_rows3(f3: fmi3.Fmi3, rows: list[dict], plots: list[dict] | None, use_fmi_crate: bool) -> bool:
-    """The reference an FMI 3.0 FMU carries, under FMPy's FMI 3.0 Co-Simulation (plotted when
-    ``plots`` is given; and the fmi crate's, against it, when ``use_fmi_crate``); False when it
-    carries none."""
+def _reference_rows3(f3: fmi3.Fmi3, rows: list[dict], plots: list[dict] | None, use_fmi_crate: bool,
+                     use_model_exchange: bool = True) -> bool:
+    """Each reference of an FMI 3.0 FMU (the one it carries and the files beside it), under
+    FMPy's FMI 3.0 Co-Simulation (plotted when ``plots`` is given), judged by FMPy's
+    cross-check criterion too, and the fmi crate's run against it when ``use_fmi_crate``;
+    False when none was simulated."""
+    found = False
+    for files, note in cross_check.sources(f3.fmu):
+        found = _reference_source_rows3(f3, files, note, rows, plots, use_fmi_crate, use_model_exchange) or found
+    return found
+
+
+def _reference_source_rows3(f3: fmi3.Fmi3, files: embedded_reference.Files | None, note: str | None,
+                            rows: list[dict], plots: list[dict] | None, use_fmi_crate: bool,
+                            use_model_exchange: bool) -> bool:
+    """The rows of one reference of an FMI 3.0 FMU (``files``; None: the one it carries), see
+    :func:`_reference_rows3`; False when there is none, or one that cannot be simulated."""
     name = f3.fmu.model
-    failed = dict(_note_row(name, embedded_reference.CASE_NAME), kind="reference", importer=fmi3.FMI3_CS)
+    case_name = files.case_name if files is not None else embedded_reference.CASE_NAME
+    failed = dict(_note_row(name, case_name), kind="reference", importer=fmi3.FMI3_CS)
     try:
-        ref = embedded_reference.read(f3.fmu, f3.names)
+        ref = embedded_reference.read(f3.fmu, f3.names, files)
     except embedded_reference.Unsupported as e:
         rows.append(dict(failed, skipped=True, problems=[str(e)]))
-        return True
+        return False
     except (embedded_reference.ReferenceProblem, MappingError) as e:
-        rows.append(dict(failed, max_error=math.inf, passed=False, problems=[str(e)]))
+        rows.append(dict(failed, max_error=None, passed=False, problems=[str(e)]))
         return True
     if ref is None:
         return False
@@ -310,9 +358,11 @@ def _reference_rows3(f3: fmi3.Fmi3, rows: list[dict], plots: list[dict] | None, 
     entry = dict(_entry(name, ref.case, _units(f3.fmu.md, f3.mapping)), label="FMPy FMI 3.0 CS")
     anchor = entry["anchor"] if plots is not None else ""
     row, result, ev = fmi3.cs_row(f3, ref.case, anchor)
-    row.update(kind="reference", notes=[*row["notes"], *ref.notes], problems=[*ref.problems, *row["problems"]],
-               passed=row["passed"] and not ref.problems)
+    row.update(kind="reference", notes=[*row["notes"], *ref.notes, *([note] if note else [])],
+               problems=[*ref.problems, *row["problems"]], passed=row["passed"] and not ref.problems)
     rows.append(row)
+    me = (fmi3.FMI3_CVODE, lambda c: fmi3.run_fmpy3_me(f3, c, "CVode")) if use_model_exchange else None
+    rows.extend(cross_check.criterion_rows(f3.fmu, ref, row, result, fmi3.FMI3_CS, me))
     if plots is not None and ev is not None and ev.signals:
         plots.append(dict(entry, evaluation=ev, result=result, passed=row["passed"]))
     if use_fmi_crate:

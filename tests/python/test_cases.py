@@ -23,7 +23,7 @@ from mechfmu_validate.case import evaluate, signal_scale
 from mechfmu_validate.checks import REFERENCE_CSV_TOLERANCE, REFERENCE_DIR, read_csv, run_checks
 from mechfmu_validate.cs_rows import LIBCOSIM_TOLERANCE
 from mechfmu_validate.importers import Fmu, agreement, libcosim_available, run_fmpy, run_libcosim
-from mechfmu_validate.loader import default_case, load_cases
+from mechfmu_validate.loader import default_case, load_cases, reference_case
 from mechfmu_validate.reference import reference_table
 
 REPO = fmutest.REPO_ROOT
@@ -104,18 +104,18 @@ def test_case_under_libcosim_agrees_with_fmpy(model, case):
 def test_checks_pass(model):
     fmu = fmu_of(model)
     cases = load_cases(dict(CRATES)[model] / "validation/cases.py", model)
-    failed = [f"{c.name}: {p}" for c in run_checks(fmu, default_case(cases)) for p in c.problems]
+    failed = [f"{c.name}: {p}" for c in run_checks(fmu, reference_case(cases)) for p in c.problems]
     assert not failed, "\n".join(failed)
 
 
 @pytest.mark.parametrize("model", MODELS)
 def test_committed_references_are_current_and_packaged(model):
-    """fmus/<crate>/reference/<Id>_ref.csv equals what the default case's reference gives
+    """fmus/<crate>/reference/<Id>_ref.csv equals what the reference case's reference gives
     now (to 1e-9 of each signal's scale: the file keeps 13 digits), and the FMU carries
     exactly the committed files."""
     d = dict(CRATES)[model]
     fmu = fmu_of(model)
-    case = default_case(load_cases(d / "validation/cases.py", model))
+    case = reference_case(load_cases(d / "validation/cases.py", model))
     committed = d / "reference" / f"{model}_ref.csv"
     assert committed.is_file(), f"{committed} missing: run `cargo run --release -- validate --write-references {model}`"
     names, table = read_csv(committed.read_text())

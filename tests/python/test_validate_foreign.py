@@ -9,6 +9,14 @@ crate. Broken copies of it (not a zip, a truncated zip, no Linux binary, a damag
 modelDescription.xml, an fmi2Instantiate that returns NULL, an fmi2DoStep that fails) must
 each be one FAIL row saying why, beside the good FMU still passing: exit status 1, no Python
 traceback, nothing left in the temporary directory.
+
+What other exporters write, legal, is held to PASS under every
+importer, each reproduced on FirstOrder: aliases sharing a value reference (as Dymola's
+`mass.a` and `der(mass.v)`), XML's `xmlns:xsi` on the root (which the fmi crate's schema
+refuses), a solver of its own whose result depends on the tolerance it is given (-DOWN_SOLVER);
+aliases that cannot be one value fail, naming the standard's clause. And three of the Modelica
+Reference-FMUs, built from their sources (data/foreign/reference-fmus/, BSD-2-Clause), pass in
+FMI 2.0 and 3.0.
 """
 
 from __future__ import annotations
@@ -28,7 +36,9 @@ import pytest
 import fmutest
 from mechfmu_validate import cs_rows, embedded_reference
 from mechfmu_validate.fmi_crate import FMI_RUN_ENV
+from mechfmu_validate.fmpy_criterion import CRITERION
 from mechfmu_validate.opening import OPENS, open_fmu
+from mechfmu_validate.report import result_text
 
 REPO = fmutest.REPO_ROOT
 SOURCE = Path(__file__).resolve().parent / "data" / "foreign"
@@ -88,7 +98,10 @@ def validate(tmp_path: Path, fmi_run: Path, *args: str) -> tuple[subprocess.Comp
 
 
 def reference_rows(rows: list[dict], fmu: str = "FirstOrder") -> dict[str, dict]:
-    return {r["importer"]: r for r in rows if r["fmu"] == fmu and r["case"] == embedded_reference.CASE_NAME}
+    """The rows of each importer's run of the reference the FMU carries (FMPy's criterion's
+    rows, judging the same runs, left out)."""
+    return {r["importer"]: r for r in rows if r["fmu"] == fmu and r["case"] == embedded_reference.CASE_NAME
+            and not r["importer"].endswith(CRITERION)}
 
 
 def test_a_foreign_fmu_passes_against_the_reference_it_carries(good, fmi_run, tmp_path):
@@ -245,3 +258,168 @@ def test_the_command_passes_junit_through_and_says_what_failed(good, tmp_path):
     assert "validation failed" in proc.stderr and "table above" in proc.stderr, proc.stderr[-2000:]
     assert int(ET.parse(junit).getroot().get("failures")) == 1
 
+
+
+# ---------------------------------------------------------------------------------------
+# Legal FMUs that other exporters write, which strict checks or importers refuse
+
+
+XML = (SOURCE / "modelDescription.xml").read_text()
+#: variables sharing the value references of y and tau: aliases, which FMI 2.0 allows
+ALIASES = ('<ScalarVariable name="y_alias" valueReference="1" causality="local" variability="continuous" '
+           'initial="calculated"><Real/></ScalarVariable>\n'
+           '<ScalarVariable name="time_constant" valueReference="3" causality="local" variability="fixed" '
+           'initial="calculated"><Real/></ScalarVariable>\n')
+#: aliases that cannot be one value: two start values, a constant beside a variable
+CONFLICTING_ALIASES = ('<ScalarVariable name="y0_guess" valueReference="4" causality="local" variability="fixed" '
+                       'initial="approx"><Real start="2"/></ScalarVariable>\n'
+                       '<ScalarVariable name="z_frozen" valueReference="2" causality="local" variability="constant" '
+                       '><Real start="0"/></ScalarVariable>\n')
+#: XML's namespace declarations on the root, as Dymola, 20-sim and FMI Kit write them
+NAMESPACES = ('<fmiModelDescription xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance" '
+              'xsi:noNamespaceSchemaLocation="fmi2ModelDescription.xsd"')
+
+
+def with_variables(text: str) -> str:
+    return XML.replace("  </ModelVariables>", text + "  </ModelVariables>")
+
+
+def all_passed(proc: subprocess.CompletedProcess, rows: list[dict]) -> None:
+    assert proc.returncode == 0 and all(r["passed"] and not r.get("skipped") for r in rows), \
+        ([r for r in rows if not r["passed"] or r.get("skipped")], proc.stdout[-3000:])
+
+
+def test_an_fmu_accepting_any_guid_passes_with_a_note(tmp_path, fmi_run):
+    """FMI 2.0 gives fmi2Instantiate the GUID to check with but does not require the check."""
+    proc, rows = validate(tmp_path, fmi_run, str(build(tmp_path / "fmu", "-DANY_GUID")))
+    all_passed(proc, rows)
+    [guid] = [r for r in rows if r["case"] == "check: GUID accepted, wrong GUID refused"]
+    assert any("accepted a wrong GUID" in n and "does not require the check" in n for n in guid["notes"]), guid
+
+
+def test_aliases_sharing_a_value_reference_pass(tmp_path, fmi_run):
+    """FMI 2.0.5 §2.2.7: variables of one base type may share a value reference (Dymola's do:
+    `mass.a` and `der(mass.v)`); every importer runs the FMU."""
+    proc, rows = validate(tmp_path, fmi_run, str(build(tmp_path / "fmu", xml=with_variables(ALIASES))))
+    all_passed(proc, rows)
+    [aliases] = [r for r in rows if r["case"] == "check: value references and aliases"]
+    assert aliases["notes"][0] == "2 alias sets (variables sharing a value reference, FMI 2.0.5 §2.2.7: allowed)"
+    assert set(reference_rows(rows)) == {"FMPy", "libcosim", "fmi crate"}
+
+
+def test_aliases_that_cannot_be_one_value_fail_naming_the_clause(tmp_path, fmi_run):
+    proc, rows = validate(tmp_path, fmi_run, str(build(tmp_path / "fmu", xml=with_variables(CONFLICTING_ALIASES))))
+    assert proc.returncode == 1
+    failed = {(r["case"], r["importer"]): r for r in rows if not r["passed"]}
+    assert set(failed) == {("check: value references and aliases", "mechfmu"), ("embedded_reference", "libcosim")}
+    aliases = failed["check: value references and aliases", "mechfmu"]
+    constants, starts = aliases["problems"]  # in the order of the value references
+    assert starts.startswith("FMI 2.0.5 §2.2.7 start: the Real value reference 4 (y0, y0_guess)") and \
+        "conflicting start values (y0=1, y0_guess=2)" in starts, starts
+    assert constants.startswith("FMI 2.0.5 §2.2.7 variability: the Real value reference 2 (z, z_frozen) mixes "
+                                "constants (z_frozen)"), constants
+    # libcosim's loader (the FMI Library) enforces the same rules: it drops these variables,
+    # says so on the console, which its row keeps, and cannot record z
+    said = failed["embedded_reference", "libcosim"]["output"]
+    assert "[FMI Library: FMI2XML] Only constants can be aliases with constants (variables: z and z_frozen)" in said
+    assert "FMI Library" not in proc.stdout.split("FAIL FirstOrder")[0], "the console output is in its row"
+
+
+def test_xml_namespace_declarations_are_read_by_every_importer(tmp_path, fmi_run):
+    """`xmlns:xsi` on the root is XML's, legal in any model description: the fmi crate's schema
+    refuses it (`unknown field "xmlns:xsi"`), its runner gives the crate the XML without it."""
+    fmu = build(tmp_path / "fmu", xml=XML.replace("<fmiModelDescription", NAMESPACES, 1))
+    proc, rows = validate(tmp_path, fmi_run, str(fmu))
+    all_passed(proc, rows)
+    assert reference_rows(rows)["fmi crate"]["max_error"] == 0
+
+
+def test_an_fmu_with_its_own_solver_is_compared_with_libcosim_at_libcosims_settings(tmp_path, fmi_run):
+    """An FMU integrating at the tolerance fmi2SetupExperiment gives (its own default, 1e-2,
+    when none is given, as libcosim gives none) differs between the settings by 1e-4: libcosim
+    is compared with FMPy run at its own settings (no tolerance, no stop time), where the two
+    agree to round-off; FMPy at the reference's tolerance meets the reference."""
+    fmu = build(tmp_path / "fmu", "-DOWN_SOLVER", xml=XML.replace(
+        '<DefaultExperiment startTime="0" stopTime="5" stepSize="0.1"/>',
+        '<DefaultExperiment startTime="0" stopTime="5" stepSize="0.1" tolerance="1e-6"/>'))
+    proc, rows = validate(tmp_path, fmi_run, str(fmu))
+    all_passed(proc, rows)
+    refs = reference_rows(rows)
+    assert refs["libcosim"]["max_error"] < 1e-12 and "no tolerance and no stop time" in refs["libcosim"]["notes"][-1]
+    assert refs["FMPy"]["max_error"] < 1e-8 and refs["fmi crate"]["max_error"] == 0
+
+
+# ---------------------------------------------------------------------------------------
+# The Modelica Reference-FMUs, built from their sources (data/foreign/reference-fmus/)
+
+
+REFERENCE_FMUS = SOURCE / "reference-fmus"
+
+
+def build_reference_fmu(directory: Path, model: str, version: int) -> Path:
+    """``model`` of the Reference-FMUs for FMI ``version``, compiled with gcc and packaged as
+    their CMakeLists.txt packages it (the FMI-LS-REF manifest beside the results)."""
+    folder = directory / f"fmi{version}"
+    folder.mkdir(parents=True, exist_ok=True)
+    binary = folder / f"{model}.so"
+    subprocess.run(["gcc", "-shared", "-fPIC", "-O2", "-Wall", f"-DFMI_VERSION={version}", "-DDISABLE_PREFIX",
+                    "-I", str(REFERENCE_FMUS / "include"), "-I", str(REFERENCE_FMUS / model),
+                    "-I", str(Path(fmpy.__file__).parent / "c-code"), str(REFERENCE_FMUS / model / "model.c"),
+                    str(REFERENCE_FMUS / "src" / f"fmi{version}Functions.c"),
+                    str(REFERENCE_FMUS / "src" / "cosimulation.c"), "-o", str(binary), "-lm"],
+                   check=True, capture_output=True, text=True)
+    path = folder / f"{model}.fmu"
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
+        z.write(REFERENCE_FMUS / model / f"FMI{version}.xml", "modelDescription.xml")
+        z.write(binary, f"binaries/{'linux64' if version == 2 else 'x86_64-linux'}/{model}.so")
+        z.write(REFERENCE_FMUS / model / "fmi-ls-ref.xml", f"{REF_DIR}/fmi-ls-manifest.xml")
+        z.write(REFERENCE_FMUS / model / f"{model}_out.csv", f"{REF_DIR}/{model}_out.csv")
+    binary.unlink()
+    return path
+
+
+def test_the_reference_fmus_pass_in_both_versions(tmp_path, fmi_run):
+    """Dahlquist, BouncingBall (state events) and Stair (time events, the end of its
+    simulation at t = 9) in FMI 2.0 and 3.0, in one call: every check passes, every run meets
+    the results the FMU carries, and an importer that records Real variables only skips
+    Stair's integer counter, saying so; each file is its own JUnit suite, named by its path
+    (the two versions share each model name)."""
+    fmus = [build_reference_fmu(tmp_path / "fmus", model, version)
+            for model in ("Dahlquist", "BouncingBall", "Stair") for version in (2, 3)]
+    junit = tmp_path / "validate.xml"
+    proc, rows = validate(tmp_path, fmi_run, *map(str, fmus), "--junit", str(junit))
+    runs = [r for r in rows if not r["importer"].endswith(CRITERION)]  # FMPy's criterion: tests of its own
+    verdicts = {(Path(r["fmu"]).stem, Path(r["fmu"]).parent.name, r["importer"]): result_text(r)
+                for r in runs if r["case"] == embedded_reference.CASE_NAME}
+    expected = {}
+    for model in ("Dahlquist", "BouncingBall", "Stair"):
+        others = "SKIP" if model == "Stair" else "PASS"
+        expected.update({(model, "fmi2", "FMPy"): "PASS", (model, "fmi2", "libcosim"): others,
+                         (model, "fmi2", "fmi crate"): others, (model, "fmi3", "FMPy FMI3 CS"): "PASS",
+                         (model, "fmi3", "fmi crate FMI3 CS"): others})
+    assert verdicts == expected, proc.stdout[-6000:]
+    assert all(r["passed"] for r in runs if r["kind"] == "check" or "(platforms" in r["case"]), \
+        [r for r in runs if not r["passed"]]
+    assert {r["fmu"] for r in rows} == set(map(str, fmus))
+    assert {s.get("name") for s in ET.parse(junit).getroot().findall("testsuite")} == set(map(str, fmus))
+    [stair] = [r for r in runs if r["fmu"].endswith("fmi2/Stair.fmu") and r["importer"] == "libcosim"]
+    assert stair["problems"] == ["this importer's runs record Real variables only, and no compared signal is Real"]
+    # FMPy's criterion judges Stair up to where its own reference ends: the FMU ends there
+    criteria = [r for r in rows if r["importer"].endswith(CRITERION)]
+    assert criteria and all(r["passed"] for r in criteria), [r for r in criteria if not r["passed"]]
+    assert any("judged up to 9 s" in n for r in criteria if "Stair" in r["fmu"] for n in r["notes"])
+    assert proc.returncode == 0, proc.stdout[-6000:]
+
+
+def test_an_fmu_the_fmi_crate_cannot_read_is_its_skip(tmp_path, fmi_run):
+    """`<Annotations>` in a `<ScalarVariable>` is FMI 2.0's schema (FMPy's validation passes);
+    the crate's schema refuses it: the crate's limit, a SKIP row saying so, not the FMU's FAIL."""
+    xml = XML.replace('<Real start="0.5"/></ScalarVariable>',
+                      '<Real start="0.5"/><Annotations><Tool name="org.example"/></Annotations></ScalarVariable>')
+    proc, rows = validate(tmp_path, fmi_run, str(build(tmp_path / "fmu", xml=xml)))
+    assert proc.returncode == 0 and all(r["passed"] for r in rows)
+    crate = reference_rows(rows)["fmi crate"]
+    assert crate["skipped"] and crate["max_error"] is None
+    assert crate["problems"] == ['fmi crate: cannot read FirstOrder.fmu (unknown field "Annotations" in element '
+                                 '"ScalarVariable"): the crate\'s limit, stricter than the standard (the checks hold '
+                                 'the model description to the standard)'], crate["problems"]

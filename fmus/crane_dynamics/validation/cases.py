@@ -84,5 +84,5 @@ CASES = [
                      "switch, and the work of the drives equal to the gain of mechanical energy.",
          input=DRIVEN_INPUT, stop_time=20.0, output_interval=0.01, relative_tolerance=1e-8,
          outputs=[*CONTRACT, "E", "W_drives"], reference=numerical({}, DRIVEN_INPUT), metric=energy_balance,
-         tolerance=1e-6),
+         tolerance=1e-6, reference_files=[*STATES, "T", "payload_x", "x_ddot", "theta_ddot"]),
 ]

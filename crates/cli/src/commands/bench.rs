@@ -80,6 +80,7 @@ pub fn run(args: Args) -> Result<(), String> {
                 target_dir: &target_dir,
             },
             Platforms::Host,
+            None,
         )?;
     }
     let mut fmus = Vec::new();

@@ -1,5 +1,6 @@
 //! `mechfmu build`: compile the named mechanism crates (or all of them) for each platform
-//! and write their FMI 2.0 and FMI 3.0 FMUs.
+//! and write their FMI 2.0 and FMI 3.0 FMUs (and, with `--cross-check DIR`, the same as an
+//! FMI cross-check tree).
 
 use crate::build::{Flavor, Platforms};
 use crate::package::write_fmus;
@@ -22,6 +23,11 @@ pub struct Args {
     /// (those it cannot are named, with how to install their toolchains).
     #[arg(long, value_name = "PLATFORMS")]
     platform: Option<String>,
+    /// Also lay the FMUs out as an FMI cross-check tree under DIR:
+    /// DIR/fmus/<2.0|3.0>/<cs|me>/<platform>/mechfmu/<version>/<Model>/, each folder with the
+    /// .fmu, its reference files (<Model>_ref.csv, _in.csv, _ref.opt) and a README.md.
+    #[arg(long, value_name = "DIR")]
+    cross_check: Option<PathBuf>,
 }
 
 pub fn run(args: Args) -> Result<(), String> {
@@ -32,6 +38,7 @@ pub fn run(args: Args) -> Result<(), String> {
         args.manifest_path.as_deref(),
         Flavor::Shipped,
         chosen.map_or(Platforms::Available, Platforms::Chosen),
+        args.cross_check.as_deref(),
     )
 }
 

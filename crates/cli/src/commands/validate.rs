@@ -7,6 +7,9 @@
 //! the Python side finds its FMI 3.0 FMU beside it, `<fmu dir>/fmi3/<Name>.fmu` (as `mechfmu
 //! build` writes them), and runs the same cases on it under FMI 3.0 (`--no-fmi3`: not). An
 //! FMI 3.0 `.fmu` given on the command line is validated as such (its checks and the cases).
+//! A directory is handed over as it is: the Python side walks it for FMUs (an FMI cross-check
+//! tree's as its rules lay them out) and `--cross-check-results DIR` writes the importer's
+//! results the rules ask for.
 //!
 //! The work is done by the Python package `mechfmu_validate` (in `python/` of mechfmu's
 //! files, [`crate::home::root`]: the checkout, or the installed command's copy), installed in
@@ -24,8 +27,9 @@ use std::process::Command;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// FMU files, or model identifiers (found in --fmu-dir); default: every mechanism of the
-    /// workspace.
+    /// FMU files, directories to find FMUs in (an FMI cross-check tree: its FMUs for this
+    /// platform, each against the reference files beside it), or model identifiers (found in
+    /// --fmu-dir); default: every mechanism of the workspace.
     targets: Vec<String>,
     /// The Cargo.toml of the workspace or crate whose mechanisms (and their
     /// `validation/cases.py`) to use.
@@ -50,16 +54,35 @@ pub struct Args {
     /// marked as highlights.
     #[arg(long, value_name = "DIR")]
     readme: Option<PathBuf>,
-    /// Instead of validating: (re)compute the reference results of each mechanism's default
-    /// experiment with the independent reference and write them to `<crate>/reference/`.
+    /// For each FMU of an FMI cross-check tree, write what an importer submits (its result,
+    /// `passed`, `failed` or `rejected`, a README.md) to DIR/results/<version>/<cs|me>/
+    /// <platform>/mechfmu/<version>/<tool>/<tool version>/<model>/.
+    #[arg(long, value_name = "DIR")]
+    cross_check_results: Option<PathBuf>,
+    /// Instead of validating: (re)compute the reference results of each mechanism's reference
+    /// case (the one naming `reference_files`, else the default experiment's) with the
+    /// independent reference and write them to `<crate>/reference/`.
     #[arg(long)]
     write_references: bool,
+    /// Stop an FMU's validation as hung after SECONDS without progress (no result, no FMI
+    /// call); each FMU runs in a process of its own, and one that crashes or hangs is one
+    /// FAIL row (default: the Python side's, 300).
+    #[arg(long, value_name = "SECONDS", value_parser = positive_seconds)]
+    time_limit: Option<f64>,
     /// Do not run the cases under the Rust `fmi` crate (and do not build `mechfmu-fmi-run`).
     #[arg(long)]
     no_fmi_crate: bool,
     /// Do not validate the FMI 3.0 FMUs (`<fmu dir>/fmi3/<Name>.fmu`) beside the FMI 2.0 ones.
     #[arg(long)]
     no_fmi3: bool,
+}
+
+/// `--time-limit`'s value: a finite number of seconds above 0.
+fn positive_seconds(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(seconds) if seconds.is_finite() && seconds > 0.0 => Ok(seconds),
+        _ => Err(format!("{text:?} is not a number of seconds above 0")),
+    }
 }
 
 /// mechfmu's own files: where `python/mechfmu_validate`, the pinned requirements and
@@ -131,7 +154,10 @@ fn workspace_crates(args: &Args) -> Result<Vec<MechanismCrate>, String> {
         Ok(c) => Ok(c),
         Err(e)
             if args.manifest_path.is_none()
-                && args.targets.iter().all(|t| is_fmu_file(t))
+                && args
+                    .targets
+                    .iter()
+                    .all(|t| is_fmu_file(t) || is_directory(t))
                 && !args.targets.is_empty() =>
         {
             eprintln!(
@@ -193,6 +219,7 @@ fn validation_arguments(crates: &[MechanismCrate], args: &Args) -> Result<Vec<St
         ("--json", &args.json),
         ("--junit", &args.junit),
         ("--readme", &args.readme),
+        ("--cross-check-results", &args.cross_check_results),
     ] {
         if let Some(v) = value {
             py.push(flag.into());
@@ -202,6 +229,10 @@ fn validation_arguments(crates: &[MechanismCrate], args: &Args) -> Result<Vec<St
     for c in &args.cases {
         py.push("--case".into());
         py.push(c.clone());
+    }
+    if let Some(seconds) = args.time_limit {
+        py.push("--time-limit".into());
+        py.push(seconds.to_string());
     }
     if args.no_fmi_crate {
         py.push("--no-fmi-crate".into());
@@ -326,6 +357,11 @@ fn is_fmu_file(target: &str) -> bool {
     target.ends_with(".fmu") || Path::new(target).is_file()
 }
 
+/// A directory the Python side walks for FMUs (an FMI cross-check tree).
+fn is_directory(target: &str) -> bool {
+    Path::new(target).is_dir()
+}
+
 fn first_line(s: &str) -> &str {
     s.lines().find(|l| !l.trim().is_empty()).unwrap_or(s).trim()
 }
@@ -356,8 +392,8 @@ fn select(crates: &[MechanismCrate], names: &[String]) -> Result<Vec<MechanismCr
         .collect()
 }
 
-/// The FMU files to validate: the targets that are files, `<fmu dir>/<NAME>.fmu` for the
-/// others, or every mechanism's when there are no targets.
+/// The FMU files to validate: the targets that are files or directories, `<fmu dir>/<NAME>.fmu`
+/// for the others, or every mechanism's when there are no targets.
 fn fmu_paths(crates: &[MechanismCrate], args: &Args) -> Result<Vec<PathBuf>, String> {
     let hint = "build it with `mechfmu build` (or pass --fmu-dir)";
     let named = |model: &str| -> Result<PathBuf, String> {
@@ -377,7 +413,9 @@ fn fmu_paths(crates: &[MechanismCrate], args: &Args) -> Result<Vec<PathBuf>, Str
     args.targets
         .iter()
         .map(|t| {
-            if is_fmu_file(t) {
+            if is_directory(t) {
+                Ok(PathBuf::from(t))
+            } else if is_fmu_file(t) {
                 let p = PathBuf::from(t);
                 if p.is_file() {
                     Ok(p)
@@ -391,10 +429,27 @@ fn fmu_paths(crates: &[MechanismCrate], args: &Args) -> Result<Vec<PathBuf>, Str
             } else {
                 let known: Vec<&str> = crates.iter().map(|c| c.model.as_str()).collect();
                 Err(format!(
-                    "`{t}` is neither an FMU file nor a mechanism (known: {})",
+                    "`{t}` is neither an FMU file, a directory nor a mechanism (known: {})",
                     known.join(", ")
                 ))
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::positive_seconds;
+
+    #[test]
+    fn the_time_limit_is_a_number_of_seconds_above_0() {
+        assert_eq!(positive_seconds("2.5"), Ok(2.5));
+        for refused in ["0", "-1", "NaN", "inf", "soon"] {
+            let why = positive_seconds(refused).unwrap_err();
+            assert!(
+                why.contains("not a number of seconds above 0"),
+                "{refused}: {why}"
+            );
+        }
+    }
 }

@@ -1,10 +1,12 @@
 //! Packaging mechanisms as FMUs: each built crate as an FMI 2.0 and an FMI 3.0 `.fmu`
 //! (`archive`) carrying its binaries for every platform built (each checked by `binaries`),
 //! the model description and documentation its binary renders of itself, and its reference
-//! results (`references`).
+//! results (`references`); and, when asked, the FMUs laid out as an FMI cross-check tree
+//! (`cross_check`).
 
 pub mod archive;
 pub mod binaries;
+pub mod cross_check;
 pub mod references;
 
 use crate::build::{built_libraries, resolve, Built, Flavor, Platforms};
@@ -16,13 +18,15 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Builds the mechanism crates named (every one when `names` is empty) for `platforms` and
-/// writes their FMUs of both versions under `out`, saying what it wrote.
+/// writes their FMUs of both versions under `out`, and as a cross-check tree under
+/// `cross_check` when given, saying what it wrote.
 pub fn write_fmus(
     names: &[String],
     out: &Path,
     manifest_path: Option<&Path>,
     flavor: Flavor,
     platforms: Platforms,
+    cross_check: Option<&Path>,
 ) -> Result<(), String> {
     let started = Instant::now();
     let (platforms, missing) = resolve(platforms)?;
@@ -43,6 +47,16 @@ pub fn write_fmus(
                 packaged.size.div_ceil(1024),
                 folders.join(", ")
             );
+            if let Some(root) = cross_check {
+                cross_check::write_model(
+                    root,
+                    &b.krate.model,
+                    version,
+                    &platforms,
+                    &packaged.path,
+                    &packaged.references,
+                )?;
+            }
         }
     }
     let tuples: Vec<&str> = platforms.iter().map(|p| p.tuple()).collect();
@@ -53,6 +67,15 @@ pub fn write_fmus(
         tuples.join(", "),
         started.elapsed().as_secs_f64()
     );
+    if let Some(root) = cross_check {
+        println!(
+            "cross-check tree: {}",
+            root.join("fmus/<2.0|3.0>/<cs|me>/<platform>")
+                .join(cross_check::TOOL)
+                .join(env!("CARGO_PKG_VERSION"))
+                .display()
+        );
+    }
     for m in &missing {
         println!("not built for {}: {}", m.platform.tuple(), m.what());
     }
@@ -74,13 +97,15 @@ pub struct Packaged {
     pub path: PathBuf,
     /// Its size in bytes.
     pub size: u64,
+    /// The reference files it carries (archive path, bytes).
+    pub references: Vec<(String, Vec<u8>)>,
 }
 
 /// Packages the libraries of `built` for `platforms` as an FMU of `version` (in [`folder`]
 /// of `out`): asks this machine's binary for its own modelDescription of that version, so
 /// the XML and the binaries can never disagree, and for its documentation; checks every
-/// binary (see [`binaries::check`]); adds the reference results of the default experiment
-/// found in the crate's `reference/` (see [`references`]).
+/// binary (see [`binaries::check`]); adds the reference results found in the crate's
+/// `reference/` (see [`references`]).
 pub fn package_fmu(
     built: &Built,
     platforms: &[Platform],
@@ -133,7 +158,16 @@ pub fn package_fmu(
     archive::write_fmu(&path, &contents)
         .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
-    Ok(Packaged { path, size })
+    let references = contents
+        .extra
+        .into_iter()
+        .filter(|(p, _)| p.starts_with(references::REFERENCE_DIR))
+        .collect();
+    Ok(Packaged {
+        path,
+        size,
+        references,
+    })
 }
 
 /// The files added to the archive of version `version` of `model` built into `library` from

@@ -1,4 +1,5 @@
-//! The reference results of a mechanism's default experiment, committed beside its crate
+//! The reference results of a mechanism (over its default experiment's time and step, from
+//! the FMU's start values), committed beside its crate
 //! (`reference/<model>_ref.csv`, `_in.csv`, `_ref.opt`), as `mechfmu build` packages them
 //! (the FMI layered standard's folder); in an FMI 3.0 FMU with the columns of the scalars
 //! that are array elements there named as the elements.

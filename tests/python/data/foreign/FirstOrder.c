@@ -8,14 +8,25 @@
  *     y(t + h) = u + (y - u) e^(-h/tau)
  *     z(t + h) = z + u h + (y - u) tau (1 - e^(-h/tau))
  *
- * Built with gcc at test time. Compile-time switches make the broken variants the tests need:
+ * Built with gcc at test time. Compile-time switches make the variants the tests need:
  *   -DREFUSE_INSTANTIATE   fmi2Instantiate returns NULL
  *   -DFAIL_AT=2.0          fmi2DoStep fails (fmi2Error) from t = 2.0 on
  *   -DCRASH_IF_NEGATIVE_Y0 fmi2DoStep writes through a NULL pointer when y0 < 0 (an FMU that
  *                          crashes its importer's process, for the sweep's native runner)
+ *   -DCRASH_AT=1.0         fmi2DoStep writes through a NULL pointer from t = 1.0 on
+ *   -DHANG_AT=1.0          fmi2DoStep never returns from t = 1.0 on
+ *   -DTALK                 fmi2ExitInitializationMode writes a line to the process's standard
+ *                          error, as many FMUs do (not through the logger)
+ *   -DANY_GUID             fmi2Instantiate accepts any GUID (the standard does not require
+ *                          the check)
+ *   -DOWN_SOLVER           a solver of its own: RK4 substeps of tau * tol^(1/4) at most, tol
+ *                          the tolerance of fmi2SetupExperiment or, when none is given, its
+ *                          own default 1e-2 (so that its results depend on the tolerance, as
+ *                          a Dymola FMU's with CVODE do)
  */
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -29,8 +40,12 @@ typedef struct {
     fmi2CallbackFunctions callbacks;
     fmi2String name;
     double time;
+    double tolerance;
     double v[N_VR];
 } Instance;
+
+/* the tolerance OWN_SOLVER integrates at when fmi2SetupExperiment gives none */
+#define DEFAULT_TOLERANCE 1e-2
 
 static void say(Instance *c, fmi2Status status, const char *message) {
     if (c->callbacks.logger) c->callbacks.logger(c->callbacks.componentEnvironment, c->name, status, "logError", "%s", message);
@@ -50,7 +65,12 @@ fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid, f
     (void)name; (void)type; (void)guid; (void)callbacks;
     return NULL;
 #else
-    if (type != fmi2CoSimulation || !guid || strcmp(guid, GUID) != 0 || !name || !callbacks) return NULL;
+#ifdef ANY_GUID
+    if (!guid) return NULL;
+#else
+    if (!guid || strcmp(guid, GUID) != 0) return NULL;
+#endif
+    if (type != fmi2CoSimulation || !name || !callbacks) return NULL;
     Instance *c = calloc(1, sizeof(Instance));
     if (!c) return NULL;
     c->callbacks = *callbacks;
@@ -65,8 +85,9 @@ void fmi2FreeInstance(fmi2Component c) { free(c); }
 
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tolDefined, fmi2Real tol, fmi2Real start,
                                fmi2Boolean stopDefined, fmi2Real stop) {
-    (void)tolDefined; (void)tol; (void)stopDefined; (void)stop;
+    (void)stopDefined; (void)stop;
     ((Instance *)c)->time = start;
+    ((Instance *)c)->tolerance = tolDefined && tol > 0 ? tol : DEFAULT_TOLERANCE;
     return fmi2OK;
 }
 
@@ -80,6 +101,9 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
     }
     i->v[VR_Y] = i->v[VR_Y0];
     i->v[VR_Z] = 0;
+#ifdef TALK
+    fprintf(stderr, "FirstOrder on stderr: initialized with y0 = %g\n", i->v[VR_Y0]);
+#endif
     return fmi2OK;
 }
 
@@ -127,9 +151,35 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean noSet
         *nowhere = 1;
     }
 #endif
-    double u = i->v[VR_U], y = i->v[VR_Y], tau = i->v[VR_TAU], decay = exp(-h / tau);
+#ifdef CRASH_AT
+    if (t + h > CRASH_AT) {
+        volatile int *nowhere = NULL;
+        *nowhere = 1;
+    }
+#endif
+#ifdef HANG_AT
+    for (volatile int forever = 1; forever && t + h > HANG_AT;) {
+    }
+#endif
+    double u = i->v[VR_U], y = i->v[VR_Y], tau = i->v[VR_TAU];
+#ifdef OWN_SOLVER
+    /* RK4 on (y, z)' = ((u - y) / tau, y): exact for z given y, so only y's error matters */
+    int n = (int)ceil(h / (tau * pow(i->tolerance, 0.25)));
+    double dt = h / n, z = i->v[VR_Z];
+    for (int k = 0; k < n; k++) {
+        double k1 = (u - y) / tau, k2 = (u - (y + dt / 2 * k1)) / tau, k3 = (u - (y + dt / 2 * k2)) / tau,
+               k4 = (u - (y + dt * k3)) / tau;
+        double y_next = y + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+        z += dt / 6 * (y + 2 * (y + dt / 2 * k1) + 2 * (y + dt / 2 * k2) + (y + dt * k3));
+        y = y_next;
+    }
+    i->v[VR_Z] = z;
+    i->v[VR_Y] = y;
+#else
+    double decay = exp(-h / tau);
     i->v[VR_Z] += u * h + (y - u) * tau * (1 - decay);
     i->v[VR_Y] = u + (y - u) * decay;
+#endif
     i->time = t + h;
     return fmi2OK;
 }
