@@ -1,7 +1,7 @@
 //! A shipped FMU's binary exports the 44 functions of FMI 2.0 (`fmi2Functions.h`: the
 //! common ones, Model Exchange's and Co-Simulation's), the 75 of FMI 3.0
 //! (`fmi3Functions.h`: one binary serves the FMU of either version) and the documented
-//! extras the README lists, nothing else (no benchmark entry points, no Rust symbols).
+//! extras docs/architecture.md lists, nothing else (no benchmark entry points, no Rust symbols).
 
 use mechfmu_robustness::ffi::FUNCTION_NAMES;
 use mechfmu_robustness::fmu::{required_fmu_paths, Fmu};
@@ -140,7 +140,7 @@ const HEADER_FUNCTIONS_FMI3: [&str; 75] = [
     "fmi3ActivateModelPartition",
 ];
 
-/// What the README lists besides the FMI functions.
+/// What docs/architecture.md lists besides the FMI functions.
 const DOCUMENTED_EXTRAS: [&str; 5] = [
     "mechfmu_documentation",
     "mechfmu_documentation_fmi3",

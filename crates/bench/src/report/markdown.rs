@@ -1,4 +1,4 @@
-//! The benchmark's figures as Markdown tables (for the README and docs/performance.md).
+//! The benchmark's figures as Markdown tables (for docs/performance.md).
 
 use super::format::{e, f, percent};
 use super::Report;
