@@ -31,6 +31,14 @@ pub fn mechanism_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCra
     Ok(crates)
 }
 
+/// The workspace root (the folder of the workspace's Cargo.toml) of `manifest_path`.
+pub fn workspace_root(manifest_path: Option<&Path>) -> Result<PathBuf, String> {
+    metadata(manifest_path)?["workspace_root"]
+        .as_str()
+        .map(PathBuf::from)
+        .ok_or_else(|| "cargo metadata names no workspace root".to_string())
+}
+
 fn metadata(manifest_path: Option<&Path>) -> Result<serde_json::Value, String> {
     let mut cmd = Command::new(cargo());
     cmd.args(["metadata", "--format-version", "1", "--no-deps"]);

@@ -5,15 +5,14 @@
 //! runtime's `bench` feature, provisions the Python environment when asked, and runs the
 //! lab's valgrind probe when the lab re-invokes it (`--probe`).
 
-use crate::build::workspace::{cargo, mechanism_crates};
+use crate::build::workspace::{cargo, mechanism_crates, workspace_root};
 use crate::build::{select, Flavor, Platforms};
 use crate::home::python::ensure_venv;
 use crate::package::write_fmus;
 use mechfmu_bench::effort::Effort;
 use mechfmu_bench::instructions::{ProbeArgs, ProbeCommand};
 use mechfmu_bench::lab::{self, Plan};
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -117,27 +116,4 @@ fn probe_command() -> Result<ProbeCommand, String> {
         program,
         args: vec!["bench".into()],
     })
-}
-
-/// The workspace root (the folder of the workspace's Cargo.toml).
-fn workspace_root(manifest_path: Option<&Path>) -> Result<PathBuf, String> {
-    let mut cmd = Command::new(cargo());
-    cmd.args(["locate-project", "--workspace", "--message-format", "plain"]);
-    if let Some(p) = manifest_path {
-        cmd.arg("--manifest-path").arg(p);
-    }
-    let out = cmd
-        .output()
-        .map_err(|e| format!("cannot run cargo locate-project: {e}"))?;
-    if !out.status.success() {
-        return Err(format!(
-            "cargo locate-project failed: {}",
-            String::from_utf8_lossy(&out.stderr).trim()
-        ));
-    }
-    let manifest = PathBuf::from(String::from_utf8_lossy(&out.stdout).trim());
-    manifest
-        .parent()
-        .map(Path::to_path_buf)
-        .ok_or_else(|| format!("{} has no folder", manifest.display()))
 }
