@@ -169,8 +169,14 @@ def test_dependencies_are_the_knowns_of_each_list(model):
         ("InitialUnknown", fmi3.initialUnknowns, inputs | exact | independent, {"dependent", "constant"}),
     ]:
         for u in unknowns:
-            assert u.dependencies is not None, f"{name} {u.variable.name} lists no dependencies"
+            if u.dependencies is None:
+                # "depends on all knowns" (section 2.4.8): how we write a list of every known
+                assert u.dependenciesKind is None, f"{name} {u.variable.name}: kinds without dependencies"
+                continue
             assert len(u.dependenciesKind) == len(u.dependencies)
+            assert {id(d) for d in u.dependencies} != knowns, (
+                f"{name} {u.variable.name} lists every known: written without dependencies instead"
+            )
             others = [d.name for d in u.dependencies if id(d) not in knowns]
             assert not others, f"{name} {u.variable.name} depends on {others}, which are no knowns there"
             assert set(u.dependenciesKind) <= kinds, f"{name} {u.variable.name}: {u.dependenciesKind}"

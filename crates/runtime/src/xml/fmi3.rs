@@ -74,6 +74,8 @@ pub fn model_description<M: Mechanism>() -> Result<String, String> {
             &structure.event_indicators,
             "event indicator",
         )?,
+        knowns: by_variable_knowns(&shapes, &structure.knowns),
+        initial_knowns: by_variable_knowns(&shapes, &structure.initial_knowns),
     };
     let written = shared::states_before_derivatives(shapes.variables.len(), |i| {
         state_of(variables, &shapes, &shapes.variables[i]).and_then(|state| {
@@ -124,12 +126,31 @@ fn check_names(model: &str, shapes: &Shapes, units: &[UnitInfo]) -> Result<(), S
     Ok(())
 }
 
-/// The lists of `<ModelStructure>`, by FMI 3.0 value reference.
+/// The lists of `<ModelStructure>`, by FMI 3.0 value reference, and the knowns of each.
 struct Lists {
     outputs: Vec<Unknown>,
     derivatives: Vec<Unknown>,
     initial_unknowns: Vec<Unknown>,
     event_indicators: Vec<Unknown>,
+    /// The knowns of `<Output>`, `<ContinuousStateDerivative>` and `<EventIndicator>`.
+    knowns: BTreeSet<usize>,
+    /// The knowns of `<InitialUnknown>`.
+    initial_knowns: BTreeSet<usize>,
+}
+
+/// The FMI 3.0 value reference of a scalar's variable (the time for `VARIABLES.len()`).
+fn variable_reference(shapes: &Shapes, vr: usize) -> usize {
+    match shapes.owner(vr) {
+        Some(owner) => owner.reference,
+        None => Shapes::TIME_REFERENCE,
+    }
+}
+
+/// Scalar knowns taken over to the variables they belong to.
+fn by_variable_knowns(shapes: &Shapes, knowns: &[usize]) -> BTreeSet<usize> {
+    (knowns.iter())
+        .map(|&vr| variable_reference(shapes, vr))
+        .collect()
 }
 
 /// Scalar unknowns taken over to the variables they belong to, in order of first
@@ -143,10 +164,7 @@ fn by_variable(
     unknowns: &[Unknown],
     what: &str,
 ) -> Result<Vec<Unknown>, String> {
-    let reference = |vr: usize| match shapes.owner(vr) {
-        Some(owner) => owner.reference,
-        None => Shapes::TIME_REFERENCE,
-    };
+    let reference = |vr: usize| variable_reference(shapes, vr);
     type Kinds = BTreeMap<usize, DependencyKind>;
     let mut grouped: Vec<(&Shaped, BTreeSet<usize>, Kinds)> = Vec::new();
     for u in unknowns {
@@ -392,6 +410,12 @@ fn write_variables(w: &mut Writer<Vec<u8>>, rows: &[Row]) -> io::Result<()> {
 
 /// `<Output>`, `<ContinuousStateDerivative>`, `<InitialUnknown>` and `<EventIndicator>`, in
 /// the schema's order, each with its dependencies and their kinds.
+///
+/// An unknown that depends on every known of its list is written without `dependencies`
+/// (section 2.4.8: "If not present, it must be assumed that the unknown depends on all
+/// knowns"): the same statement, and one that importers which take the list's value
+/// references for FMI 2.0's 1-based indices (OMSimulator) do not trip over, as they do on
+/// the time's value reference 0.
 fn write_structure(w: &mut Writer<Vec<u8>>, lists: &Lists) -> io::Result<()> {
     let empty = lists.outputs.is_empty()
         && lists.derivatives.is_empty()
@@ -403,21 +427,31 @@ fn write_structure(w: &mut Writer<Vec<u8>>, lists: &Lists) -> io::Result<()> {
     }
     w.create_element("ModelStructure")
         .write_inner_content(|w| {
-            for (element, unknowns) in [
-                ("Output", &lists.outputs),
-                ("ContinuousStateDerivative", &lists.derivatives),
-                ("InitialUnknown", &lists.initial_unknowns),
-                ("EventIndicator", &lists.event_indicators),
+            for (element, unknowns, knowns) in [
+                ("Output", &lists.outputs, &lists.knowns),
+                (
+                    "ContinuousStateDerivative",
+                    &lists.derivatives,
+                    &lists.knowns,
+                ),
+                (
+                    "InitialUnknown",
+                    &lists.initial_unknowns,
+                    &lists.initial_knowns,
+                ),
+                ("EventIndicator", &lists.event_indicators, &lists.knowns),
             ] {
                 for u in unknowns {
-                    let references: Vec<String> = u.knowns().map(|k| k.to_string()).collect();
-                    let kinds: Vec<&str> = u.dependencies.iter().map(|d| d.kind.as_str()).collect();
+                    let mut attributes = vec![("valueReference", u.vr.to_string())];
+                    if !u.knowns().eq(knowns.iter().copied()) {
+                        let references: Vec<String> = u.knowns().map(|k| k.to_string()).collect();
+                        let kinds: Vec<&str> =
+                            u.dependencies.iter().map(|d| d.kind.as_str()).collect();
+                        attributes.push(("dependencies", references.join(" ")));
+                        attributes.push(("dependenciesKind", kinds.join(" ")));
+                    }
                     w.create_element(element)
-                        .with_attributes(pairs(&vec![
-                            ("valueReference", u.vr.to_string()),
-                            ("dependencies", references.join(" ")),
-                            ("dependenciesKind", kinds.join(" ")),
-                        ]))
+                        .with_attributes(pairs(&attributes))
                         .write_empty()?;
                 }
             }

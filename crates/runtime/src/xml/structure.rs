@@ -62,6 +62,11 @@ pub struct ModelStructure {
     /// The event indicators (`Mechanism::EVENT_INDICATORS`), in their order. Knowns: as
     /// for the outputs. FMI 3.0 lists them (`<EventIndicator>`); FMI 2.0 has no such list.
     pub event_indicators: Vec<Unknown>,
+    /// The knowns of the outputs, derivatives and event indicators, ascending (the time
+    /// last, as `VARIABLES.len()`).
+    pub knowns: Vec<usize>,
+    /// The knowns of the initial unknowns, ascending (the time last).
+    pub initial_knowns: Vec<usize>,
 }
 
 /// Which variables are the knowns of `dependencies`: the two standards differ.
@@ -167,6 +172,8 @@ pub fn model_structure_with<M: Mechanism>(standard: Knowns) -> Result<ModelStruc
         derivatives,
         initial_unknowns,
         event_indicators,
+        knowns,
+        initial_knowns,
     })
 }
 

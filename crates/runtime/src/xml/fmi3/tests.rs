@@ -398,3 +398,43 @@ fn model_structure_lists_an_array_once() {
 }
 
 mod refused;
+
+crate::mechanism! {
+    /// x' = k sin(t) - x: a derivative that depends on every known of FMI 3.0.
+    pub struct Decay / DecayValues {
+        /// Drive
+        k: Variable::parameter("m/s", 1.0),
+        /// Position
+        x: Variable::state("m", 1.0, "x_dot"),
+        /// Its rate
+        x_dot: Variable::local("m/s"),
+        /// Twice the position
+        y: Variable::output("m"),
+    }
+}
+
+impl Mechanism for Decay {
+    const EXPERIMENT: Experiment = EXPERIMENT;
+    fn evaluate<S: Scalar>(v: &mut DecayValues<S>) {
+        v.x_dot = v.k * v.time.sin() - v.x;
+        v.y = v.x + v.x;
+    }
+}
+
+#[test]
+fn an_unknown_of_every_known_is_written_without_dependencies() {
+    // Value references: time 0, k 1, x 2, x_dot 3, y 4. The derivative depends on the
+    // time, k and x, all the knowns of its list: FMI 3.0 then omits the list, which keeps
+    // the time's value reference 0 out of it. The outputs depend on x alone.
+    let xml = model_description::<Decay>().unwrap();
+    assert_eq!(
+        structure(&xml),
+        [
+            unknown("Output", 2, &[(2, Constant)]),
+            unknown("Output", 4, &[(2, Constant)]),
+            "<ContinuousStateDerivative valueReference=\"3\"/>".to_string(),
+            "<InitialUnknown valueReference=\"3\"/>".to_string(),
+            unknown("InitialUnknown", 4, &[(2, Constant)]),
+        ]
+    );
+}
