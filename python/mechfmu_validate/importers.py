@@ -41,7 +41,7 @@ from fmpy import read_model_description
 from . import fmulog, progress
 from .case import Case, Result, step_input
 
-__all__ = ["Fmu", "run_fmpy", "run_fmpy_as_libcosim", "run_fmpy_me", "simulate_me", "held_input", "on_grid", "run_libcosim",
+__all__ = ["Fmu", "NotRead", "run_fmpy", "run_fmpy_as_libcosim", "run_fmpy_me", "simulate_me", "held_input", "on_grid", "run_libcosim",
            "libcosim_available", "input_values", "input_events_on_grid", "NotSupported", "capture_fmu_log",
            "LIBCOSIM_NOTE", "ME_CVODE_RTOL", "agreement"]
 
@@ -57,6 +57,12 @@ LIBCOSIM_BEAT = 100
 
 class NotSupported(RuntimeError):
     """The importer cannot run this kind of experiment (a row to skip, not a failure)."""
+
+
+class NotRead(RuntimeError):
+    """The importer could not load the FMU or one of its variables: a limit of its loader
+    when the FMU is legal (libcosim's FMI Library refuses some model descriptions the
+    standard allows, and drops variables it judges wrong)."""
 
 
 @dataclass
@@ -311,16 +317,19 @@ def run_libcosim(fmu: Fmu, case: Case) -> Result:
         raise RuntimeError(f"output_interval {case.output_interval} s is not a whole number of nanoseconds")
 
     execution = CosimExecution.from_step_size(step_size=h_ns)
-    slave = CosimLocalSlave(fmu_path=str(fmu.path), instance_name=fmu.model)
-    index = execution.add_local_slave(local_slave=slave)
+    try:
+        slave = CosimLocalSlave(fmu_path=str(fmu.path), instance_name=fmu.model)
+        index = execution.add_local_slave(local_slave=slave)
+    except Exception as e:  # noqa: BLE001 (libcosimpy raises what its C library reports)
+        raise NotRead(f"libcosim could not load {fmu.path.name}: {e}") from e
     if index < 0:
-        raise RuntimeError(f"libcosim could not load {fmu.path}")
+        raise NotRead(f"libcosim could not load {fmu.path.name}")
     variables = fmu.variables
     names = case.recorded()
     vrs = [variables[n].valueReference for n in names]
     for name, value in case.start_values.items():
         if not execution.real_initial_value(index, variables[name].valueReference, float(value)):
-            raise RuntimeError(f"libcosim refused the start value {name} = {value}")
+            raise NotRead(f"libcosim refused the start value {name} = {value}")
     input_names, initial_inputs = input_values(case, fmu, 0.0)
     input_vrs = [variables[nm].valueReference for nm in input_names]
     for vr, value in zip(input_vrs, initial_inputs):
@@ -354,9 +363,12 @@ def run_libcosim(fmu: Fmu, case: Case) -> Result:
         raise RuntimeError(f"libcosim reached {status.current_time} ns, not {n * h_ns} ns")
 
     columns: dict[str, np.ndarray] = {"time": np.arange(n + 1) * (h_ns * 1e-9)}
-    final = last.last_real_values(index, vrs)
-    for name, vr, end in zip(names, vrs, final):
-        _, steps, values = series.time_series_real_samples(index, vr, 0, n + 1)
+    for name, vr in zip(names, vrs):
+        try:
+            (end,) = last.last_real_values(index, [vr])
+            _, steps, values = series.time_series_real_samples(index, vr, 0, n + 1)
+        except Exception as e:  # noqa: BLE001 (libcosimpy asserts on a variable it does not know)
+            raise NotRead(f"libcosim cannot read {name} ({e}): its loader did not take the variable") from e
         col = np.full(n + 1, np.nan)
         for s, v in zip(steps, values):
             if 0 <= s <= n:

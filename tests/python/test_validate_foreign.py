@@ -29,6 +29,7 @@ import sys
 import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
+from types import SimpleNamespace
 
 import fmpy
 import pytest
@@ -37,6 +38,7 @@ import fmutest
 from mechfmu_validate import cs_rows, embedded_reference
 from mechfmu_validate.fmi_crate import FMI_RUN_ENV
 from mechfmu_validate.fmpy_criterion import CRITERION
+from mechfmu_validate.importers import NotRead
 from mechfmu_validate.opening import OPENS, open_fmu
 from mechfmu_validate.report import result_text
 
@@ -311,7 +313,7 @@ def test_aliases_that_cannot_be_one_value_fail_naming_the_clause(tmp_path, fmi_r
     proc, rows = validate(tmp_path, fmi_run, str(build(tmp_path / "fmu", xml=with_variables(CONFLICTING_ALIASES))))
     assert proc.returncode == 1
     failed = {(r["case"], r["importer"]): r for r in rows if not r["passed"]}
-    assert set(failed) == {("check: value references and aliases", "mechfmu"), ("embedded_reference", "libcosim")}
+    assert set(failed) == {("check: value references and aliases", "mechfmu")}
     aliases = failed["check: value references and aliases", "mechfmu"]
     constants, starts = aliases["problems"]  # in the order of the value references
     assert starts.startswith("FMI 2.0.5 §2.2.7 start: the Real value reference 4 (y0, y0_guess)") and \
@@ -319,8 +321,11 @@ def test_aliases_that_cannot_be_one_value_fail_naming_the_clause(tmp_path, fmi_r
     assert constants.startswith("FMI 2.0.5 §2.2.7 variability: the Real value reference 2 (z, z_frozen) mixes "
                                 "constants (z_frozen)"), constants
     # libcosim's loader (the FMI Library) enforces the same rules: it drops these variables,
-    # says so on the console, which its row keeps, and cannot record z
-    said = failed["embedded_reference", "libcosim"]["output"]
+    # says so on the console, which its row keeps, and cannot record z: a row skipped, as
+    # where the loader refuses a legal FMU, since the check's row gives the verdict
+    libcosim = next(r for r in rows if (r["case"], r["importer"]) == ("embedded_reference", "libcosim"))
+    assert libcosim.get("skipped") and "libcosim cannot read z" in libcosim["problems"][0], libcosim
+    said = libcosim["output"]
     assert "[FMI Library: FMI2XML] Only constants can be aliases with constants (variables: z and z_frozen)" in said
     assert "FMI Library" not in proc.stdout.split("FAIL FirstOrder")[0], "the console output is in its row"
 
@@ -423,3 +428,21 @@ def test_an_fmu_the_fmi_crate_cannot_read_is_its_skip(tmp_path, fmi_run):
     assert crate["problems"] == ['fmi crate: cannot read FirstOrder.fmu (unknown field "Annotations" in element '
                                  '"ScalarVariable"): the crate\'s limit, stricter than the standard (the checks hold '
                                  'the model description to the standard)'], crate["problems"]
+
+
+@pytest.mark.parametrize("by_mechfmu", [False, True])
+def test_an_fmu_libcosims_loader_refuses_is_its_limit_unless_ours(monkeypatch, by_mechfmu):
+    """libcosim's loader (the FMI Library) refuses some legal model descriptions: for another
+    exporter's FMU that is a skipped row naming why; ours promise to run under libcosim."""
+    def refuse(fmu, case):
+        raise NotRead("libcosim could not load X.fmu")
+
+    monkeypatch.setattr(cs_rows, "run_libcosim", refuse)
+    fmu, case = SimpleNamespace(model="X", by_mechfmu=by_mechfmu), SimpleNamespace(name="default")
+    row, plotted = cs_rows.libcosim_row(fmu, case, None, None)
+    assert plotted is None and row["problems"][0].startswith("libcosim")
+    assert "could not load X.fmu" in row["problems"][0]
+    if by_mechfmu:
+        assert not row["passed"] and not row.get("skipped")
+    else:
+        assert row["passed"] and row["skipped"] and "a limit of libcosim's loader" in row["problems"][0]
