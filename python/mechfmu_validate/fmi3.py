@@ -198,26 +198,28 @@ def crate_row(f3: Fmi3, case: Case, fmpy3: Result | None, ev, anchor: str = "") 
                 notes=[f"worst signal {where} at t = {when:g}", CRATE_NOTE], log=fc.log[-20:])
 
 
-def case_rows(f3: Fmi3, case: Case, anchor: str = "", use_fmi_crate: bool = True, use_model_exchange: bool = True,
-              progress: Callable[[str], None] = lambda _: None) -> tuple[list[dict[str, Any]], Result | None, Any]:
-    """The case's FMI 3.0 rows (see the module's documentation), FMPy's FMI 3.0 result and its
-    evaluation."""
+def case_rows(f3: Fmi3, case: Case, emit: Callable[[dict[str, Any]], None], anchor: str = "",
+              use_fmi_crate: bool = True, use_model_exchange: bool = True,
+              progress: Callable[[str], None] = lambda _: None) -> tuple[Result | None, Any]:
+    """The case's FMI 3.0 rows (see the module's documentation), each given to ``emit`` as soon
+    as it is made (what the importers print while it runs is its own); FMPy's FMI 3.0 result
+    and its evaluation."""
     progress(FMI3_CS)
     row, result, ev = cs_row(f3, case, anchor)
-    rows = [row]
+    emit(row)
     if use_fmi_crate:
         progress(FMI3_CRATE)
-        rows.append(crate_row(f3, case, result, ev, anchor))
+        emit(crate_row(f3, case, result, ev, anchor))
     if use_model_exchange:
         progress(FMI3_CVODE)
-        rows.append(model_exchange.cvode_row(f3.fmu, case, anchor, None, FMI3_CVODE,
-                                             lambda _, c: run_fmpy3_me(f3, c, "CVode")))
+        emit(model_exchange.cvode_row(f3.fmu, case, anchor, None, FMI3_CVODE,
+                                      lambda _, c: run_fmpy3_me(f3, c, "CVode")))
         if use_fmi_crate:
             progress(FMI3_RK4)
             rk4 = replace(model_exchange.METHODS[model_exchange.RK4], importer=FMI3_RK4,
                           run=lambda _, c, h: run_crate3(f3, c, interface="me", step=h))
-            rows.append(model_exchange.fixed_step_row(f3.fmu, case, rk4, anchor))
-    return rows, result, ev
+            emit(model_exchange.fixed_step_row(f3.fmu, case, rk4, anchor))
+    return result, ev
 
 
 def agreement_row(f3: Fmi3, fmu2: Fmu) -> dict[str, Any]:

@@ -101,11 +101,11 @@ class Platforms:
                     platforms=dict(found=list(self.found), run=[NATIVE] + (self.foreign if self.runners else []),
                                    names={p: self.folders[p] for p in (*self.found, *PLATFORMS)}))
 
-    def case_rows(self, fmu: Fmu, case: Case) -> list[dict]:
-        """The case on each foreign binary against this machine's."""
+    def case_rows(self, fmu: Fmu, case: Case) -> Iterator[dict]:
+        """The case on each foreign binary against this machine's, a row as each run ends (so
+        that what the run printed is its row's)."""
         if self.runners is None or not self.foreign:
-            return []
-        rows = []
+            return
         try:
             native = run_case(fmu, case, NATIVE, self.runners, mapping=self.names)
         except Exception as e:  # noqa: BLE001 (a row, not a crash)
@@ -124,5 +124,4 @@ class Platforms:
             except Exception as e:  # noqa: BLE001 (a row, not a crash)
                 row.update(max_error=None, passed=False,
                            problems=[f"{platform} run failed: {type(e).__name__}: {e}"])
-            rows.append(row)
-        return rows
+            yield row

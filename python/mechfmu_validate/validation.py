@@ -75,13 +75,20 @@ def _entry(name: str, case: Case, units: dict[str, str]) -> dict[str, Any]:
                 highlight=case.highlight, plot=list(case.plot), units={**units, **{d: "derived" for d in case.derived}})
 
 
+def _append(rows: list[dict], entry: dict, made) -> None:
+    """Rows appended to ``rows`` one by one, as ``made`` gives them (the sink of an isolated
+    validation gives each the console output written while it was made), and to ``entry``'s
+    verdict."""
+    for row in made:
+        rows.append(row)
+        entry["passed"] = entry.get("passed", True) and row["passed"]
+
+
 def _fmi3_rows(f3, case: Case, entry: dict, rows: list[dict], use_fmi_crate: bool, use_model_exchange: bool) -> tuple:
-    """The case's FMI 3.0 rows, appended to ``rows`` and to ``entry``'s verdict."""
-    out = fmi3.case_rows(f3, case, entry["anchor"], use_fmi_crate, use_model_exchange,
-                         lambda what: _progress(f"{entry['fmu']}: {case.name} ({what})"))
-    rows.extend(out[0])
-    entry["passed"] = entry.get("passed", True) and all(r["passed"] for r in out[0])
-    return out
+    """The case's FMI 3.0 rows, appended to ``rows`` and to ``entry``'s verdict: FMPy's FMI 3.0
+    result and its evaluation."""
+    return fmi3.case_rows(f3, case, lambda row: _append(rows, entry, [row]), entry["anchor"], use_fmi_crate,
+                          use_model_exchange, lambda what: _progress(f"{entry['fmu']}: {case.name} ({what})"))
 
 
 def _broken_row(path: Path, problem: str, name: str | None = None) -> dict:
@@ -264,9 +271,7 @@ def validate_fmu(path: Path, cases_file: Path | None, only: list[str], use_libco
                 _fmi3_rows(f3, case, entry, rows, use_fmi_crate, use_model_exchange)
             for b, platform_fmu in zip(binaries, [fmu, f3.fmu if f3 is not None else None]):
                 _progress(f"{name}: {case.name} ({b.label} on other platforms)")
-                platform_rows = b.case_rows(platform_fmu, case)
-                rows.extend(platform_rows)
-                entry["passed"] = entry["passed"] and all(r["passed"] for r in platform_rows)
+                _append(rows, entry, b.case_rows(platform_fmu, case))
             if ev is not None and ev.signals:
                 plots.append(entry)
             details.append(dict(fmu=name, **describe(case)))
@@ -311,8 +316,8 @@ def validate_fmi3(path: Path, cases_file: Path | None, only: list[str], rows: li
         units = _units(f3.fmu.md, f3.mapping) if f3.mapping is not None else {}
         for case in selected:
             entry = dict(_entry(name, case, units), label="FMPy FMI 3.0 CS")
-            _, result, ev = _fmi3_rows(f3, case, entry, rows, use_fmi_crate, use_model_exchange)
-            rows.extend(binaries.case_rows(f3.fmu, case))
+            result, ev = _fmi3_rows(f3, case, entry, rows, use_fmi_crate, use_model_exchange)
+            _append(rows, entry, binaries.case_rows(f3.fmu, case))
             entry.update(evaluation=ev, result=result)
             if ev is not None and ev.signals:
                 plots.append(entry)

@@ -24,7 +24,7 @@ import types
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from mechfmu_validate import isolation
+from mechfmu_validate import isolation, validation
 from mechfmu_validate.fmi_crate import FMI_RUN_ENV
 from mechfmu_validate.isolation import STOPPED, Job, validate_isolated
 from test_validate_foreign import REPO, build, fmi_run, good, reference_rows, validate  # noqa: F401 (fixtures)
@@ -195,6 +195,26 @@ def child_sending_what_the_parent_cannot_read(conn, *_):
     conn.send(("row", ROW, 0))
     conn.send(("done", [ROW], [], [thing()]))
     time.sleep(3600)
+
+
+def child_validating_a_talking_batch(*args):
+    """The real child around a validation whose three runs (as the platforms' runs of one case,
+    made by one generator) each write to the console, as wine or an FMU does, while made."""
+    def validate_fmu(path, cases_file, only, use_libcosim, rows, *_, **__):
+        def made():
+            for name in ("win64", "aarch64-linux", "x86_64-windows"):
+                os.write(2, f"the {name} run speaks\n".encode())
+                yield dict(ROW, case=name)
+        validation._append(rows, {}, made())
+
+    isolation.validate_fmu = validate_fmu
+    isolation._child(*args)
+
+
+def test_each_row_of_a_batch_has_what_its_own_run_wrote():
+    rows, _, _ = validate_isolated(JOB, 30, child=child_validating_a_talking_batch)
+    assert [(r["case"], r.get("output")) for r in rows] == [
+        (name, f"the {name} run speaks\n") for name in ("win64", "aarch64-linux", "x86_64-windows")]
 
 
 def test_a_child_that_dies_before_it_writes_anything_is_one_fail_row():
