@@ -182,3 +182,55 @@ fn interface_is_current() {
 fn conforms() {
     mechfmu_testkit::conformance::check::<Oscillator>();
 }
+
+#[test]
+fn fmi3_derivatives_by_the_time_are_the_forcing_rate() {
+    // ẍ = (F0 sin(ω t) + F - c ẋ - k x) / m: ∂ẍ/∂t = F0 ω cos(ω t) / m, the time being a
+    // known of FMI 3.0 (section 2.4.8); a seed on the time and one on x add up.
+    use mechfmu::fmi3::ffi::{fmi3Error, fmi3OK};
+    let (m, f0, w) = (2.0, 3.0, 1.7);
+    let mut fmu = mechfmu_testkit::fmi3::Fmi3Harness::<Oscillator>::new();
+    fmu.initialize(Some(1e-8), 0.0, &[("m", m), ("F0", f0), ("omega", w)])
+        .unwrap();
+    fmu.step_to(0.4, 0.1).unwrap();
+    let t = fmu.time();
+    let (time, x, x_ddot) = (fmu.vr("time"), fmu.vr("x"), fmu.vr("x_ddot"));
+    let mut d = [f64::NAN];
+    assert_eq!(
+        fmu.directional_derivative(&[x_ddot], &[time], &[1.0], &mut d),
+        fmi3OK
+    );
+    let expected = f0 * w * (w * t).cos() / m;
+    assert!(
+        (d[0] - expected).abs() <= 1e-15 * expected.abs(),
+        "{} vs {expected}",
+        d[0]
+    );
+    let k = fmu.get("k");
+    assert_eq!(
+        fmu.directional_derivative(&[x_ddot], &[time, x], &[2.0, 0.5], &mut d),
+        fmi3OK
+    );
+    let expected = 2.0 * expected - 0.5 * k / m;
+    assert!(
+        (d[0] - expected).abs() <= 1e-15 * expected.abs(),
+        "{} vs {expected}",
+        d[0]
+    );
+    let mut adjoint = [f64::NAN; 2];
+    assert_eq!(
+        fmu.adjoint_derivative(&[x_ddot], &[time, x], &[1.0], &mut adjoint),
+        fmi3OK
+    );
+    assert_eq!(adjoint, [f0 * w * (w * t).cos() / m, -k / m]);
+    // The time is no unknown.
+    assert_eq!(
+        fmu.directional_derivative(&[time], &[x], &[1.0], &mut d),
+        fmi3Error
+    );
+    assert!(
+        fmu.logged("the unknowns include time"),
+        "{:?}",
+        fmu.messages()
+    );
+}

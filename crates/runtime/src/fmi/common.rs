@@ -198,21 +198,23 @@ pub fn deserialize_fmu_state<M: Mechanism>(
 }
 
 /// The change of each unknown along the direction `seed` of the knowns (states and
-/// inputs), at the current point, by scalar value reference.
+/// inputs) and `time_seed` of the time (FMI 3.0's independent variable; FMI 2.0 gives 0),
+/// at the current point, by scalar value reference.
 pub fn directional_derivative<M: Mechanism>(
     inst: &mut Instance<M>,
     unknowns: &[u32],
     knowns: &[u32],
     seed: &[f64],
+    time_seed: f64,
     sensitivity: &mut [f64],
 ) -> Outcome {
-    if let Some(x) = seed.iter().find(|x| !x.is_finite()) {
+    if let Some(x) = seed.iter().chain([&time_seed]).find(|x| !x.is_finite()) {
         return Err(error(format!(
             "the seed contains {x}: every seed must be finite"
         )));
     }
     inst.sim
-        .directional_derivative(unknowns, knowns, seed, sensitivity)?;
+        .directional_derivative_with_time(unknowns, knowns, seed, time_seed, sensitivity)?;
     // Seeds near the overflow limit give inf - inf: refuse, rather than return NaN.
     if let Some(i) = sensitivity.iter().position(|x| x.is_nan()) {
         return Err(error(format!(

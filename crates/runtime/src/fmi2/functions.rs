@@ -75,7 +75,7 @@ macro_rules! fmi2_functions {
         fmi2DeSerializeFMUstate(c: fmi2Component, serializedState: *const fmi2Byte, size: usize, FMUstate: *mut fmi2FMUstate) -> fmi2Status
             = guarded::<M>(c, &DESERIALIZE_FMU_STATE, |_| common::deserialize_fmu_state::<M>(Version::Fmi2, slice(serializedState as *const u8, size, "serializedState[]")?, StateSlot::new(FMUstate)));
         fmi2GetDirectionalDerivative(c: fmi2Component, vUnknown_ref: *const fmi2ValueReference, nUnknown: usize, vKnown_ref: *const fmi2ValueReference, nKnown: usize, dvKnown: *const fmi2Real, dvUnknown: *mut fmi2Real) -> fmi2Status
-            = guarded::<M>(c, &GET_DIRECTIONAL_DERIVATIVE, |inst| common::directional_derivative(inst, slice(vUnknown_ref, nUnknown, "vUnknown_ref[]")?, slice(vKnown_ref, nKnown, "vKnown_ref[]")?, slice(dvKnown, nKnown, "dvKnown[]")?, slice_mut(dvUnknown, nUnknown, "dvUnknown[]")?));
+            = guarded::<M>(c, &GET_DIRECTIONAL_DERIVATIVE, |inst| common::directional_derivative(inst, slice(vUnknown_ref, nUnknown, "vUnknown_ref[]")?, slice(vKnown_ref, nKnown, "vKnown_ref[]")?, slice(dvKnown, nKnown, "dvKnown[]")?, 0.0, slice_mut(dvUnknown, nUnknown, "dvUnknown[]")?));
         fmi2EnterEventMode(c: fmi2Component) -> fmi2Status = guarded::<M>(c, &ENTER_EVENT_MODE, me::enter_event_mode);
         fmi2NewDiscreteStates(c: fmi2Component, fmi2eventInfo: *mut fmi2EventInfo) -> fmi2Status
             = guarded::<M>(c, &NEW_DISCRETE_STATES, |inst| api::new_discrete_states(inst, out(fmi2eventInfo, "fmi2eventInfo")?));

@@ -154,22 +154,41 @@ pub fn no_variables(function: &str, vrs: &[fmi3ValueReference], n_values: usize)
     Ok(OK)
 }
 
-/// The scalar value references of `vrs` (named `what`), which must not include the time.
-fn scalars_of<M: Mechanism>(
-    inst: &Instance<M>,
-    vrs: &[u32],
-    what: &str,
-) -> Result<Vec<u32>, Failure> {
+/// The scalar value references of `vrs`, the time among them as [`TIME`].
+fn scalars_of<M: Mechanism>(inst: &Instance<M>, vrs: &[u32]) -> Result<Vec<u32>, Failure> {
     let mut scalars = Vec::with_capacity(vrs.len());
     expand(shapes(inst)?, vrs, &mut scalars)?;
+    Ok(scalars)
+}
+
+/// The scalar unknowns of `vrs`: the time is a known only.
+fn unknowns_of<M: Mechanism>(inst: &Instance<M>, vrs: &[u32]) -> Result<Vec<u32>, Failure> {
+    let scalars = scalars_of(inst, vrs)?;
     if scalars.contains(&TIME) {
-        return Err(error(format!(
-            "{what} include time: derivatives are taken with respect to states and inputs"
-        )));
+        return Err(error(
+            "the unknowns include time, the independent variable: it is a known only",
+        ));
     }
     Ok(scalars)
 }
 
+/// `seed` split between the scalar knowns and the time (the sum of the seeds given it).
+fn split_time(knowns: &[u32], seed: &[f64]) -> (Vec<u32>, Vec<f64>, f64) {
+    let (mut scalars, mut seeds, mut time_seed) = (Vec::new(), Vec::new(), 0.0);
+    for (&k, &s) in knowns.iter().zip(seed) {
+        if k == TIME {
+            time_seed += s;
+        } else {
+            scalars.push(k);
+            seeds.push(s);
+        }
+    }
+    (scalars, seeds, time_seed)
+}
+
+/// `J seed` for the Jacobian `J` of the unknowns by the knowns; the knowns may include the
+/// time (section 2.4.8 counts the independent variable among the knowns of outputs and
+/// derivatives).
 pub fn get_directional_derivative<M: Mechanism>(
     inst: &mut Instance<M>,
     unknowns: &[fmi3ValueReference],
@@ -177,11 +196,12 @@ pub fn get_directional_derivative<M: Mechanism>(
     seed: &[fmi3Float64],
     sensitivity: &mut [fmi3Float64],
 ) -> Outcome {
-    let unknowns = scalars_of(inst, unknowns, "the unknowns")?;
-    let knowns = scalars_of(inst, knowns, "the knowns")?;
+    let unknowns = unknowns_of(inst, unknowns)?;
+    let knowns = scalars_of(inst, knowns)?;
     check_values("nSeed", seed.len(), knowns.len())?;
     check_values("nSensitivity", sensitivity.len(), unknowns.len())?;
-    common::directional_derivative(inst, &unknowns, &knowns, seed, sensitivity)
+    let (knowns, seed, time_seed) = split_time(&knowns, seed);
+    common::directional_derivative(inst, &unknowns, &knowns, &seed, time_seed, sensitivity)
 }
 
 /// `seedᵀ J` for the Jacobian `J` of the unknowns by the knowns: one directional
@@ -193,8 +213,8 @@ pub fn get_adjoint_derivative<M: Mechanism>(
     seed: &[fmi3Float64],
     sensitivity: &mut [fmi3Float64],
 ) -> Outcome {
-    let unknowns = scalars_of(inst, unknowns, "the unknowns")?;
-    let knowns = scalars_of(inst, knowns, "the knowns")?;
+    let unknowns = unknowns_of(inst, unknowns)?;
+    let knowns = scalars_of(inst, knowns)?;
     check_values("nSeed", seed.len(), unknowns.len())?;
     check_values("nSensitivity", sensitivity.len(), knowns.len())?;
     if let Some(x) = seed.iter().find(|x| !x.is_finite()) {
@@ -204,13 +224,19 @@ pub fn get_adjoint_derivative<M: Mechanism>(
     }
     let mut column = vec![0.0; unknowns.len()];
     for (j, out) in sensitivity.iter_mut().enumerate() {
-        common::directional_derivative(inst, &unknowns, &knowns[j..=j], &[1.0], &mut column)?;
+        let (known, known_seed, time_seed): (&[u32], &[f64], f64) = match knowns[j] {
+            TIME => (&[], &[], 1.0),
+            _ => (&knowns[j..=j], &[1.0], 0.0),
+        };
+        common::directional_derivative(inst, &unknowns, known, known_seed, time_seed, &mut column)?;
         *out = seed.iter().zip(&column).map(|(s, c)| s * c).sum();
     }
     if let Some(j) = sensitivity.iter().position(|x| !x.is_finite()) {
         return Err(error(format!(
             "the sensitivity to `{}` is not a finite number (a seed too large?)",
-            M::VARIABLES[knowns[j] as usize].name
+            M::VARIABLES
+                .get(knowns[j] as usize)
+                .map_or("time", |v| v.name)
         )));
     }
     Ok(OK)

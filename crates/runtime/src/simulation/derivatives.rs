@@ -15,6 +15,19 @@ impl<M: Mechanism> Simulation<M> {
         dv_known: &[f64],
         dv_unknown: &mut [f64],
     ) -> Result<(), String> {
+        self.directional_derivative_with_time(unknowns, knowns, dv_known, 0.0, dv_unknown)
+    }
+
+    /// [`Simulation::directional_derivative`] along a direction that moves the time too, by
+    /// `dt` (FMI 3.0 counts the independent variable among the knowns).
+    pub fn directional_derivative_with_time(
+        &mut self,
+        unknowns: &[u32],
+        knowns: &[u32],
+        dv_known: &[f64],
+        dt: f64,
+        dv_unknown: &mut [f64],
+    ) -> Result<(), String> {
         for &vr in knowns {
             let v = variable::<M>(vr)?;
             if !(v.is_state() || v.causality == Causality::Input) {
@@ -35,6 +48,7 @@ impl<M: Mechanism> Simulation<M> {
         }
         self.update()?;
         let mut dual = M::map_values(&self.values, Dual64::from_re);
+        dual.set_time(Dual64::new(self.values.time(), dt));
         for (&vr, &dv) in knowns.iter().zip(dv_known) {
             let x = dual.get(vr as usize).unwrap_or(Dual64::from_re(0.0));
             dual.set(vr as usize, Dual64::new(x.re, x.eps + dv));
