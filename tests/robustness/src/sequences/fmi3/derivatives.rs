@@ -16,8 +16,8 @@ const CANARY: f64 = -7.5e-77;
 
 impl Sequence<'_, Fmi3> {
     /// fmi3GetDirectionalDerivative or fmi3GetAdjointDerivative: wrong counts, value
-    /// references that are no variable (time among them) or hand-overs refused; never NaN
-    /// with OK, nothing written past the sensitivities.
+    /// references that are no variable, time among the unknowns (it is a known only) or
+    /// hand-overs refused; never NaN with OK, nothing written past the sensitivities.
     pub(crate) fn directional_or_adjoint(
         &mut self,
         function: usize,
@@ -30,12 +30,9 @@ impl Sequence<'_, Fmi3> {
         let mut knowns = self.vrs();
         let (nu, nk) = (unknowns.len(), knowns.len());
         let time = self.model.time_vr;
-        let elements = |vrs: &[u32]| {
-            self.model
-                .len_of(vrs)
-                .filter(|_| !vrs.iter().any(|v| Some(*v) == time))
-        };
-        let (eu, ek) = (elements(&unknowns), elements(&knowns));
+        let eu =
+            (self.model.len_of(&unknowns)).filter(|_| !unknowns.iter().any(|v| Some(*v) == time));
+        let ek = self.model.len_of(&knowns);
         // The seed runs along the knowns (directional) or the unknowns (adjoint).
         let (seed_of, sens_of) = if function == f::DIRECTIONAL_DERIVATIVE {
             (ek, eu)
