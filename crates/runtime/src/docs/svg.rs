@@ -152,13 +152,13 @@ pub fn plot(run: &Trajectory, title: &str) -> String {
 fn ticks(lo: f64, hi: f64) -> (Vec<f64>, usize) {
     let span = (hi - lo).max(f64::MIN_POSITIVE);
     let raw = span / 5.0;
-    let mag = 10f64.powf(raw.log10().floor());
+    let mag = libm::pow(10.0, libm::log10(raw).floor());
     let step = [1.0, 2.0, 5.0, 10.0]
         .iter()
         .map(|m| m * mag)
         .find(|s| span / s <= 6.5)
         .unwrap_or(10.0 * mag);
-    let decimals = (-(step.log10().floor())).max(0.0) as usize;
+    let decimals = (-(libm::log10(step).floor())).max(0.0) as usize;
     let first = (lo / step).ceil() as i64;
     let last = (hi / step).floor() as i64;
     let ticks = (first..=last).map(|k| k as f64 * step).collect();

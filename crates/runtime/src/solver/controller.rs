@@ -14,6 +14,10 @@
 //! here, with the bounds as growth factors (`FAC1`, `FAC2`), and the error norm multiplies
 //! by reciprocal scales computed while the last stage evaluates (measured: 5-15 ns of
 //! every `fmi2DoStep`). Again a few ulp from `dopri5.f`'s arithmetic.
+//!
+//! `log2`, `exp2` and `pow` are the `libm` crate's, not the platform's C library's (glibc,
+//! msvcrt, libSystem round differently in the last bit), so the step sizes, and with them
+//! every trajectory, are the same bits on every platform.
 
 /// A method's controller constants (`dopri5.f` and `dop853.f` defaults).
 #[derive(Clone, Copy, Debug)]
@@ -90,7 +94,7 @@ impl Controller {
     #[inline]
     pub(crate) fn after_accept(&mut self, h: f64, err_squared: f64) -> f64 {
         // Below 1e-300 (0 included) the factor is long clamped to the largest growth.
-        let log2_err = 0.5 * err_squared.max(1e-300).log2();
+        let log2_err = 0.5 * libm::log2(err_squared.max(1e-300));
         let Control {
             beta,
             expo1,
@@ -99,7 +103,7 @@ impl Controller {
         } = self.control;
         let x = expo1 * log2_err - beta * self.log2_err_prev;
         let growth =
-            (SAFE * (-x.clamp(-EXP2_RANGE, EXP2_RANGE)).exp2()).clamp(min_growth, max_growth);
+            (SAFE * libm::exp2(-x.clamp(-EXP2_RANGE, EXP2_RANGE))).clamp(min_growth, max_growth);
         self.log2_err_prev = if err_squared >= ERR_PREV_FLOOR * ERR_PREV_FLOOR {
             log2_err
         } else {
@@ -112,7 +116,7 @@ impl Controller {
     /// (`> 1`, finite). The memory is left alone, as in `dopri5.f`.
     #[inline]
     pub(crate) fn after_reject(&self, h: f64, err_squared: f64) -> f64 {
-        h * (SAFE * err_squared.powf(-0.5 * self.control.expo1)).max(self.control.min_growth)
+        h * (SAFE * libm::pow(err_squared, -0.5 * self.control.expo1)).max(self.control.min_growth)
     }
 }
 
