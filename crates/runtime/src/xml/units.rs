@@ -45,7 +45,11 @@ pub fn display_unit(unit: &str) -> Result<Option<DisplayUnit>, String> {
     }
     Ok(Some(DisplayUnit {
         name,
-        factor: (180.0 / PI).powi(dims.rad),
+        // a product, not `powi`, which a Windows build leaves to msvcrt's `pow`
+        factor: (0..dims.rad.unsigned_abs()).fold(1.0, |f, _| match dims.rad > 0 {
+            true => f * (180.0 / PI),
+            false => f * (PI / 180.0),
+        }),
     }))
 }
 
