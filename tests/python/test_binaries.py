@@ -17,23 +17,35 @@ MECHFMU = REPO_ROOT / "target" / "release" / "mechfmu"
 MODELS = ["Crane", "CraneDynamics", "Oscillator", "PendulumCart", "RigidBody", "TwoMassOscillator"]
 
 # binaries/<folder>: FMI 2.0 names the x86-64 platforms; FMI 2.0.5 says to use FMI 3.0's
-# platform tuple for any other, so ARM Linux is aarch64-linux in both.
+# platform tuple for any other, so ARM Linux is aarch64-linux and Apple silicon aarch64-darwin
+# in both. An FMI 2.0 darwin64 is universal (FMPy on Apple silicon loads darwin64): a slice each.
 FOLDERS = {
-    "2.0": {"linux64": "x86_64-linux", "win64": "x86_64-windows", "aarch64-linux": "aarch64-linux"},
-    "3.0": {"x86_64-linux": "x86_64-linux", "x86_64-windows": "x86_64-windows", "aarch64-linux": "aarch64-linux"},
+    "2.0": [("linux64", "x86_64-linux"), ("win64", "x86_64-windows"), ("aarch64-linux", "aarch64-linux"),
+            ("darwin64", "x86_64-darwin"), ("darwin64", "aarch64-darwin"), ("aarch64-darwin", "aarch64-darwin")],
+    "3.0": [(p, p) for p in ("x86_64-linux", "x86_64-windows", "aarch64-linux", "x86_64-darwin", "aarch64-darwin")],
 }
-EXTENSION = {"x86_64-linux": "so", "x86_64-windows": "dll", "aarch64-linux": "so"}
+EXTENSION = {"x86_64-linux": "so", "x86_64-windows": "dll", "aarch64-linux": "so", "x86_64-darwin": "dylib",
+             "aarch64-darwin": "dylib"}
 
 GLIBC = {"libc.so.6", "libm.so.6", "libdl.so.2", "libpthread.so.0", "librt.so.1"}
+LIBSYSTEM = {"/usr/lib/libSystem.B.dylib"}
 STOCK = {
     "x86_64-linux": GLIBC | {"ld-linux-x86-64.so.2"},
     "aarch64-linux": GLIBC | {"ld-linux-aarch64.so.1"},
     # in C:\Windows\System32 of every Windows 10
     "x86_64-windows": {"kernel32.dll", "ntdll.dll", "msvcrt.dll", "userenv.dll", "ws2_32.dll", "advapi32.dll",
                        "bcrypt.dll", "bcryptprimitives.dll", "api-ms-win-core-synch-l1-2-0.dll"},
+    "x86_64-darwin": LIBSYSTEM,
+    "aarch64-darwin": LIBSYSTEM,
 }
+# the oldest macOS each Mac binary is for (the README says so)
+MACOS = {"x86_64-darwin": "10.12.0", "aarch64-darwin": "11.0.0"}
+# functions of the C library's math that would make a platform's last bit its own (the
+# runtime computes these itself, with the libm crate)
+MATH = {"sin", "cos", "tan", "sincos", "__sincos_stret", "asin", "acos", "atan", "atan2", "exp", "exp2", "exp10",
+        "__exp10", "expm1", "log", "log2", "log10", "log1p", "pow", "cbrt", "hypot", "sinh", "cosh", "tanh", "fma"}
 
-MAX_FMU_BYTES = 2 * 1024 * 1024
+MAX_FMU_BYTES = 4 * 1024 * 1024
 
 
 def fmu_files():
@@ -56,13 +68,13 @@ def inspected():
 def test_every_platform_is_there_and_self_contained(inspected, path, version):
     binaries = inspected[str(path)]["binaries"]
     model = path.stem
-    expected = {f"binaries/{folder}/{model}.{EXTENSION[p]}": p for folder, p in FOLDERS[version].items()}
-    assert {b["path"]: b["platform"] for b in binaries} == expected
+    expected = sorted((f"binaries/{folder}/{model}.{EXTENSION[p]}", p) for folder, p in FOLDERS[version])
+    assert sorted((b["path"], b["platform"]) for b in binaries) == expected
     exports = None
     for b in binaries:
         stock = STOCK[b["platform"]]
         loads = [d.lower() if b["platform"] == "x86_64-windows" else d for d in b["dependencies"]]
-        print(f"{b['path']}: loads {', '.join(b['dependencies'])}")
+        print(f"{b['path']} ({b['platform']}): loads {', '.join(b['dependencies'])}")
         assert set(loads) <= stock, f"{b['path']} loads {set(loads) - stock}"
         assert not any(d.startswith(("libgcc", "libwinpthread", "libstdc++")) for d in loads)
         assert b["foreign_dependencies"] == []
@@ -75,6 +87,29 @@ def test_every_platform_is_there_and_self_contained(inspected, path, version):
                 "mechfmu_documentation", "mechfmu_documentation_fmi3", "mechfmu_interface",
                 "mechfmu_model_description", "mechfmu_model_description_fmi3"]
         assert b["exports"] == exports, b["path"]
+        # (the Windows DLL keeps msvcrt's in code no call reaches: MinGW's single-precision
+        # wrappers, num-dual functions its linker does not drop; test_platforms.py runs it)
+        math = {i for i in b["imports"] if i.lstrip("_") in MATH or i in MATH}
+        if b["platform"] != "x86_64-windows":
+            assert not math, f"{b['path']} ({b['platform']}) takes {sorted(math)} from its platform's C library"
+
+
+@pytest.mark.parametrize("path,version", fmu_files(), ids=lambda x: str(x).split("fmus/")[-1])
+def test_mac_binaries_load_as_they_are(inspected, path, version):
+    """What a Mac's loader needs, read here: an install name of the binary's own, no newer
+    macOS than the README says, and on Apple silicon a valid (ad hoc) code signature."""
+    macs = [b for b in inspected[str(path)]["binaries"] if b["platform"].endswith("-darwin")]
+    assert len(macs) == (3 if version == "2.0" else 2)
+    for b in macs:
+        assert b["install_name"] == f"@rpath/{path.stem}.dylib", b["path"]
+        assert b["minimum_macos"] == MACOS[b["platform"]], b["path"]
+        if b["platform"] == "aarch64-darwin":
+            assert b["signature"] == "valid (ad hoc)", (b["path"], b["signature"])
+        else:
+            assert b["signature"] in ("none", "valid (ad hoc)"), (b["path"], b["signature"])
+    if version == "2.0":
+        universal = [b for b in macs if b["path"].startswith("binaries/darwin64/")]
+        assert len(universal) == 2 and all(b.get("slice") for b in universal)
 
 
 @pytest.mark.parametrize("path,version", fmu_files(), ids=lambda x: str(x).split("fmus/")[-1])
@@ -101,8 +136,9 @@ def test_inspect_names_what_is_not_a_binary(tmp_path):
 
 
 def test_missing_toolchain_is_named_and_the_rest_is_built(tmp_path):
-    """Without the cross linkers on PATH, `mechfmu build` packages this machine's binary, says
-    which platforms it left out and how to install them; asked for one, it refuses."""
+    """Without the cross linkers on PATH, `mechfmu build` packages this machine's binary and
+    the Mac ones (rustc's own rust-lld links them), says which platforms it left out and how
+    to install them; asked for one, it refuses."""
     cargo_bin = os.path.dirname(subprocess.run(["rustup", "which", "cargo"], capture_output=True,
                                                text=True).stdout.strip() or "/root/.cargo/bin/cargo")
     env = {k: v for k, v in os.environ.items() if not k.startswith("CARGO_TARGET_")}
@@ -114,17 +150,18 @@ def test_missing_toolchain_is_named_and_the_rest_is_built(tmp_path):
     assert ("not built for x86_64-windows: the linker x86_64-w64-mingw32-gcc is missing "
             "(install: apt-get install gcc-mingw-w64-x86-64 mingw-w64-x86-64-dev)") in done.stdout
     assert "not built for aarch64-linux: the linker aarch64-linux-gnu-gcc is missing" in done.stdout
-    assert "Oscillator.fmu (" in done.stdout and "): linux64\n" in done.stdout
+    assert "Oscillator.fmu (" in done.stdout and "): linux64, darwin64, aarch64-darwin\n" in done.stdout
     with zipfile.ZipFile(tmp_path / "Oscillator.fmu") as z:
-        assert [n for n in z.namelist() if n.startswith("binaries/") and not n.endswith("/")] == [
+        assert sorted(n for n in z.namelist() if n.startswith("binaries/") and not n.endswith("/")) == [
+            "binaries/aarch64-darwin/Oscillator.dylib", "binaries/darwin64/Oscillator.dylib",
             "binaries/linux64/Oscillator.so"]
     done = subprocess.run([str(MECHFMU), "build", "Oscillator", "--out", str(tmp_path), "--platform", "win64"],
                           cwd=REPO_ROOT, env=env, capture_output=True, text=True)
     assert done.returncode == 1
     assert "error: no x86_64-windows binary: the linker x86_64-w64-mingw32-gcc is missing" in done.stderr
-    done = subprocess.run([str(MECHFMU), "build", "--platform", "darwin64"], cwd=REPO_ROOT, capture_output=True,
+    done = subprocess.run([str(MECHFMU), "build", "--platform", "darwin32"], cwd=REPO_ROOT, capture_output=True,
                           text=True)
-    assert done.returncode != 0 and "unknown platform `darwin64`" in done.stderr
+    assert done.returncode != 0 and "unknown platform `darwin32`" in done.stderr
 
 
 def test_a_cross_linker_without_its_c_library_is_named(tmp_path):

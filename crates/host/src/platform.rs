@@ -1,9 +1,11 @@
 //! The platforms mechfmu builds FMU binaries for, and where each platform's binary is in an
 //! FMU of each FMI version.
 //!
-//! FMI 2.0 names the x86-64 platforms `linux64` and `win64`; for any other, FMI 2.0.5
-//! (section 2.3) says to use FMI 3.0's platform tuple, so ARM Linux is `aarch64-linux` in
-//! both versions.
+//! FMI 2.0 names the x86-64 platforms `linux64`, `win64` and `darwin64`; for any other, FMI
+//! 2.0.5 (section 2.3) says to use FMI 3.0's platform tuple, so ARM Linux is `aarch64-linux`
+//! and Apple silicon `aarch64-darwin` in both versions. (An FMI 2.0 FMU's `darwin64` holds a
+//! universal binary of both Mac platforms where both are built: FMPy on Apple silicon loads
+//! FMI 2.0 binaries from `darwin64`.)
 
 use mechfmu::contract::Version;
 
@@ -12,21 +14,33 @@ pub enum Platform {
     X86_64Linux,
     X86_64Windows,
     Aarch64Linux,
+    X86_64Darwin,
+    Aarch64Darwin,
 }
 
 impl Platform {
-    pub const ALL: [Platform; 3] = [
+    pub const ALL: [Platform; 5] = [
         Platform::X86_64Linux,
         Platform::X86_64Windows,
         Platform::Aarch64Linux,
+        Platform::X86_64Darwin,
+        Platform::Aarch64Darwin,
     ];
 
     /// The platform this program runs on, when it is one FMUs are built for.
     pub fn host() -> Option<Platform> {
+        let os = match std::env::consts::OS {
+            "macos" => "darwin",
+            os => os,
+        };
         Platform::ALL.into_iter().find(|p| {
-            p.rust_target().starts_with(std::env::consts::ARCH)
-                && p.rust_target().contains(std::env::consts::OS)
+            p.rust_target().starts_with(std::env::consts::ARCH) && p.rust_target().contains(os)
         })
+    }
+
+    /// A macOS platform (its binaries are Mach-O dylibs).
+    pub fn is_darwin(self) -> bool {
+        matches!(self, Platform::X86_64Darwin | Platform::Aarch64Darwin)
     }
 
     /// FMI 3.0's platform tuple, which is also the platform's name on the command line.
@@ -35,6 +49,8 @@ impl Platform {
             Platform::X86_64Linux => "x86_64-linux",
             Platform::X86_64Windows => "x86_64-windows",
             Platform::Aarch64Linux => "aarch64-linux",
+            Platform::X86_64Darwin => "x86_64-darwin",
+            Platform::Aarch64Darwin => "aarch64-darwin",
         }
     }
 
@@ -43,6 +59,7 @@ impl Platform {
         match (version, self) {
             (Version::Fmi2, Platform::X86_64Linux) => "linux64",
             (Version::Fmi2, Platform::X86_64Windows) => "win64",
+            (Version::Fmi2, Platform::X86_64Darwin) => "darwin64",
             _ => self.tuple(),
         }
     }
@@ -60,6 +77,8 @@ impl Platform {
             Platform::X86_64Linux => "x86_64-unknown-linux-gnu",
             Platform::X86_64Windows => "x86_64-pc-windows-gnu",
             Platform::Aarch64Linux => "aarch64-unknown-linux-gnu",
+            Platform::X86_64Darwin => "x86_64-apple-darwin",
+            Platform::Aarch64Darwin => "aarch64-apple-darwin",
         }
     }
 
@@ -67,6 +86,7 @@ impl Platform {
     pub fn extension(self) -> &'static str {
         match self {
             Platform::X86_64Windows => "dll",
+            Platform::X86_64Darwin | Platform::Aarch64Darwin => "dylib",
             _ => "so",
         }
     }
@@ -87,6 +107,15 @@ mod tests {
         assert_eq!(
             Platform::X86_64Windows.folder(Version::Fmi3),
             "x86_64-windows"
+        );
+        assert_eq!(Platform::X86_64Darwin.folder(Version::Fmi2), "darwin64");
+        assert_eq!(
+            Platform::Aarch64Darwin.folder(Version::Fmi2),
+            "aarch64-darwin"
+        );
+        assert_eq!(
+            Platform::X86_64Darwin.folder(Version::Fmi3),
+            "x86_64-darwin"
         );
     }
 

@@ -4,7 +4,7 @@
 //! `--target` each (so cargo spreads their crates over the cores).
 
 use super::toolchain;
-use super::workspace::{cargo, MechanismCrate};
+use super::workspace::{cargo, target_directory, MechanismCrate};
 use super::Flavor;
 use mechfmu_host::platform::Platform;
 use std::io::{BufRead, BufReader, IsTerminal, Read};
@@ -28,7 +28,7 @@ pub(super) fn build(
     let host = Platform::host();
     let mut libraries = Vec::new();
     if let Some(host) = host.filter(|h| platforms.contains(h)) {
-        libraries.extend(invoke(crates, manifest_path, flavor, &[host], false)?);
+        libraries.extend(invoke(crates, manifest_path, flavor, &[host], None)?);
     }
     let cross: Vec<Platform> = platforms
         .iter()
@@ -36,21 +36,35 @@ pub(super) fn build(
         .filter(|p| Some(*p) != host)
         .collect();
     if !cross.is_empty() {
-        libraries.extend(invoke(crates, manifest_path, flavor, &cross, true)?);
+        let macos_sdk = if cross.iter().any(|p| p.is_darwin()) {
+            let dir = target_directory(manifest_path)?.join("mechfmu/macos-sdk");
+            toolchain::write_macos_sdk(&dir)?
+        } else {
+            PathBuf::new()
+        };
+        libraries.extend(invoke(
+            crates,
+            manifest_path,
+            flavor,
+            &cross,
+            Some(&macos_sdk),
+        )?);
     }
     Ok(libraries)
 }
 
-/// One `cargo build`: for this machine (`with_targets` false: `platforms` is the host alone)
-/// or with a `--target` for each of `platforms`.
+/// One `cargo build`: for this machine (`targets` None: `platforms` is the host alone) or
+/// with a `--target` for each of `platforms` (`targets` the macOS SDK the macOS ones link
+/// with).
 fn invoke(
     crates: &[MechanismCrate],
     manifest_path: Option<&Path>,
     flavor: &Flavor,
     platforms: &[Platform],
-    with_targets: bool,
+    targets: Option<&Path>,
 ) -> Result<Vec<Library>, String> {
-    let mut cmd = command(crates, manifest_path, flavor, platforms, with_targets);
+    let with_targets = targets.is_some();
+    let mut cmd = command(crates, manifest_path, flavor, platforms, targets);
     let tuples: Vec<&str> = platforms.iter().map(|p| p.tuple()).collect();
     eprintln!(
         "building {} crate(s) with cargo (release) for {} ...",
@@ -99,7 +113,7 @@ fn command(
     manifest_path: Option<&Path>,
     flavor: &Flavor,
     platforms: &[Platform],
-    with_targets: bool,
+    targets: Option<&Path>,
 ) -> Command {
     let mut cmd = Command::new(cargo());
     cmd.args([
@@ -118,10 +132,10 @@ fn command(
     for c in crates {
         cmd.args(["-p", &c.package]);
     }
-    if with_targets {
+    if let Some(macos_sdk) = targets {
         for p in platforms {
             cmd.args(["--target", p.rust_target()]);
-            toolchain::configure(*p, &mut cmd);
+            toolchain::configure(*p, &mut cmd, macos_sdk);
         }
     }
     cmd

@@ -1,11 +1,14 @@
 //! How each platform's binary is cross-compiled from this machine, and what this machine
 //! lacks to do it.
 //!
-//! Every platform's binary is built from the same crate by Rust's own target (the GNU
-//! toolchains, so a Linux machine builds them all with Debian's cross linkers).
+//! Every platform's binary is built from the same crate by Rust's own target: Linux and
+//! Windows with the GNU toolchains (Debian's cross linkers), macOS with Rust's own linker,
+//! `rust-lld` (which ships with rustc), against the text stub of Apple's `libSystem` in
+//! `macos/libSystem.tbd` (no Apple SDK: the stub lists what libSystem exports; see
+//! `macos/README.md`).
 
 use mechfmu_host::platform::Platform;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// Why a platform's binary cannot be built here, and how to make it possible.
@@ -35,24 +38,31 @@ impl std::fmt::Display for MissingToolchain {
     }
 }
 
-/// The C compiler cargo links with when cross-compiling for `platform`, and the Debian
-/// package with it.
+/// The text stub of macOS's `/usr/lib/libSystem.B.dylib` the macOS binaries link against,
+/// and the list of what they may import.
+pub const LIBSYSTEM_TBD: &str = include_str!("macos/libSystem.tbd");
+
+/// The linker of the macOS targets: Rust's own, in the sysroot beside rustc.
+const MACOS_LINKER: &str = "rust-lld";
+
+/// The C compiler cargo links with when cross-compiling for `platform` (a GNU platform),
+/// and the Debian package with it.
 fn cross_linker(platform: Platform) -> (&'static str, &'static str) {
     match platform {
-        Platform::X86_64Linux => ("x86_64-linux-gnu-gcc", "gcc-x86-64-linux-gnu"),
         Platform::X86_64Windows => ("x86_64-w64-mingw32-gcc", "gcc-mingw-w64-x86-64"),
         Platform::Aarch64Linux => ("aarch64-linux-gnu-gcc", "gcc-aarch64-linux-gnu"),
+        _ => ("x86_64-linux-gnu-gcc", "gcc-x86-64-linux-gnu"),
     }
 }
 
-/// A file of the C library the cross linker links every binary of `platform` against, and the
-/// Debian package with it: Debian installs the linker without it when recommendations are
-/// left out, and the link then fails on a missing `crti.o`.
+/// A file of the C library the cross linker links every binary of `platform` (a GNU
+/// platform) against, and the Debian package with it: Debian installs the linker without it
+/// when recommendations are left out, and the link then fails on a missing `crti.o`.
 fn cross_c_library(platform: Platform) -> (&'static str, &'static str) {
     match platform {
-        Platform::X86_64Linux => ("crti.o", "libc6-dev-amd64-cross"),
         Platform::X86_64Windows => ("libmsvcrt.a", "mingw-w64-x86-64-dev"),
         Platform::Aarch64Linux => ("crti.o", "libc6-dev-arm64-cross"),
+        _ => ("crti.o", "libc6-dev-amd64-cross"),
     }
 }
 
@@ -84,9 +94,15 @@ pub fn missing(platform: Platform) -> Option<MissingToolchain> {
             format!("rustup target add {}", platform.rust_target()),
         ));
     }
-    if Platform::host() != Some(platform)
-        && std::env::var_os(cargo_variable(platform, "LINKER")).is_none()
-    {
+    let linker_given = std::env::var_os(cargo_variable(platform, "LINKER")).is_some();
+    if platform.is_darwin() && Platform::host() != Some(platform) && !linker_given {
+        if !sysroot_tool(MACOS_LINKER).is_some_and(|p| p.is_file()) {
+            missing.push((
+                format!("Rust's linker {MACOS_LINKER} (part of rustc's toolchain)"),
+                "rustup component add rustc".to_string(),
+            ));
+        }
+    } else if Platform::host() != Some(platform) && !linker_given {
         let (linker, package) = cross_linker(platform);
         let (library, library_package) = cross_c_library(platform);
         if !on_path(linker) {
@@ -105,25 +121,72 @@ pub fn missing(platform: Platform) -> Option<MissingToolchain> {
 }
 
 /// Sets the environment of a `cargo build --target` for `platform`: the cross linker (the
-/// runtime's build script makes the binary carry libgcc's unwinder on Linux).
-pub fn configure(platform: Platform, cargo: &mut Command) {
-    if Platform::host() != Some(platform)
-        && std::env::var_os(cargo_variable(platform, "LINKER")).is_none()
+/// runtime's build script makes the binary carry libgcc's unwinder on Linux); for macOS,
+/// `rust-lld`, and `SDKROOT` at `macos_sdk` (see [`write_macos_sdk`]), which rustc passes
+/// the linker as its `-syslibroot`.
+pub fn configure(platform: Platform, cargo: &mut Command, macos_sdk: &Path) {
+    if Platform::host() == Some(platform)
+        || std::env::var_os(cargo_variable(platform, "LINKER")).is_some()
     {
+        return;
+    }
+    if platform.is_darwin() {
+        cargo.env(cargo_variable(platform, "LINKER"), MACOS_LINKER);
+        cargo.env("SDKROOT", macos_sdk);
+    } else {
         cargo.env(cargo_variable(platform, "LINKER"), cross_linker(platform).0);
     }
 }
 
+/// Writes the smallest macOS SDK `rust-lld` links against under `dir`: `MacOSX.sdk/usr/lib/`
+/// with [`LIBSYSTEM_TBD`] as `libSystem.tbd`, `libc.tbd` and `libm.tbd` (rustc asks for all
+/// three, as Apple's SDK has them), each rewritten only when it differs (so cargo's
+/// fingerprints hold). Returns the SDK's root, for `SDKROOT`; the folder's name must say
+/// `MacOSX`, or rustc ignores it.
+pub fn write_macos_sdk(dir: &Path) -> Result<PathBuf, String> {
+    let sdk = dir.join("MacOSX.sdk");
+    let lib = sdk.join("usr/lib");
+    std::fs::create_dir_all(&lib).map_err(|e| format!("cannot create {}: {e}", lib.display()))?;
+    for name in ["libSystem.tbd", "libc.tbd", "libm.tbd"] {
+        let path = lib.join(name);
+        if std::fs::read(&path).is_ok_and(|b| b == LIBSYSTEM_TBD.as_bytes()) {
+            continue;
+        }
+        std::fs::write(&path, LIBSYSTEM_TBD)
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    }
+    Ok(sdk)
+}
+
+/// rustc's sysroot.
+fn sysroot() -> Option<PathBuf> {
+    let output = Command::new("rustc")
+        .args(["--print", "sysroot"])
+        .output()
+        .ok()?;
+    Some(PathBuf::from(
+        String::from_utf8_lossy(&output.stdout).trim(),
+    ))
+}
+
+/// A tool of rustc's toolchain for this machine (`lib/rustlib/<host>/bin/<name>`).
+fn sysroot_tool(name: &str) -> Option<PathBuf> {
+    let rustlib = sysroot()?.join("lib/rustlib");
+    let host = Command::new("rustc").arg("-vV").output().ok()?;
+    let host = String::from_utf8_lossy(&host.stdout)
+        .lines()
+        .find_map(|l| l.strip_prefix("host: ").map(str::to_string))?;
+    Some(rustlib.join(host).join("bin").join(name))
+}
+
 fn rust_target_installed(triple: &str) -> bool {
-    let Ok(output) = Command::new("rustc").args(["--print", "sysroot"]).output() else {
-        return false;
-    };
-    let sysroot = String::from_utf8_lossy(&output.stdout).trim().to_string();
-    Path::new(&sysroot)
-        .join("lib/rustlib")
-        .join(triple)
-        .join("lib")
-        .is_dir()
+    sysroot().is_some_and(|sysroot| {
+        sysroot
+            .join("lib/rustlib")
+            .join(triple)
+            .join("lib")
+            .is_dir()
+    })
 }
 
 fn on_path(program: &str) -> bool {

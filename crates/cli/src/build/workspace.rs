@@ -39,6 +39,14 @@ pub fn workspace_root(manifest_path: Option<&Path>) -> Result<PathBuf, String> {
         .ok_or_else(|| "cargo metadata names no workspace root".to_string())
 }
 
+/// Cargo's target directory for the workspace (or crate) at `manifest_path`.
+pub fn target_directory(manifest_path: Option<&Path>) -> Result<PathBuf, String> {
+    metadata(manifest_path)?["target_directory"]
+        .as_str()
+        .map(PathBuf::from)
+        .ok_or_else(|| "cargo metadata names no target directory".to_string())
+}
+
 fn metadata(manifest_path: Option<&Path>) -> Result<serde_json::Value, String> {
     let mut cmd = Command::new(cargo());
     cmd.args(["metadata", "--format-version", "1", "--no-deps"]);

@@ -52,7 +52,7 @@ fn parse_list(text: &str) -> Result<Vec<Platform>, String> {
         let platform = Platform::parse(name).ok_or_else(|| {
             let known: Vec<&str> = Platform::ALL.iter().map(|p| p.tuple()).collect();
             format!(
-                "unknown platform `{name}` (known: {}, or all; FMI 2.0's linux64 and win64 are accepted too)",
+                "unknown platform `{name}` (known: {}, or all; FMI 2.0's linux64, win64 and darwin64 are accepted too)",
                 known.join(", ")
             )
         })?;
@@ -78,9 +78,16 @@ mod tests {
             parse_list("win64,x86_64-linux,win64").unwrap(),
             vec![Platform::X86_64Linux, Platform::X86_64Windows]
         );
-        let err = parse_list("linux64,darwin64").unwrap_err();
-        assert!(err.contains("`darwin64`"), "{err}");
-        assert!(err.contains("linux64 and win64 are accepted too"), "{err}");
+        assert_eq!(
+            parse_list("darwin64,aarch64-darwin").unwrap(),
+            vec![Platform::X86_64Darwin, Platform::Aarch64Darwin]
+        );
+        let err = parse_list("linux64,darwin32").unwrap_err();
+        assert!(err.contains("`darwin32`"), "{err}");
+        assert!(
+            err.contains("linux64, win64 and darwin64 are accepted too"),
+            "{err}"
+        );
         assert!(parse_list(",").is_err());
     }
 }

@@ -20,7 +20,7 @@
 //! a few minutes the first time; it needs libclang) and names to the Python side in `MECHFMU_FMI_RUN`. If it cannot
 //! be built, the command says why and goes on: the fmi-crate rows then fail.
 
-use crate::build::workspace::{cargo, mechanism_crates, MechanismCrate};
+use crate::build::workspace::{cargo, mechanism_crates, target_directory, MechanismCrate};
 use crate::home::python::ensure_venv;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -326,31 +326,7 @@ fn target_dir(home: &Path) -> Result<PathBuf, String> {
     if let Some(dir) = std::env::var_os("CARGO_TARGET_DIR").filter(|d| !d.is_empty()) {
         return Ok(home.join(dir));
     }
-    let out = Command::new(cargo())
-        .args([
-            "metadata",
-            "--format-version",
-            "1",
-            "--no-deps",
-            "--manifest-path",
-        ])
-        .arg(home.join("Cargo.toml"))
-        .current_dir(home)
-        .output()
-        .map_err(|e| format!("cannot run cargo metadata: {e}"))?;
-    if !out.status.success() {
-        return Err(format!(
-            "cargo metadata failed in {}: {}",
-            home.display(),
-            first_line(&String::from_utf8_lossy(&out.stderr))
-        ));
-    }
-    let meta: serde_json::Value = serde_json::from_slice(&out.stdout)
-        .map_err(|e| format!("cannot read cargo metadata's output: {e}"))?;
-    meta["target_directory"]
-        .as_str()
-        .map(PathBuf::from)
-        .ok_or_else(|| "cargo metadata gave no target_directory".into())
+    target_directory(Some(&home.join("Cargo.toml")))
 }
 
 fn is_fmu_file(target: &str) -> bool {

@@ -1,13 +1,17 @@
-//! What a built binary is, read from its bytes (ELF or PE): its machine, the libraries it
-//! loads and the functions it exports. `mechfmu build` checks every binary with it before
-//! packaging (one that needs a library a stock system lacks, or that exports other
-//! functions than this machine's binary of the same crate, is never shipped), and
-//! `mechfmu inspect` prints it for any FMU.
+//! What a built binary is, read from its bytes (ELF, PE or Mach-O, thin or universal): its
+//! machine, the libraries it loads, the functions it exports and imports and, on macOS, its
+//! install name, minimum macOS and code signature. `mechfmu build` checks every binary with
+//! it before packaging (one that needs a library a stock system lacks, that exports other
+//! functions than this machine's binary of the same crate, or, for macOS, that is not
+//! loadable as it stands, is never shipped), and `mechfmu inspect` prints it for any FMU.
 
+use super::macho::{self, Arch, Signature};
+use crate::build::toolchain::LIBSYSTEM_TBD;
 use mechfmu_host::platform::Platform;
 use object::{Architecture, BinaryFormat, NameOrOrdinal, Object};
 
-/// What a shared library is made of, as a loader sees it.
+/// What a shared library (or one slice of a universal Mach-O file) is made of, as a loader
+/// sees it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Facts {
     /// The platform its format and machine are for, when one of ours.
@@ -16,9 +20,66 @@ pub struct Facts {
     pub dependencies: Vec<String>,
     /// The functions it exports, sorted.
     pub exports: Vec<String>,
+    /// The symbols it imports, as its format names them (Mach-O's with their leading
+    /// underscore), sorted.
+    pub imports: Vec<String>,
+    /// What only a Mach-O file says.
+    pub mac: Option<MacFacts>,
 }
 
-pub fn inspect(bytes: &[u8]) -> Result<Facts, String> {
+/// What a macOS loader also reads of a dylib.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MacFacts {
+    /// Its install name (`LC_ID_DYLIB`).
+    pub install_name: Option<String>,
+    /// The oldest macOS it loads on, (major, minor, patch).
+    pub minimum_macos: Option<(u32, u32, u32)>,
+    pub signature: Signature,
+}
+
+/// The oldest macOS each Mac binary is built for (rustc's defaults: Apple silicon came with
+/// macOS 11; 10.12 Sierra for x86-64), and so the newest one a shipped binary may ask for.
+pub fn minimum_macos(platform: Platform) -> (u32, u32, u32) {
+    match platform {
+        Platform::Aarch64Darwin => (11, 0, 0),
+        _ => (10, 12, 0),
+    }
+}
+
+/// The install name a shipped dylib carries: `@rpath/` and its own file name, so that
+/// nothing of the machine that built it is in it.
+pub fn install_name(file_name: &str) -> String {
+    format!("@rpath/{file_name}")
+}
+
+/// What the binary `bytes` is: one [`Facts`] per slice of a universal Mach-O file, else one.
+pub fn inspect(bytes: &[u8]) -> Result<Vec<Facts>, String> {
+    if macho::is_macho(bytes) {
+        return Ok(macho::read(bytes)?.into_iter().map(mac_facts).collect());
+    }
+    Ok(vec![inspect_object(bytes)?])
+}
+
+fn mac_facts(slice: macho::Slice) -> Facts {
+    Facts {
+        platform: Some(match slice.arch {
+            Arch::X86_64 => Platform::X86_64Darwin,
+            Arch::Arm64 => Platform::Aarch64Darwin,
+        })
+        .filter(|_| slice.is_dylib),
+        dependencies: slice.dependencies,
+        exports: slice.exports,
+        imports: slice.imports,
+        mac: Some(MacFacts {
+            install_name: slice.install_name,
+            minimum_macos: slice.minimum_macos,
+            signature: slice.signature,
+        }),
+    }
+}
+
+/// An ELF or PE file, through `object`.
+fn inspect_object(bytes: &[u8]) -> Result<Facts, String> {
     let file =
         object::File::parse(bytes).map_err(|e| format!("not a shared library we can read: {e}"))?;
     let platform = match (file.format(), file.architecture()) {
@@ -49,22 +110,72 @@ pub fn inspect(bytes: &[u8]) -> Result<Facts, String> {
         .collect::<Result<_, _>>()?;
     exports.sort();
     exports.dedup();
+    let mut imports: Vec<String> = file
+        .imports()
+        .map_err(|e| format!("cannot read its imports: {e}"))?
+        .filter_map(|import| match import {
+            Ok(import) => match import.name() {
+                NameOrOrdinal::Name(name) => Some(Ok(String::from_utf8_lossy(name).into_owned())),
+                NameOrOrdinal::Ordinal(_) => None,
+            },
+            Err(e) => Some(Err(format!("cannot read its imports: {e}"))),
+        })
+        .collect::<Result<_, _>>()?;
+    imports.sort();
+    imports.dedup();
     Ok(Facts {
         platform,
         dependencies,
         exports,
+        imports,
+        mac: None,
     })
 }
 
-/// Checks a binary built for `platform` against what an FMU may ship: the right machine,
-/// no library beyond the platform's own, and exactly the functions of `expected_exports`
-/// (those of this machine's binary of the same crate).
+/// Checks a binary built for `platforms` (one, or for a universal Mach-O file both Mac
+/// platforms, one slice each) against what an FMU may ship: see [`check_facts`].
 pub fn check(
     bytes: &[u8],
+    platforms: &[Platform],
+    expected_exports: &[String],
+) -> Result<Vec<Facts>, String> {
+    let all = inspect(bytes)?;
+    let found: Vec<Option<Platform>> = all.iter().map(|f| f.platform).collect();
+    if found.len() != platforms.len() || platforms.iter().any(|p| !found.contains(&Some(*p))) {
+        let names = |p: &[Option<Platform>]| -> String {
+            let names: Vec<&str> = p
+                .iter()
+                .map(|p| p.map_or("unknown", Platform::tuple))
+                .collect();
+            names.join(" and ")
+        };
+        let wanted: Vec<Option<Platform>> = platforms.iter().copied().map(Some).collect();
+        return Err(format!(
+            "built for {}, not {}",
+            names(&found),
+            names(&wanted)
+        ));
+    }
+    for facts in &all {
+        let platform = facts.platform.expect("checked above");
+        check_facts(facts, platform, expected_exports).map_err(|e| match all.len() {
+            1 => e,
+            _ => format!("its {} slice: {e}", platform.tuple()),
+        })?;
+    }
+    Ok(all)
+}
+
+/// The checks of one binary (or slice) for `platform`: the right machine, no library beyond
+/// the platform's own, exactly the functions of `expected_exports` (those of this machine's
+/// binary of the same crate); for macOS also an install name of `@rpath/`, a minimum macOS
+/// no newer than [`minimum_macos`], every import one that libSystem exports, and a valid
+/// code signature (required on Apple silicon, which refuses to load unsigned code).
+pub fn check_facts(
+    facts: &Facts,
     platform: Platform,
     expected_exports: &[String],
-) -> Result<Facts, String> {
-    let facts = inspect(bytes)?;
+) -> Result<(), String> {
     if facts.platform != Some(platform) {
         return Err(format!(
             "built for {:?}, not {}",
@@ -72,7 +183,7 @@ pub fn check(
             platform.tuple()
         ));
     }
-    let foreign = foreign_dependencies(&facts, platform);
+    let foreign = foreign_dependencies(facts, platform);
     if !foreign.is_empty() {
         return Err(format!(
             "it loads {} (not part of every {} system; it may load only {})",
@@ -95,7 +206,52 @@ pub fn check(
             "its exports differ from this machine's binary: missing {missing:?}, extra {extra:?}"
         ));
     }
-    Ok(facts)
+    match &facts.mac {
+        Some(mac) => check_mac(facts, mac, platform),
+        None => Ok(()),
+    }
+}
+
+/// The checks only a Mach-O dylib has (see [`check_facts`]).
+fn check_mac(facts: &Facts, mac: &MacFacts, platform: Platform) -> Result<(), String> {
+    match &mac.install_name {
+        Some(name) if name.starts_with("@rpath/") => {}
+        other => {
+            return Err(format!(
+                "its install name is {other:?}, not one of its own (`@rpath/` and its file name)"
+            ))
+        }
+    }
+    let (major, minor, patch) = minimum_macos(platform);
+    match mac.minimum_macos {
+        Some(v) if v <= (major, minor, patch) => {}
+        other => {
+            return Err(format!(
+                "it asks for macOS {}, newer than {major}.{minor}.{patch}",
+                other.map_or("(not stated)".into(), |(a, b, c)| format!("{a}.{b}.{c}"))
+            ))
+        }
+    }
+    let arch = match platform {
+        Platform::Aarch64Darwin => Arch::Arm64,
+        _ => Arch::X86_64,
+    };
+    let libsystem = macho::tbd_exports(LIBSYSTEM_TBD, arch);
+    let unknown: Vec<&String> = (facts.imports.iter())
+        .filter(|s| !libsystem.contains(s.as_str()))
+        .collect();
+    if !unknown.is_empty() {
+        return Err(format!(
+            "it imports {unknown:?}, which /usr/lib/libSystem.B.dylib does not export"
+        ));
+    }
+    match (&mac.signature, arch) {
+        (Signature::Invalid(why), _) => Err(format!("its code signature is not valid: {why}")),
+        (Signature::Missing, Arch::Arm64) => {
+            Err("it has no code signature, and Apple silicon refuses to load unsigned code".into())
+        }
+        _ => Ok(()),
+    }
 }
 
 /// The libraries `facts` loads that are not among `platform`'s system libraries (Windows
@@ -133,6 +289,7 @@ fn system_libraries(platform: Platform) -> &'static [&'static str] {
             "librt.so.1",
             "ld-linux-aarch64.so.1",
         ],
+        Platform::X86_64Darwin | Platform::Aarch64Darwin => &["/usr/lib/libSystem.B.dylib"],
         Platform::X86_64Windows => &[
             "kernel32.dll",
             "ntdll.dll",
@@ -158,7 +315,9 @@ mod tests {
 
     #[test]
     fn reads_this_machines_binaries() {
-        let facts = inspect(&this_executable()).unwrap();
+        let [facts] = &inspect(&this_executable()).unwrap()[..] else {
+            panic!("one")
+        };
         assert_eq!(facts.platform, Platform::host());
         assert!(
             facts.dependencies.iter().any(|d| d == "libc.so.6"),
@@ -169,8 +328,130 @@ mod tests {
     #[test]
     fn refuses_what_is_not_a_library_or_not_for_the_platform() {
         assert!(inspect(b"not a binary").is_err());
-        let err = check(&this_executable(), Platform::X86_64Windows, &[]).unwrap_err();
+        let err = check(&this_executable(), &[Platform::X86_64Windows], &[]).unwrap_err();
         assert!(err.contains("not x86_64-windows"), "{err}");
+    }
+
+    /// The tiny arm64 dylib as packaging makes it (its install name set), and what it
+    /// exports.
+    fn packaged_tiny() -> (Vec<u8>, Vec<String>) {
+        let mut bytes = macho::fixtures::ARM64.to_vec();
+        macho::set_install_name(&mut bytes, &install_name("libtiny.dylib")).unwrap();
+        let [facts] = &inspect(&bytes).unwrap()[..] else {
+            panic!("one slice")
+        };
+        (bytes, facts.exports.clone())
+    }
+
+    fn refusal(bytes: &[u8], exports: &[String]) -> String {
+        check(bytes, &[Platform::Aarch64Darwin], exports).unwrap_err()
+    }
+
+    #[test]
+    fn a_mac_dylib_as_packaged_passes_every_check() {
+        let (bytes, exports) = packaged_tiny();
+        let [facts] = &check(&bytes, &[Platform::Aarch64Darwin], &exports).unwrap()[..] else {
+            panic!("one slice")
+        };
+        let mac = facts.mac.as_ref().unwrap();
+        assert_eq!(mac.install_name.as_deref(), Some("@rpath/libtiny.dylib"));
+        assert_eq!(mac.minimum_macos, Some((11, 0, 0)));
+        assert!(matches!(
+            mac.signature,
+            Signature::Valid { adhoc: true, .. }
+        ));
+        assert_eq!(facts.dependencies, ["/usr/lib/libSystem.B.dylib"]);
+        // as the linker wrote it, with the build path as its install name: refused
+        let err = refusal(macho::fixtures::ARM64, &exports);
+        assert!(
+            err.contains("its install name is Some(\"/tmp/tiny/"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn a_mac_dylib_with_an_export_the_host_binary_lacks_is_refused() {
+        let (bytes, exports) = packaged_tiny();
+        let fewer: Vec<String> = exports
+            .iter()
+            .filter(|e| *e != "tiny_alloc")
+            .cloned()
+            .collect();
+        let err = refusal(&bytes, &fewer);
+        assert!(err.contains("extra [\"tiny_alloc\"]"), "{err}");
+    }
+
+    #[test]
+    fn a_mac_dylib_without_its_signature_is_refused_on_apple_silicon() {
+        let (bytes, exports) = packaged_tiny();
+        let at = macho::fixtures::command_at(&bytes, 0x1d); // LC_CODE_SIGNATURE
+        let unsigned = macho::fixtures::with(&bytes, at, &0x7fff_fff0u32.to_le_bytes());
+        let err = refusal(&unsigned, &exports);
+        assert!(
+            err.contains("no code signature, and Apple silicon refuses"),
+            "{err}"
+        );
+        let mut tampered = bytes.clone();
+        tampered[5000] ^= 1;
+        let err = refusal(&tampered, &exports);
+        assert!(
+            err.contains("its code signature is not valid: page 1"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn a_mac_dylib_loading_another_library_is_refused() {
+        let (bytes, exports) = packaged_tiny();
+        let at = macho::fixtures::command_at(&bytes, 0xc) + 24; // LC_LOAD_DYLIB's name
+        let other = macho::fixtures::with(&bytes, at, b"/usr/lib/libz.1.2.11.dylib");
+        let err = refusal(&other, &exports);
+        assert!(
+            err.contains("it loads /usr/lib/libz.1.2.11.dylib (not part of every aarch64-darwin"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn a_mac_dylib_importing_what_libsystem_lacks_is_refused() {
+        let (bytes, exports) = packaged_tiny();
+        let [facts] = &inspect(&bytes).unwrap()[..] else {
+            panic!("one slice")
+        };
+        let mut facts = facts.clone();
+        facts.imports.push("_not_in_libsystem".into());
+        let err = check_facts(&facts, Platform::Aarch64Darwin, &exports).unwrap_err();
+        assert!(err.contains("it imports [\"_not_in_libsystem\"]"), "{err}");
+        facts.imports.pop();
+        facts.mac.as_mut().unwrap().minimum_macos = Some((12, 0, 0));
+        let err = check_facts(&facts, Platform::Aarch64Darwin, &exports).unwrap_err();
+        assert!(
+            err.contains("it asks for macOS 12.0.0, newer than 11.0.0"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn a_universal_file_is_checked_slice_by_slice() {
+        let (arm64, exports) = packaged_tiny();
+        let mut x86_64 = macho::fixtures::X86_64.to_vec();
+        macho::set_install_name(&mut x86_64, &install_name("libtiny.dylib")).unwrap();
+        let both = [Platform::X86_64Darwin, Platform::Aarch64Darwin];
+        let universal = macho::universal(&[&x86_64, &arm64]).unwrap();
+        assert_eq!(check(&universal, &both, &exports).unwrap().len(), 2);
+        let err = check(&arm64, &both, &exports).unwrap_err();
+        assert!(
+            err.contains("built for aarch64-darwin, not x86_64-darwin and aarch64-darwin"),
+            "{err}"
+        );
+        let mut tampered = universal.clone();
+        let last = tampered.len() - arm64.len() + 5000;
+        tampered[last] ^= 1;
+        let err = check(&tampered, &both, &exports).unwrap_err();
+        assert!(
+            err.starts_with("its aarch64-darwin slice: its code signature is not valid"),
+            "{err}"
+        );
     }
 
     #[test]
@@ -179,6 +460,8 @@ mod tests {
             platform: Some(Platform::X86_64Windows),
             dependencies: vec!["KERNEL32.dll".into(), "libgcc_s_seh-1.dll".into()],
             exports: vec![],
+            imports: vec![],
+            mac: None,
         };
         assert_eq!(
             foreign_dependencies(&facts, Platform::X86_64Windows),

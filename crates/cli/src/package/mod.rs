@@ -1,5 +1,6 @@
 //! Packaging mechanisms as FMUs: each built crate as an FMI 2.0 and an FMI 3.0 `.fmu`
-//! (`archive`) carrying its binaries for every platform built (each checked by `binaries`),
+//! (`archive`) carrying its binaries for every platform built (each checked by `binaries`;
+//! the Mac ones given their install name and made universal by `macho`),
 //! the model description and documentation its binary renders of itself, and its reference
 //! results (`references`); and, when asked, the FMUs laid out as an FMI cross-check tree
 //! (`cross_check`).
@@ -7,6 +8,7 @@
 pub mod archive;
 pub mod binaries;
 pub mod cross_check;
+pub mod macho;
 pub mod references;
 
 use crate::build::{built_libraries, resolve, Built, Flavor, Platforms};
@@ -121,25 +123,9 @@ pub fn package_fmu(
     };
     let host_exports = binaries::inspect(&read(host)?)
         .map_err(|e| format!("{}: {e}", host.display()))?
+        .swap_remove(0)
         .exports;
-    let mut shipped = Vec::new();
-    for &platform in platforms {
-        let path = &built.libraries[&platform];
-        let bytes = read(path)?;
-        binaries::check(&bytes, platform, &host_exports).map_err(|e| {
-            format!(
-                "the {} binary of {model} ({}) cannot be shipped: {e}",
-                platform.tuple(),
-                path.display()
-            )
-        })?;
-        let archive_path = format!(
-            "binaries/{}/{model}.{}",
-            platform.folder(version),
-            platform.extension()
-        );
-        shipped.push((archive_path, bytes));
-    }
+    let shipped = shipped_binaries(built, platforms, version, &host_exports)?;
     let folder = folder(out, version);
     std::fs::create_dir_all(&folder)
         .map_err(|e| format!("cannot create {}: {e}", folder.display()))?;
@@ -168,6 +154,59 @@ pub fn package_fmu(
         size,
         references,
     })
+}
+
+/// The binaries of `built` for `platforms` in an FMU of `version` (archive path, bytes), each
+/// checked ([`binaries::check`]) against the exports of this machine's binary: a Mac dylib
+/// with an install name of its own ([`binaries::install_name`]); in FMI 2.0, `darwin64`
+/// holds both Mac binaries as one universal file where both are built (FMPy on Apple
+/// silicon loads FMI 2.0 binaries from `darwin64`), beside `aarch64-darwin`'s own.
+fn shipped_binaries(
+    built: &Built,
+    platforms: &[Platform],
+    version: Version,
+    host_exports: &[String],
+) -> Result<Vec<(String, Vec<u8>)>, String> {
+    let model = &built.krate.model;
+    let refused = |what: &str, path: &Path, e: String| {
+        format!(
+            "the {what} binary of {model} ({}) cannot be shipped: {e}",
+            path.display()
+        )
+    };
+    let mut shipped = Vec::new();
+    let mut macs = Vec::new();
+    for &platform in platforms {
+        let path = &built.libraries[&platform];
+        let mut bytes =
+            std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+        let file_name = format!("{model}.{}", platform.extension());
+        if platform.is_darwin() {
+            macho::set_install_name(&mut bytes, &binaries::install_name(&file_name))
+                .map_err(|e| refused(platform.tuple(), path, e))?;
+        }
+        binaries::check(&bytes, &[platform], host_exports)
+            .map_err(|e| refused(platform.tuple(), path, e))?;
+        if platform.is_darwin() {
+            macs.push(bytes.clone());
+        }
+        let folder = platform.folder(version);
+        shipped.push((format!("binaries/{folder}/{file_name}"), bytes));
+    }
+    if version == Version::Fmi2 && macs.len() == 2 {
+        let slices: Vec<&[u8]> = macs.iter().map(Vec::as_slice).collect();
+        let universal = macho::universal(&slices)?;
+        let both = [Platform::X86_64Darwin, Platform::Aarch64Darwin];
+        let darwin64 = &built.libraries[&Platform::X86_64Darwin];
+        binaries::check(&universal, &both, host_exports)
+            .map_err(|e| refused("universal macOS", darwin64, e))?;
+        let folder = Platform::X86_64Darwin.folder(version);
+        let entry = (shipped.iter_mut())
+            .find(|(p, _)| p.starts_with(&format!("binaries/{folder}/")))
+            .expect("the x86-64 Mac binary is shipped");
+        entry.1 = universal;
+    }
+    Ok(shipped)
 }
 
 /// The files added to the archive of version `version` of `model` built into `library` from
