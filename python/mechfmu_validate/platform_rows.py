@@ -10,11 +10,13 @@ and not run, and why."""
 from __future__ import annotations
 
 import contextlib
+import xml.etree.ElementTree as ET
+import zipfile
 from pathlib import Path
 from typing import TYPE_CHECKING, Iterator
 
-from .platforms import (FMI2_FOLDERS, NATIVE, PLATFORMS, NotPrepared, Runners, WineSession, binary_platforms,
-                        cleanup_copies, compare, fmi_version, run_case)
+from .platforms import (EMULATED, FMI2_FOLDERS, NATIVE, PLATFORMS, NotPrepared, Runners, WineSession,
+                        binary_platforms, cleanup_copies, compare, fmi_version, run_case)
 
 if TYPE_CHECKING:  # pragma: no cover
     from .case import Case
@@ -24,9 +26,6 @@ __all__ = ["PLATFORM_TOLERANCE", "Platforms", "session"]
 
 #: a foreign binary's run must agree with this machine's to this, relative
 PLATFORM_TOLERANCE = 1e-12
-
-#: how each foreign platform's binary is run here
-HOW = {"x86_64-windows": "under wine64", "aarch64-linux": "under qemu-aarch64"}
 
 _runners: Runners | None = None
 _why_not: str | None = None
@@ -57,6 +56,16 @@ def session(enabled: bool = True) -> Iterator[None]:
         cleanup_copies()
 
 
+def _by_mechfmu(path: Path) -> bool:
+    """Whether mechfmu built the FMU (whose build checked every binary it packaged)."""
+    try:
+        with zipfile.ZipFile(path) as z:
+            root = ET.fromstring(z.read("modelDescription.xml"))
+    except (OSError, KeyError, zipfile.BadZipFile, ET.ParseError):
+        return False
+    return (root.get("generationTool") or "").startswith("mechfmu")
+
+
 class Platforms:
     """One FMU's binaries (``label``: the importer prefix of its rows, e.g. ``"fmi crate"``
     or ``"fmi crate FMI3"``; ``names``: the FMI 3.0 FMU's array mapping, as
@@ -71,7 +80,8 @@ class Platforms:
                                                                        PLATFORMS.index(p) if p in PLATFORMS else 0, p))}
         self.runners, why_not = _load() if enabled else (None, "not asked for (--no-fmi-crate)")
         self.why_not = why_not
-        self.foreign = [p for p in PLATFORMS if p in self.found and p != NATIVE]
+        self.foreign = [p for p in EMULATED if p in self.found]
+        self.by_mechfmu = _by_mechfmu(self.path)
         # what the platforms row calls each platform: its folder's name in the FMU's own
         # version (FMI 2.0's win64, linux64; FMI 3.0's x86_64-windows), never a mix of both
         fmi2_names = {t: f for f, t in FMI2_FOLDERS.items()} if self.version.startswith("2.") else {}
@@ -84,8 +94,11 @@ class Platforms:
         for platform in self.found:
             if platform == NATIVE:
                 parts.append(f"{self.folders[platform]}: run (every importer)")
-            elif platform in HOW and self.runners is not None:
-                parts.append(f"{self.folders[platform]}: run {HOW[platform]} (fmi crate)")
+            elif platform in EMULATED and self.runners is not None:
+                parts.append(f"{self.folders[platform]}: run {EMULATED[platform]} (fmi crate)")
+            elif platform.endswith("-darwin") and self.by_mechfmu:
+                # mechfmu build checked it (exports, libraries, signature) before packaging it
+                parts.append(f"{self.folders[platform]}: packaged, checked, not run (only a Mac runs it)")
             else:
                 parts.append(f"{self.folders[platform]}: packaged, not run")
         missing = [self.folders[p] for p in PLATFORMS if p not in self.found]
@@ -119,7 +132,7 @@ class Platforms:
                 other = run_case(fmu, case, platform, self.runners, mapping=self.names)
                 c = compare(native, other, [n for n in case.recorded() if n in native.columns])
                 row.update(max_error=c.max_relative, passed=bool(c.max_relative <= PLATFORM_TOLERANCE),
-                           notes=[f"{platform} binary {HOW[platform]} against the {NATIVE} binary: {c}"],
+                           notes=[f"{platform} binary {EMULATED[platform]} against the {NATIVE} binary: {c}"],
                            bit_identical=c.bit_identical)
             except Exception as e:  # noqa: BLE001 (a row, not a crash)
                 row.update(max_error=None, passed=False,

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import copy
 import os
+import platform as _platform_info
 import re
 import shlex
 import shutil
@@ -57,15 +58,31 @@ if TYPE_CHECKING:  # pragma: no cover
     from .arrays import ArrayMap
     from .importers import Fmu
 
-__all__ = ["PLATFORMS", "NATIVE", "FMI2_FOLDERS", "SCRIPT", "ENV_FILE", "NotPrepared", "Runners", "WineSession", "fmi_version",
+__all__ = ["PLATFORMS", "NATIVE", "EMULATED", "FMI2_FOLDERS", "RUN_HERE", "SCRIPT", "ENV_FILE", "NotPrepared", "Runners", "WineSession", "fmi_version",
            "binary_platforms", "aarch64_fmi2_copy", "cleanup_copies", "run_case", "Comparison", "compare"]
 
 #: FMI 3.0's platform tuples of the platforms mechfmu builds FMUs for
-PLATFORMS = ("x86_64-linux", "x86_64-windows", "aarch64-linux")
-#: the platform this module runs on (the others are emulated)
-NATIVE = "x86_64-linux"
-#: FMI 2.0's names of platforms (any other is its FMI 3.0 tuple)
-FMI2_FOLDERS = {"linux64": "x86_64-linux", "win64": "x86_64-windows"}
+PLATFORMS = ("x86_64-linux", "x86_64-windows", "aarch64-linux", "x86_64-darwin", "aarch64-darwin")
+
+
+def _this_platform() -> str:
+    """This machine's FMI 3.0 platform tuple (``x86_64-linux``, ``aarch64-darwin``, ...)."""
+    machine = _platform_info.machine().lower()
+    arch = {"amd64": "x86_64", "arm64": "aarch64"}.get(machine, machine)
+    system = {"Darwin": "darwin"}.get(_platform_info.system(), _platform_info.system().lower())
+    return f"{arch}-{system}"
+
+
+#: the platform this module runs on (its binary runs under every importer)
+NATIVE = _this_platform()
+#: the other platforms whose binaries run here, emulated, and how (an x86-64 Linux machine
+#: runs the Windows and ARM Linux ones; nothing runs a Mac binary but a Mac)
+EMULATED = {"x86_64-windows": "under wine64", "aarch64-linux": "under qemu-aarch64"} if NATIVE == "x86_64-linux" else {}
+#: FMI 2.0's names of platforms (any other is its FMI 3.0 tuple); mechfmu's ``darwin64`` is a
+#: universal binary of both Mac platforms, beside ``aarch64-darwin``'s own
+FMI2_FOLDERS = {"linux64": "x86_64-linux", "win64": "x86_64-windows", "darwin64": "x86_64-darwin"}
+#: the platforms ``scripts/cross-runners`` prepares a runner for
+RUN_HERE = (NATIVE, *EMULATED)
 #: what prepares the runners
 SCRIPT = "scripts/cross-runners"
 #: the environment file it writes (``$MECHFMU_CROSS_RUNNERS_ENV`` overrides)
@@ -98,7 +115,7 @@ class Runners:
         path = Path(path or os.environ.get("MECHFMU_CROSS_RUNNERS_ENV") or ENV_FILE)
         if not path.is_file():
             raise NotPrepared(f"{path} does not exist: run `{SCRIPT}` (it builds mechfmu-fmi-run for "
-                              f"{', '.join(PLATFORMS)} and prepares wine64 and qemu-aarch64)")
+                              f"{', '.join(RUN_HERE)} and prepares wine64 and qemu-aarch64)")
         settings = {}
         for line in path.read_text().splitlines():
             if line.strip() and not line.lstrip().startswith("#") and "=" in line:
@@ -108,7 +125,7 @@ class Runners:
         missing = [f"{k}={v}" for k, v in settings.items()
                    if k.startswith(("MECHFMU_RUNNER_", "MECHFMU_WRAPPER_", "MECHFMU_WINE", "MECHFMU_QEMU"))
                    and not (os.path.isfile(v) and os.access(v, os.X_OK))]
-        missing += [f"{k} (not in the file)" for k in (f"MECHFMU_WRAPPER_{_key(p)}" for p in PLATFORMS)
+        missing += [f"{k} (not in the file)" for k in (f"MECHFMU_WRAPPER_{_key(p)}" for p in RUN_HERE)
                     if k not in settings]
         if missing:
             raise NotPrepared(f"{path} names what is not there: {', '.join(missing)}: run `{SCRIPT}` again "
@@ -117,8 +134,8 @@ class Runners:
 
     def wrapper(self, platform: str) -> str:
         """The executable running ``mechfmu-fmi-run`` for the platform (its arguments)."""
-        if platform not in PLATFORMS:
-            raise ValueError(f"unknown platform {platform!r}: one of {', '.join(PLATFORMS)}")
+        if platform not in RUN_HERE:
+            raise ValueError(f"no runner for {platform!r} here: only for {', '.join(RUN_HERE)}")
         return self.settings[f"MECHFMU_WRAPPER_{_key(platform)}"]
 
     def wine_env(self) -> dict[str, str]:
