@@ -6,6 +6,7 @@ written independently of the build's check in crates/cli/src/package/binaries.rs
 
 import json
 import os
+import re
 import subprocess
 import zipfile
 
@@ -92,6 +93,23 @@ def test_every_platform_is_there_and_self_contained(inspected, path, version):
         math = {i for i in b["imports"] if i.lstrip("_") in MATH or i in MATH}
         if b["platform"] != "x86_64-windows":
             assert not math, f"{b['path']} ({b['platform']}) takes {sorted(math)} from its platform's C library"
+
+
+def libsystem_symbols() -> set[str]:
+    """Every symbol the vendored libSystem stub lists, for any architecture (a looser reading
+    than the build's, per architecture)."""
+    text = (REPO_ROOT / "crates/cli/src/build/macos/libSystem.tbd").read_text()
+    lists = re.findall(r"(?:symbols|objc-classes|reexports):\s*\[([^\]]*)\]", text)
+    return {name.strip().strip("'\"") for items in lists for name in items.replace("\n", " ").split(",")}
+
+
+@pytest.mark.parametrize("path,version", fmu_files(), ids=lambda x: str(x).split("fmus/")[-1])
+def test_mac_binaries_import_only_what_libsystem_exports(inspected, path, version):
+    exported = libsystem_symbols()
+    for b in inspected[str(path)]["binaries"]:
+        if b["platform"].endswith("-darwin"):
+            unknown = [i for i in b["imports"] if i not in exported]
+            assert b["imports"] and not unknown, (b["path"], b["platform"], unknown)
 
 
 @pytest.mark.parametrize("path,version", fmu_files(), ids=lambda x: str(x).split("fmus/")[-1])
