@@ -32,6 +32,8 @@ pub struct Facts {
 pub struct MacFacts {
     /// Its install name (`LC_ID_DYLIB`).
     pub install_name: Option<String>,
+    /// The folders it searches for libraries (`LC_RPATH`).
+    pub rpaths: Vec<String>,
     /// The oldest macOS it loads on, (major, minor, patch).
     pub minimum_macos: Option<(u32, u32, u32)>,
     pub signature: Signature,
@@ -72,6 +74,7 @@ fn mac_facts(slice: macho::Slice) -> Facts {
         imports: slice.imports,
         mac: Some(MacFacts {
             install_name: slice.install_name,
+            rpaths: slice.rpaths,
             minimum_macos: slice.minimum_macos,
             signature: slice.signature,
         }),
@@ -168,7 +171,8 @@ pub fn check(
 
 /// The checks of one binary (or slice) for `platform`: the right machine, no library beyond
 /// the platform's own, exactly the functions of `expected_exports` (those of this machine's
-/// binary of the same crate); for macOS also an install name of `@rpath/`, a minimum macOS
+/// binary of the same crate); for macOS also an install name of `@rpath/`, no `LC_RPATH`
+/// (a folder of the building machine to load from), a minimum macOS
 /// no newer than [`minimum_macos`], every import one that libSystem exports, and a valid
 /// code signature (required on Apple silicon, which refuses to load unsigned code).
 pub fn check_facts(
@@ -221,6 +225,12 @@ fn check_mac(facts: &Facts, mac: &MacFacts, platform: Platform) -> Result<(), St
                 "its install name is {other:?}, not one of its own (`@rpath/` and its file name)"
             ))
         }
+    }
+    if !mac.rpaths.is_empty() {
+        return Err(format!(
+            "it searches {:?} for libraries (LC_RPATH), folders of the machine that built it",
+            mac.rpaths
+        ));
     }
     let (major, minor, patch) = minimum_macos(platform);
     match mac.minimum_macos {
@@ -413,7 +423,7 @@ mod tests {
     }
 
     #[test]
-    fn a_mac_dylib_importing_what_libsystem_lacks_is_refused() {
+    fn a_mac_dylib_importing_what_libsystem_lacks_or_asking_too_much_is_refused() {
         let (bytes, exports) = packaged_tiny();
         let [facts] = &inspect(&bytes).unwrap()[..] else {
             panic!("one slice")
@@ -423,7 +433,17 @@ mod tests {
         let err = check_facts(&facts, Platform::Aarch64Darwin, &exports).unwrap_err();
         assert!(err.contains("it imports [\"_not_in_libsystem\"]"), "{err}");
         facts.imports.pop();
-        facts.mac.as_mut().unwrap().minimum_macos = Some((12, 0, 0));
+        let mac = facts.mac.as_mut().unwrap();
+        assert_eq!(mac.rpaths, Vec::<String>::new());
+        mac.rpaths.push("/tmp/tiny/target/release/deps".into());
+        let err = check_facts(&facts, Platform::Aarch64Darwin, &exports).unwrap_err();
+        assert!(
+            err.contains("it searches [\"/tmp/tiny/target/release/deps\"] for libraries"),
+            "{err}"
+        );
+        let mac = facts.mac.as_mut().unwrap();
+        mac.rpaths.clear();
+        mac.minimum_macos = Some((12, 0, 0));
         let err = check_facts(&facts, Platform::Aarch64Darwin, &exports).unwrap_err();
         assert!(
             err.contains("it asks for macOS 12.0.0, newer than 11.0.0"),

@@ -19,6 +19,7 @@ const LC_DYLD_INFO: u32 = 0x22;
 const LC_VERSION_MIN_MACOSX: u32 = 0x24;
 const LC_BUILD_VERSION: u32 = 0x32;
 const LC_LOAD_WEAK_DYLIB: u32 = 0x8000_0018;
+const LC_RPATH: u32 = 0x8000_001c;
 const LC_REEXPORT_DYLIB: u32 = 0x8000_001f;
 const LC_DYLD_INFO_ONLY: u32 = 0x8000_0022;
 const LC_LOAD_UPWARD_DYLIB: u32 = 0x8000_0023;
@@ -40,6 +41,8 @@ pub(super) struct Commands {
     /// LC_ID_DYLIB: the command, and its name's offset from the command's start.
     pub(super) id_dylib: Option<(Command, usize, String)>,
     pub(super) dependencies: Vec<String>,
+    /// LC_RPATH: the folders `@rpath` stands for.
+    pub(super) rpaths: Vec<String>,
     pub(super) build_minos: Option<u32>,
     pub(super) version_min: Option<u32>,
     /// Where the export trie is: offset and size.
@@ -73,6 +76,7 @@ pub(super) fn commands(m: &[u8]) -> Result<Commands, String> {
         filetype: le32(header, 12)?,
         id_dylib: None,
         dependencies: Vec::new(),
+        rpaths: Vec::new(),
         build_minos: None,
         version_min: None,
         trie: None,
@@ -130,6 +134,16 @@ impl Commands {
             }
             LC_LOAD_DYLIB | LC_LOAD_WEAK_DYLIB | LC_REEXPORT_DYLIB | LC_LOAD_UPWARD_DYLIB
             | LC_LAZY_LOAD_DYLIB => self.dependencies.push(dylib_name(body)?.1.to_string()),
+            LC_RPATH => {
+                // {cmd, cmdsize, path.offset} then the string
+                let offset = le32(body, 8)? as usize;
+                if offset < 12 || offset >= body.len() {
+                    return Err(format!(
+                        "the path's offset {offset} is not inside the command"
+                    ));
+                }
+                self.rpaths.push(cstr(body, offset)?.to_string());
+            }
             LC_BUILD_VERSION if le32(body, 8)? == PLATFORM_MACOS => {
                 self.build_minos = Some(le32(body, 12)?);
             }

@@ -48,6 +48,8 @@ pub struct Slice {
     /// LC_LOAD_DYLIB / LC_LOAD_WEAK_DYLIB / LC_REEXPORT_DYLIB (and LC_LOAD_UPWARD_DYLIB,
     /// LC_LAZY_LOAD_DYLIB) names, in order.
     pub dependencies: Vec<String>,
+    /// LC_RPATH paths (the folders `@rpath` stands for), in order.
+    pub rpaths: Vec<String>,
     /// The minimum macOS version (LC_BUILD_VERSION minos for platform macOS, or
     /// LC_VERSION_MIN_MACOSX), as (major, minor, patch).
     pub minimum_macos: Option<(u32, u32, u32)>,
@@ -148,6 +150,7 @@ fn read_slice(m: &[u8]) -> Result<Slice, String> {
         is_dylib: c.filetype == MH_DYLIB,
         install_name: c.id_dylib.map(|(_, _, name)| name),
         dependencies: c.dependencies,
+        rpaths: c.rpaths,
         minimum_macos: c.build_minos.or(c.version_min).map(version),
         exports,
         imports,
