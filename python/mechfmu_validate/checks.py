@@ -34,11 +34,12 @@ import numpy as np
 
 from .case import Case, signal_scale
 from .importers import Fmu
+from .platforms import HOST_EXTENSION, HOST_FOLDER
 
 __all__ = ["Check", "run_checks", "FMI2_CS_FUNCTIONS", "REFERENCE_DIR", "read_csv"]
 
 REFERENCE_DIR = "extra/org.fmi-standard.fmi-ls-ref"
-PLATFORM_DIR = "binaries/linux64"
+PLATFORM_DIR = f"binaries/{HOST_FOLDER['2']}"
 
 FMI2_CS_FUNCTIONS = [
     "fmi2GetTypesPlatform", "fmi2GetVersion", "fmi2SetDebugLogging", "fmi2Instantiate",
@@ -266,8 +267,8 @@ def check_binary(fmu: Fmu) -> Check:
     with zipfile.ZipFile(fmu.path) as z:
         names = z.namelist()
         archive_xml = z.read("modelDescription.xml")
-    libs = [n for n in names if n.startswith(PLATFORM_DIR + "/") and n.endswith(".so")]
-    want = f"{PLATFORM_DIR}/{ident}.so"
+    libs = [n for n in names if n.startswith(PLATFORM_DIR + "/") and n.endswith("." + HOST_EXTENSION)]
+    want = f"{PLATFORM_DIR}/{ident}.{HOST_EXTENSION}"
     if want not in names:
         c.problems.append(f"modelIdentifier {ident!r} but no {want} in the archive (it has {libs})")
         return c

@@ -2,7 +2,7 @@
 
 * ``fmpy validate``: FMPy's own validation of the FMI 3.0 archive (the schema, names,
   causality/variability/initial combinations, start values, units, ``ModelStructure``);
-* ``identifier = binary``: ``binaries/x86_64-linux/<modelIdentifier>.so`` is in the archive
+* ``identifier = binary``: this machine's ``binaries/<tuple>/<modelIdentifier>.<so|dll|dylib>`` is in the archive
   (and every other platform's binary is named after the model identifier too), loads, exports the FMI 3.0 functions (those FMPy's FMI 3.0 binding
   declares: Co-Simulation, Model Exchange and the common ones), and for a mechfmu binary
   carries exactly the archive's ``modelDescription.xml``;
@@ -21,10 +21,11 @@ from typing import Iterator
 
 from .checks import Check
 from .fmi3 import Fmi3
+from .platforms import HOST_EXTENSION, HOST_FOLDER
 
 __all__ = ["run_checks3", "PLATFORM_DIR"]
 
-PLATFORM_DIR = "binaries/x86_64-linux"
+PLATFORM_DIR = f"binaries/{HOST_FOLDER['3']}"
 
 
 def _fmi3_functions() -> list[str]:
@@ -54,7 +55,7 @@ def check_binary(f3: Fmi3) -> Check:
         names = z.namelist()
         archive_xml = z.read("modelDescription.xml")
     libs = [n for n in names if n.startswith("binaries/") and n.endswith((".so", ".dll", ".dylib"))]
-    want = f"{PLATFORM_DIR}/{cs.modelIdentifier}.so"
+    want = f"{PLATFORM_DIR}/{cs.modelIdentifier}.{HOST_EXTENSION}"
     if want not in names:
         c.problems.append(f"modelIdentifier {cs.modelIdentifier!r} but no {want} in the archive (it has {libs})")
         return c

@@ -18,6 +18,7 @@ from pathlib import Path
 
 from . import fmulog
 from .importers import Fmu
+from .platforms import HOST_EXTENSION, HOST_FOLDER
 
 __all__ = ["BrokenFmu", "open_fmu", "OPENS"]
 
@@ -25,7 +26,7 @@ __all__ = ["BrokenFmu", "open_fmu", "OPENS"]
 OPENS = "check: the FMU opens and instantiates"
 
 #: this machine's binary folder, by FMI version
-PLATFORM_FOLDER = {"2": "linux64", "3": "x86_64-linux"}
+PLATFORM_FOLDER = HOST_FOLDER
 
 
 class BrokenFmu(Exception):
@@ -78,12 +79,13 @@ def _binary(path: Path, root: ET.Element) -> str:
     folder = PLATFORM_FOLDER[root.get("fmiVersion", "").split(".")[0]]
     with zipfile.ZipFile(path) as z:
         names = [n for n in z.namelist() if not n.endswith("/")]
-    want = f"binaries/{folder}/{identifier}.so"
+    want = f"binaries/{folder}/{identifier}.{HOST_EXTENSION}"
     if want in names:
         return want
     here = sorted(n.rsplit("/", 1)[1] for n in names if n.startswith(f"binaries/{folder}/"))
     if here:
-        raise BrokenFmu(f"binaries/{folder}/ has {', '.join(here)}, not {identifier}.so (the modelIdentifier)")
+        raise BrokenFmu(f"binaries/{folder}/ has {', '.join(here)}, not {identifier}.{HOST_EXTENSION} "
+                        "(the modelIdentifier)")
     platforms = sorted({n.split("/")[1] for n in names if n.startswith("binaries/") and n.count("/") >= 2})
     raise BrokenFmu(f"no binary for {folder} in the archive (it has: {', '.join(platforms) or 'none'})")
 

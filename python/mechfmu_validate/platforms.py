@@ -58,7 +58,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from .arrays import ArrayMap
     from .importers import Fmu
 
-__all__ = ["PLATFORMS", "NATIVE", "EMULATED", "FMI2_FOLDERS", "RUN_HERE", "SCRIPT", "ENV_FILE", "NotPrepared", "Runners", "WineSession", "fmi_version",
+__all__ = ["PLATFORMS", "NATIVE", "EMULATED", "FMI2_FOLDERS", "RUN_HERE", "HOST_FOLDER", "HOST_EXTENSION",
+           "binary_folders", "library_extension", "SCRIPT", "ENV_FILE", "NotPrepared", "Runners", "WineSession", "fmi_version",
            "binary_platforms", "aarch64_fmi2_copy", "cleanup_copies", "run_case", "Comparison", "compare"]
 
 #: FMI 3.0's platform tuples of the platforms mechfmu builds FMUs for
@@ -83,6 +84,26 @@ EMULATED = {"x86_64-windows": "under wine64", "aarch64-linux": "under qemu-aarch
 FMI2_FOLDERS = {"linux64": "x86_64-linux", "win64": "x86_64-windows", "darwin64": "x86_64-darwin"}
 #: the platforms ``scripts/cross-runners`` prepares a runner for
 RUN_HERE = (NATIVE, *EMULATED)
+
+
+def binary_folders(platform: str) -> dict[str, str]:
+    """The folder under ``binaries/`` FMPy loads a binary for ``platform`` from, by FMI major
+    version: FMI 2.0's x86-64 names, and on Apple silicon ``darwin64`` (whose universal file
+    mechfmu makes for it), else the FMI 3.0 tuple."""
+    fmi2 = {"x86_64-linux": "linux64", "x86_64-windows": "win64", "x86_64-darwin": "darwin64",
+            "aarch64-darwin": "darwin64"}
+    return {"2": fmi2.get(platform, platform), "3": platform}
+
+
+def library_extension(platform: str) -> str:
+    """The file extension of a shared library of ``platform``."""
+    return {"windows": "dll", "darwin": "dylib"}.get(platform.partition("-")[2], "so")
+
+
+#: this machine's binary folder, by FMI major version
+HOST_FOLDER = binary_folders(NATIVE)
+#: the file extension of this machine's shared libraries
+HOST_EXTENSION = library_extension(NATIVE)
 #: what prepares the runners
 SCRIPT = "scripts/cross-runners"
 #: the environment file it writes (``$MECHFMU_CROSS_RUNNERS_ENV`` overrides)

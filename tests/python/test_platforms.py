@@ -41,6 +41,7 @@ from mechfmu_validate.fmi3 import Fmi3
 from mechfmu_validate.importers import Fmu
 from mechfmu_validate.loader import load_cases
 from mechfmu_validate.platforms import (EMULATED, NATIVE, PLATFORMS, SCRIPT, NotPrepared, Runners, WineSession,
+                                        binary_folders, library_extension,
                                         aarch64_fmi2_copy, binary_platforms, cleanup_copies, compare, run_case)
 from test_cases import CASES, CRATES
 
@@ -260,3 +261,14 @@ def test_compare_tells_bit_identity_from_agreement():
     signed_zero = dict(native, z=-native["z"])  # equal as numbers, not as bits
     assert compare(native, signed_zero).max_relative == 0.0 and not compare(native, signed_zero).bit_identical
     assert compare(native, dict(native, z=native["z"] + 1e-9)).max_relative == 1e-9  # a zero signal: absolute
+
+
+def test_each_machine_validates_the_binary_fmpy_loads_there():
+    """`mechfmu validate` opens and checks the binary FMPy loads on the machine it runs on: on a
+    Mac its own (FMI 2.0: the universal darwin64), as the Linux one here."""
+    assert binary_folders("x86_64-linux") == {"2": "linux64", "3": "x86_64-linux"}
+    assert binary_folders("aarch64-darwin") == {"2": "darwin64", "3": "aarch64-darwin"}
+    assert binary_folders("x86_64-darwin") == {"2": "darwin64", "3": "x86_64-darwin"}
+    assert binary_folders("x86_64-windows") == {"2": "win64", "3": "x86_64-windows"}
+    assert binary_folders("aarch64-linux") == {"2": "aarch64-linux", "3": "aarch64-linux"}
+    assert [library_extension(p) for p in PLATFORMS] == ["so", "dll", "so", "dylib", "dylib"]
