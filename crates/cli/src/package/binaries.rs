@@ -100,32 +100,14 @@ fn inspect_object(bytes: &[u8]) -> Result<Facts, String> {
                 .map_err(|e| format!("cannot read the libraries it loads: {e}"))
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let mut exports: Vec<String> = file
+    let exports = file
         .exports()
-        .map_err(|e| format!("cannot read its exports: {e}"))?
-        .filter_map(|export| match export {
-            Ok(export) => match export.name() {
-                NameOrOrdinal::Name(name) => Some(Ok(String::from_utf8_lossy(name).into_owned())),
-                NameOrOrdinal::Ordinal(_) => None,
-            },
-            Err(e) => Some(Err(format!("cannot read its exports: {e}"))),
-        })
-        .collect::<Result<_, _>>()?;
-    exports.sort();
-    exports.dedup();
-    let mut imports: Vec<String> = file
+        .map_err(|e| format!("cannot read its exports: {e}"))?;
+    let exports = sorted_names(exports.map(|e| e.map(|e| named(e.name()))), "its exports")?;
+    let imports = file
         .imports()
-        .map_err(|e| format!("cannot read its imports: {e}"))?
-        .filter_map(|import| match import {
-            Ok(import) => match import.name() {
-                NameOrOrdinal::Name(name) => Some(Ok(String::from_utf8_lossy(name).into_owned())),
-                NameOrOrdinal::Ordinal(_) => None,
-            },
-            Err(e) => Some(Err(format!("cannot read its imports: {e}"))),
-        })
-        .collect::<Result<_, _>>()?;
-    imports.sort();
-    imports.dedup();
+        .map_err(|e| format!("cannot read its imports: {e}"))?;
+    let imports = sorted_names(imports.map(|i| i.map(|i| named(i.name()))), "its imports")?;
     Ok(Facts {
         platform,
         dependencies,
@@ -133,6 +115,29 @@ fn inspect_object(bytes: &[u8]) -> Result<Facts, String> {
         imports,
         mac: None,
     })
+}
+
+/// A symbol's name, if it has one (not an ordinal).
+fn named(name: NameOrOrdinal<&[u8]>) -> Option<String> {
+    match name {
+        NameOrOrdinal::Name(name) => Some(String::from_utf8_lossy(name).into_owned()),
+        NameOrOrdinal::Ordinal(_) => None,
+    }
+}
+
+/// The names among `names` (an ordinal has none), sorted and deduplicated; `what` they are,
+/// for the error.
+fn sorted_names(
+    names: impl Iterator<Item = object::Result<Option<String>>>,
+    what: &str,
+) -> Result<Vec<String>, String> {
+    let mut found = Vec::new();
+    for name in names {
+        found.extend(name.map_err(|e| format!("cannot read {what}: {e}"))?);
+    }
+    found.sort();
+    found.dedup();
+    Ok(found)
 }
 
 /// Checks a binary built for `platforms` (one, or for a universal Mach-O file both Mac
