@@ -28,7 +28,13 @@ pub(super) fn build(
     let host = Platform::host();
     let mut libraries = Vec::new();
     if let Some(host) = host.filter(|h| platforms.contains(h)) {
-        libraries.extend(invoke(crates, manifest_path, flavor, &[host], None)?);
+        libraries.extend(invoke(
+            crates,
+            manifest_path,
+            flavor,
+            &[host],
+            Targets::Host,
+        )?);
     }
     let cross: Vec<Platform> = platforms
         .iter()
@@ -36,34 +42,39 @@ pub(super) fn build(
         .filter(|p| Some(*p) != host)
         .collect();
     if !cross.is_empty() {
-        let macos_sdk = if cross.iter().any(|p| p.is_darwin()) {
-            let dir = target_directory(manifest_path)?.join("mechfmu/macos-sdk");
-            toolchain::write_macos_sdk(&dir)?
-        } else {
-            PathBuf::new()
+        let macos_sdk = match cross.iter().any(|p| p.is_darwin()) {
+            true => {
+                let dir = target_directory(manifest_path)?.join("mechfmu/macos-sdk");
+                Some(toolchain::write_macos_sdk(&dir)?)
+            }
+            false => None,
         };
-        libraries.extend(invoke(
-            crates,
-            manifest_path,
-            flavor,
-            &cross,
-            Some(&macos_sdk),
-        )?);
+        let targets = Targets::Cross {
+            macos_sdk: macos_sdk.as_deref(),
+        };
+        libraries.extend(invoke(crates, manifest_path, flavor, &cross, targets)?);
     }
     Ok(libraries)
 }
 
-/// One `cargo build`: for this machine (`targets` None: `platforms` is the host alone) or
-/// with a `--target` for each of `platforms` (`targets` the macOS SDK the macOS ones link
-/// with).
+/// What a `cargo build` is for.
+#[derive(Clone, Copy)]
+enum Targets<'a> {
+    /// This machine, without `--target` (`platforms` is the host alone).
+    Host,
+    /// A `--target` for each platform; the macOS SDK the Mac ones link with, if any.
+    Cross { macos_sdk: Option<&'a Path> },
+}
+
+/// One `cargo build` of `crates` for `platforms`.
 fn invoke(
     crates: &[MechanismCrate],
     manifest_path: Option<&Path>,
     flavor: &Flavor,
     platforms: &[Platform],
-    targets: Option<&Path>,
+    targets: Targets,
 ) -> Result<Vec<Library>, String> {
-    let with_targets = targets.is_some();
+    let with_targets = matches!(targets, Targets::Cross { .. });
     let mut cmd = command(crates, manifest_path, flavor, platforms, targets);
     let tuples: Vec<&str> = platforms.iter().map(|p| p.tuple()).collect();
     eprintln!(
@@ -113,7 +124,7 @@ fn command(
     manifest_path: Option<&Path>,
     flavor: &Flavor,
     platforms: &[Platform],
-    targets: Option<&Path>,
+    targets: Targets,
 ) -> Command {
     let mut cmd = Command::new(cargo());
     cmd.args([
@@ -132,7 +143,7 @@ fn command(
     for c in crates {
         cmd.args(["-p", &c.package]);
     }
-    if let Some(macos_sdk) = targets {
+    if let Targets::Cross { macos_sdk } = targets {
         for p in platforms {
             cmd.args(["--target", p.rust_target()]);
             toolchain::configure(*p, &mut cmd, macos_sdk);

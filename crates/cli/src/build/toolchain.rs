@@ -45,24 +45,26 @@ pub const LIBSYSTEM_TBD: &str = include_str!("macos/libSystem.tbd");
 /// The linker of the macOS targets: Rust's own, in the sysroot beside rustc.
 const MACOS_LINKER: &str = "rust-lld";
 
-/// The C compiler cargo links with when cross-compiling for `platform` (a GNU platform),
-/// and the Debian package with it.
+/// The linker cargo links with when cross-compiling for `platform`, and the package with
+/// it (a GNU platform's C compiler, from Debian; the Mac's, Rust's own).
 fn cross_linker(platform: Platform) -> (&'static str, &'static str) {
     match platform {
         Platform::X86_64Windows => ("x86_64-w64-mingw32-gcc", "gcc-mingw-w64-x86-64"),
         Platform::Aarch64Linux => ("aarch64-linux-gnu-gcc", "gcc-aarch64-linux-gnu"),
-        _ => ("x86_64-linux-gnu-gcc", "gcc-x86-64-linux-gnu"),
+        Platform::X86_64Linux => ("x86_64-linux-gnu-gcc", "gcc-x86-64-linux-gnu"),
+        Platform::X86_64Darwin | Platform::Aarch64Darwin => (MACOS_LINKER, "rustc"),
     }
 }
 
-/// A file of the C library the cross linker links every binary of `platform` (a GNU
-/// platform) against, and the Debian package with it: Debian installs the linker without it
+/// A file of the C library the cross linker links every binary of `platform` against, and the
+/// package with it (for the Macs, the stub mechfmu writes): Debian installs the linker without it
 /// when recommendations are left out, and the link then fails on a missing `crti.o`.
 fn cross_c_library(platform: Platform) -> (&'static str, &'static str) {
     match platform {
         Platform::X86_64Windows => ("libmsvcrt.a", "mingw-w64-x86-64-dev"),
         Platform::Aarch64Linux => ("crti.o", "libc6-dev-arm64-cross"),
-        _ => ("crti.o", "libc6-dev-amd64-cross"),
+        Platform::X86_64Linux => ("crti.o", "libc6-dev-amd64-cross"),
+        Platform::X86_64Darwin | Platform::Aarch64Darwin => ("libSystem.tbd", "rustc"),
     }
 }
 
@@ -124,7 +126,7 @@ pub fn missing(platform: Platform) -> Option<MissingToolchain> {
 /// runtime's build script makes the binary carry libgcc's unwinder on Linux); for macOS,
 /// `rust-lld`, and `SDKROOT` at `macos_sdk` (see [`write_macos_sdk`]), which rustc passes
 /// the linker as its `-syslibroot`.
-pub fn configure(platform: Platform, cargo: &mut Command, macos_sdk: &Path) {
+pub fn configure(platform: Platform, cargo: &mut Command, macos_sdk: Option<&Path>) {
     if Platform::host() == Some(platform)
         || std::env::var_os(cargo_variable(platform, "LINKER")).is_some()
     {
@@ -132,7 +134,9 @@ pub fn configure(platform: Platform, cargo: &mut Command, macos_sdk: &Path) {
     }
     if platform.is_darwin() {
         cargo.env(cargo_variable(platform, "LINKER"), MACOS_LINKER);
-        cargo.env("SDKROOT", macos_sdk);
+        if let Some(sdk) = macos_sdk {
+            cargo.env("SDKROOT", sdk);
+        }
     } else {
         cargo.env(cargo_variable(platform, "LINKER"), cross_linker(platform).0);
     }

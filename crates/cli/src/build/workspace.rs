@@ -33,25 +33,32 @@ pub fn mechanism_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCra
 
 /// The workspace root (the folder of the workspace's Cargo.toml) of `manifest_path`.
 pub fn workspace_root(manifest_path: Option<&Path>) -> Result<PathBuf, String> {
-    metadata(manifest_path)?["workspace_root"]
-        .as_str()
-        .map(PathBuf::from)
-        .ok_or_else(|| "cargo metadata names no workspace root".to_string())
+    metadata_path(manifest_path, "workspace_root")
 }
 
 /// Cargo's target directory for the workspace (or crate) at `manifest_path`.
 pub fn target_directory(manifest_path: Option<&Path>) -> Result<PathBuf, String> {
-    metadata(manifest_path)?["target_directory"]
-        .as_str()
-        .map(PathBuf::from)
-        .ok_or_else(|| "cargo metadata names no target directory".to_string())
+    metadata_path(manifest_path, "target_directory")
 }
 
+/// A path `cargo metadata` gives under `key`.
+fn metadata_path(manifest_path: Option<&Path>, key: &str) -> Result<PathBuf, String> {
+    metadata(manifest_path)?[key]
+        .as_str()
+        .map(PathBuf::from)
+        .ok_or_else(|| format!("cargo metadata gives no {key}"))
+}
+
+/// `cargo metadata` of the workspace at `manifest_path`, run in its folder (whose cargo
+/// configuration, `build.target-dir` say, is the workspace's), else here.
 fn metadata(manifest_path: Option<&Path>) -> Result<serde_json::Value, String> {
     let mut cmd = Command::new(cargo());
     cmd.args(["metadata", "--format-version", "1", "--no-deps"]);
     if let Some(path) = manifest_path {
         cmd.arg("--manifest-path").arg(path);
+        if let Some(dir) = path.parent().filter(|d| d.is_dir()) {
+            cmd.current_dir(dir);
+        }
     }
     let output = cmd
         .output()

@@ -62,13 +62,18 @@ pub fn inspect(bytes: &[u8]) -> Result<Vec<Facts>, String> {
     Ok(vec![inspect_object(bytes)?])
 }
 
+/// The CPU of each Mac platform.
+const MAC_PLATFORMS: [(Arch, Platform); 2] = [
+    (Arch::X86_64, Platform::X86_64Darwin),
+    (Arch::Arm64, Platform::Aarch64Darwin),
+];
+
 fn mac_facts(slice: macho::Slice) -> Facts {
     Facts {
-        platform: Some(match slice.arch {
-            Arch::X86_64 => Platform::X86_64Darwin,
-            Arch::Arm64 => Platform::Aarch64Darwin,
-        })
-        .filter(|_| slice.is_dylib),
+        platform: (MAC_PLATFORMS.iter())
+            .find(|(arch, _)| *arch == slice.arch)
+            .map(|&(_, platform)| platform)
+            .filter(|_| slice.is_dylib),
         dependencies: slice.dependencies,
         exports: slice.exports,
         imports: slice.imports,
@@ -247,10 +252,9 @@ fn check_mac(facts: &Facts, mac: &MacFacts, platform: Platform) -> Result<(), St
             ))
         }
     }
-    let arch = match platform {
-        Platform::Aarch64Darwin => Arch::Arm64,
-        _ => Arch::X86_64,
-    };
+    let (arch, _) = *(MAC_PLATFORMS.iter())
+        .find(|(_, p)| *p == platform)
+        .expect("a Mac platform");
     let libsystem = macho::tbd_exports(LIBSYSTEM_TBD, arch);
     let unknown: Vec<&String> = (facts.imports.iter())
         .filter(|s| !libsystem.contains(s.as_str()))

@@ -214,7 +214,7 @@ pub fn directional_derivative<M: Mechanism>(
         )));
     }
     inst.sim
-        .directional_derivative_with_time(unknowns, knowns, seed, time_seed, sensitivity)?;
+        .directional_derivative(unknowns, knowns, seed, time_seed, sensitivity)?;
     // Seeds near the overflow limit give inf - inf: refuse, rather than return NaN.
     if let Some(i) = sensitivity.iter().position(|x| x.is_nan()) {
         return Err(error(format!(

@@ -7,20 +7,9 @@ use num_dual::Dual64;
 
 impl<M: Mechanism> Simulation<M> {
     /// `fmi2GetDirectionalDerivative`: the change of each unknown along the direction
-    /// `dv_known` of the knowns (states and inputs), at the current point.
+    /// `dv_known` of the knowns (states and inputs) and `dt` of the time (FMI 3.0 counts the
+    /// independent variable among the knowns; FMI 2.0 gives 0), at the current point.
     pub fn directional_derivative(
-        &mut self,
-        unknowns: &[u32],
-        knowns: &[u32],
-        dv_known: &[f64],
-        dv_unknown: &mut [f64],
-    ) -> Result<(), String> {
-        self.directional_derivative_with_time(unknowns, knowns, dv_known, 0.0, dv_unknown)
-    }
-
-    /// [`Simulation::directional_derivative`] along a direction that moves the time too, by
-    /// `dt` (FMI 3.0 counts the independent variable among the knowns).
-    pub fn directional_derivative_with_time(
         &mut self,
         unknowns: &[u32],
         knowns: &[u32],

@@ -214,11 +214,11 @@ fn derivatives_of_outputs_come_from_outputs() {
     assert!(v != 0.0);
     let (v_vr, a_vr, e_vr, p_vr) = (6, 7, 8, 9);
     let mut d = [0.0; 3];
-    sim.directional_derivative(&[a_vr, e_vr, p_vr], &[v_vr], &[1.0], &mut d)
+    sim.directional_derivative(&[a_vr, e_vr, p_vr], &[v_vr], &[1.0], 0.0, &mut d)
         .unwrap();
     assert_eq!(d[1], m * v);
     let mut d = [0.0; 3];
-    sim.directional_derivative(&[a_vr, e_vr, p_vr], &[F], &[1.0], &mut d)
+    sim.directional_derivative(&[a_vr, e_vr, p_vr], &[F], &[1.0], 0.0, &mut d)
         .unwrap();
     assert_eq!(d, [1.0 / m, 0.0, v]);
     let mut rate = [0.0];
