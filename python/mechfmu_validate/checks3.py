@@ -23,7 +23,7 @@ from .checks import Check
 from .fmi3 import Fmi3
 from .platforms import HOST_EXTENSION, HOST_FOLDER
 
-__all__ = ["run_checks3", "PLATFORM_DIR"]
+__all__ = ["run_checks3"]
 
 PLATFORM_DIR = f"binaries/{HOST_FOLDER['3']}"
 

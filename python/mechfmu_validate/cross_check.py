@@ -48,7 +48,7 @@ from .arrays import fmi2_sibling
 from .case import Case, Result
 from .embedded_reference import EmbeddedReference, Files
 from .importers import ME_CVODE_RTOL, Fmu
-from .opening import PLATFORM_FOLDER
+from .platforms import HOST_FOLDER
 from .reference import csv_text
 
 __all__ = ["CASE_NAME", "IMPORTER", "NOT_COMPLIANT", "VERDICTS", "Place", "beside", "sources", "walk",
@@ -58,12 +58,12 @@ __all__ = ["CASE_NAME", "IMPORTER", "NOT_COMPLIANT", "VERDICTS", "Place", "besid
 CASE_NAME = "reference_beside"
 #: the importing tool's name in the results' tree
 IMPORTER = "mechfmu"
-#: the file that marks a folder of the tree the rules no longer accept
+#: the file that marks a folder of the tree the current rules do not accept
 NOT_COMPLIANT = "notCompliantWithLatestRules"
 #: the files an importer's result is one of
 VERDICTS = ("passed", "failed", "rejected")
 #: the FMI versions whose FMUs are validated, and this machine's platform folder in each
-HOST_PLATFORM = {"2.0": PLATFORM_FOLDER["2"], "3.0": PLATFORM_FOLDER["3"]}
+HOST_PLATFORM = {"2.0": HOST_FOLDER["2"], "3.0": HOST_FOLDER["3"]}
 INTERFACES = {"cs": "Co-Simulation", "me": "Model Exchange"}
 
 
@@ -176,7 +176,7 @@ def not_validated(path: Path) -> str | None:
     except Exception:  # noqa: BLE001 (opening the FMU will say what is wrong)
         return None
     version = str(md.fmiVersion or "")
-    if version.split(".")[0] not in PLATFORM_FOLDER:
+    if version.split(".")[0] not in HOST_FOLDER:
         return f"FMI {version or '(no version given)'} is not validated here (FMI 2.0 and 3.0 are)"
     if md.coSimulation is not None:
         return None

@@ -25,9 +25,6 @@ __all__ = ["BrokenFmu", "open_fmu", "OPENS"]
 #: the check column of the row of an FMU that cannot be opened
 OPENS = "check: the FMU opens and instantiates"
 
-#: this machine's binary folder, by FMI version
-PLATFORM_FOLDER = HOST_FOLDER
-
 
 class BrokenFmu(Exception):
     """The FMU cannot be validated; the message says why, in words."""
@@ -65,7 +62,7 @@ def _model_description(path: Path) -> ET.Element:
     if root.tag != "fmiModelDescription":
         raise BrokenFmu(f"modelDescription.xml is not an FMI model description (its root is <{root.tag}>)")
     version = root.get("fmiVersion", "")
-    if version.split(".")[0] not in PLATFORM_FOLDER:
+    if version.split(".")[0] not in HOST_FOLDER:
         raise BrokenFmu(f"FMI version {version or '(none given)'} is not validated here (FMI 2.0 and 3.0 are)")
     if root.find("CoSimulation") is None:
         raise BrokenFmu("the FMU offers no Co-Simulation (modelDescription.xml has no <CoSimulation>): "
@@ -76,7 +73,7 @@ def _model_description(path: Path) -> ET.Element:
 def _binary(path: Path, root: ET.Element) -> str:
     """The archive's name of this machine's binary; :class:`BrokenFmu` when it is missing."""
     identifier = root.find("CoSimulation").get("modelIdentifier", "")
-    folder = PLATFORM_FOLDER[root.get("fmiVersion", "").split(".")[0]]
+    folder = HOST_FOLDER[root.get("fmiVersion", "").split(".")[0]]
     with zipfile.ZipFile(path) as z:
         names = [n for n in z.namelist() if not n.endswith("/")]
     want = f"binaries/{folder}/{identifier}.{HOST_EXTENSION}"

@@ -10,9 +10,6 @@ and not run, and why."""
 from __future__ import annotations
 
 import contextlib
-import xml.etree.ElementTree as ET
-import zipfile
-from pathlib import Path
 from typing import TYPE_CHECKING, Iterator
 
 from .platforms import (EMULATED, FMI2_FOLDERS, NATIVE, PLATFORMS, NotPrepared, Runners, WineSession,
@@ -56,23 +53,13 @@ def session(enabled: bool = True) -> Iterator[None]:
         cleanup_copies()
 
 
-def _by_mechfmu(path: Path) -> bool:
-    """Whether mechfmu built the FMU (whose build checked every binary it packaged)."""
-    try:
-        with zipfile.ZipFile(path) as z:
-            root = ET.fromstring(z.read("modelDescription.xml"))
-    except (OSError, KeyError, zipfile.BadZipFile, ET.ParseError):
-        return False
-    return (root.get("generationTool") or "").startswith("mechfmu")
-
-
 class Platforms:
-    """One FMU's binaries (``label``: the importer prefix of its rows, e.g. ``"fmi crate"``
-    or ``"fmi crate FMI3"``; ``names``: the FMI 3.0 FMU's array mapping, as
+    """The binaries of the opened ``fmu`` (``label``: the importer prefix of its rows, e.g.
+    ``"fmi crate"`` or ``"fmi crate FMI3"``; ``names``: the FMI 3.0 FMU's array mapping, as
     :func:`~.fmi3.run_crate3` passes it)."""
 
-    def __init__(self, path: Path, name: str, label: str, names=None, enabled: bool = True):
-        self.path, self.name, self.label, self.names = Path(path), name, label, names
+    def __init__(self, fmu: Fmu, name: str, label: str, names=None, enabled: bool = True):
+        self.path, self.name, self.label, self.names = fmu.path, name, label, names
         self.version = fmi_version(self.path)
         found = binary_platforms(self.path)
         # in the order of PLATFORMS, then any other
@@ -81,7 +68,7 @@ class Platforms:
         self.runners, why_not = _load() if enabled else (None, "not asked for (--no-fmi-crate)")
         self.why_not = why_not
         self.foreign = [p for p in EMULATED if p in self.found]
-        self.by_mechfmu = _by_mechfmu(self.path)
+        self.by_mechfmu = fmu.by_mechfmu
         # what the platforms row calls each platform: its folder's name in the FMU's own
         # version (FMI 2.0's win64, linux64; FMI 3.0's x86_64-windows), never a mix of both
         fmi2_names = {t: f for f, t in FMI2_FOLDERS.items()} if self.version.startswith("2.") else {}

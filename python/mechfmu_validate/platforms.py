@@ -58,7 +58,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .arrays import ArrayMap
     from .importers import Fmu
 
-__all__ = ["PLATFORMS", "NATIVE", "EMULATED", "FMI2_FOLDERS", "RUN_HERE", "HOST_FOLDER", "HOST_EXTENSION",
+__all__ = ["PLATFORMS", "NATIVE", "EMULATED", "FMI2_FOLDERS", "HOST_FOLDER", "HOST_EXTENSION",
            "binary_folders", "library_extension", "SCRIPT", "ENV_FILE", "NotPrepared", "Runners", "WineSession", "fmi_version",
            "binary_platforms", "aarch64_fmi2_copy", "cleanup_copies", "run_case", "Comparison", "compare"]
 

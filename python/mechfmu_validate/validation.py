@@ -230,9 +230,9 @@ def validate_fmu(path: Path, cases_file: Path | None, only: list[str], use_libco
         if f3 is not None:
             rows.extend(_check_rows(name, run_checks3(f3)))
             rows.append(fmi3.agreement_row(f3, fmu))
-        binaries = [Platforms(path, name, FMI_CRATE, enabled=use_fmi_crate)]
+        binaries = [Platforms(fmu, name, FMI_CRATE, enabled=use_fmi_crate)]
         if f3 is not None:
-            binaries.append(Platforms(f3.fmu.path, name, fmi3.FMI3_CRATE, names=f3.mapping, enabled=use_fmi_crate))
+            binaries.append(Platforms(f3.fmu, name, fmi3.FMI3_CRATE, names=f3.mapping, enabled=use_fmi_crate))
         rows.extend(b.summary_row() for b in binaries)
         # the reference the FMU carries: beside a mechanism's cases, a cheap extra row under FMPy
         # (its default-experiment case already runs under every importer, and is plotted); alone,
@@ -307,7 +307,7 @@ def validate_fmi3(path: Path, cases_file: Path | None, only: list[str], rows: li
         rows.extend(_check_rows(name, run_checks3(f3)))
         if fmu2 is not None:
             rows.append(fmi3.agreement_row(f3, fmu2))
-        binaries = Platforms(path, name, fmi3.FMI3_CRATE, names=f3.mapping, enabled=use_fmi_crate)
+        binaries = Platforms(f3.fmu, name, fmi3.FMI3_CRATE, names=f3.mapping, enabled=use_fmi_crate)
         rows.append(binaries.summary_row())
         alone = cases_file is None
         if not _reference_rows3(f3, rows, plots if alone else None, use_fmi_crate and alone, use_model_exchange) \
