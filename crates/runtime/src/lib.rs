@@ -29,6 +29,7 @@ pub mod export;
 pub mod fmi;
 pub mod fmi2;
 pub mod fmi3;
+pub mod lagrange;
 pub mod modal;
 pub mod model;
 pub mod simulation;

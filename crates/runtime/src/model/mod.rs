@@ -10,7 +10,7 @@ mod checks;
 mod const_text;
 mod declare;
 mod layout;
-mod scalar;
+pub(crate) mod scalar;
 pub mod units;
 mod values;
 mod variable;
@@ -163,6 +163,16 @@ pub trait Mechanism: Declaration {
     /// Moving an output here changes neither its value (the same operations on the same
     /// numbers) nor the modelDescription; it only stops it being computed at every stage.
     fn outputs<S: Scalar>(_values: &mut Self::Values<S>) {}
+
+    /// Why the equations have no solution at the point the values hold, when they can
+    /// tell (a mechanism declared from its energies: a mass matrix that is not positive
+    /// definite, [`Lagrangian::mass_matrix_problem`](crate::lagrange::Lagrangian::mass_matrix_problem)).
+    /// Asked only where an evaluation left a derivative or output that is not a number, and
+    /// added to the message that refuses the point (at initialization, after
+    /// `fmi2SetReal`, in a step that stops there). `None` by default.
+    fn diagnose(_values: &Self::Values<f64>) -> Option<String> {
+        None
+    }
 
     /// Whether [`Mechanism::project`] does anything (saves an evaluation per step).
     const PROJECTED: bool = false;

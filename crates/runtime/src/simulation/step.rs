@@ -97,6 +97,7 @@ impl<M: Mechanism> Simulation<M> {
             self.first_non_finite(M::CONTINUOUS)
         };
         if let Some(name) = non_finite {
+            let diagnosis = M::diagnose(&self.values).map(|why| format!(": {why}"));
             self.undo(t, &start);
             self.solver.restore(memory);
             self.warning_active = warning_active;
@@ -105,8 +106,9 @@ impl<M: Mechanism> Simulation<M> {
                 time: t,
                 limit: false,
                 message: format!(
-                    "`{name}` became non-finite before t = {t_end}{}; the step is undone, the values are those at t = {t}",
-                    why.unwrap_or_default()
+                    "`{name}` became non-finite before t = {t_end}{}{}; the step is undone, the values are those at t = {t}",
+                    why.unwrap_or_default(),
+                    diagnosis.unwrap_or_default()
                 ),
             });
         }

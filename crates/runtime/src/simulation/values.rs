@@ -167,10 +167,12 @@ impl<M: Mechanism> Simulation<M> {
                 x.is_nan()
             };
             if bad {
+                let why = M::diagnose(&self.values).map(|why| format!(": {why}"));
                 return Err(format!(
-                    "`{}` evaluates to {x} at t = {} with these parameters and inputs",
+                    "`{}` evaluates to {x} at t = {} with these parameters and inputs{}",
                     var.name,
-                    self.time()
+                    self.time(),
+                    why.unwrap_or_default()
                 ));
             }
         }

@@ -1,0 +1,173 @@
+//! A mechanism's generalized coordinates: declared by name, resolved to value references at
+//! compile time, each mistake a compile error naming the coordinate.
+
+use crate::model::{str_eq, Causality, ConstMessage, Variability, Variable};
+
+/// A generalized coordinate, named by its position state.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Coordinate {
+    /// The position state; its derivative is the velocity state, whose derivative is the
+    /// acceleration.
+    pub name: &'static str,
+    /// For a driven coordinate: the output that receives the generalized force its drive
+    /// exerts.
+    pub drive: Option<&'static str>,
+}
+
+impl Coordinate {
+    /// A coordinate whose acceleration Lagrange's equations give (written to the velocity
+    /// state's derivative, an output or local variable).
+    pub const fn free(name: &'static str) -> Self {
+        Coordinate { name, drive: None }
+    }
+
+    /// A coordinate whose motion is prescribed: its acceleration is an input (the velocity
+    /// state's derivative), and `force` is the output that receives the generalized force the
+    /// drive exerts to prescribe it (a force for a length, a torque for an angle).
+    pub const fn driven(name: &'static str, force: &'static str) -> Self {
+        Coordinate {
+            name,
+            drive: Some(force),
+        }
+    }
+}
+
+/// A coordinate's value references.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Resolved {
+    pub position: usize,
+    pub velocity: usize,
+    pub acceleration: usize,
+    /// The driven coordinate's force output; `None` for a free coordinate.
+    pub force: Option<usize>,
+}
+
+/// The value references of `coordinates` among `variables`. Panics (at compile time, where
+/// it is evaluated as a constant) with a message naming the first coordinate declared wrong.
+pub const fn resolve<const N: usize>(
+    variables: &[Variable],
+    coordinates: &[Coordinate; N],
+) -> [Resolved; N] {
+    let unset = Resolved {
+        position: 0,
+        velocity: 0,
+        acceleration: 0,
+        force: None,
+    };
+    let mut out = [unset; N];
+    let mut i = 0;
+    while i < N {
+        match resolve_one(variables, coordinates.as_slice(), i) {
+            Ok(resolved) => out[i] = resolved,
+            Err(message) => panic!("{}", message.as_str()),
+        }
+        i += 1;
+    }
+    out
+}
+
+// Constant evaluation, where the message cannot be boxed (and its size costs nothing).
+#[allow(clippy::result_large_err)]
+const fn resolve_one(
+    variables: &[Variable],
+    coordinates: &[Coordinate],
+    i: usize,
+) -> Result<Resolved, ConstMessage> {
+    let coordinate = coordinates[i];
+    let name = coordinate.name;
+    let mut j = 0;
+    while j < i {
+        if str_eq(coordinates[j].name, name) {
+            return Err(*mistake(name).push(" is listed twice"));
+        }
+        j += 1;
+    }
+    let Some(position) = find(variables, name) else {
+        return Err(*mistake(name).push(" names no declared variable"));
+    };
+    let Some(velocity_name) = variables[position].derivative else {
+        return Err(*mistake(name).push(
+            " is not a state: declare it `Variable::state(unit, start, \"<its velocity>\")`",
+        ));
+    };
+    let Some(velocity) = find(variables, velocity_name) else {
+        return Err(*mistake(name).push(" has a derivative that names no declared variable"));
+    };
+    let Some(acceleration_name) = variables[velocity].derivative else {
+        return Err(*mistake(name)
+            .push(": its velocity ")
+            .quoted(velocity_name)
+            .push(
+            " is not a state: declare it `Variable::state(unit, start, \"<its acceleration>\")`",
+        ));
+    };
+    let Some(acceleration) = find(variables, acceleration_name) else {
+        return Err(*mistake(name)
+            .push(": its acceleration ")
+            .quoted(acceleration_name)
+            .push(" names no declared variable"));
+    };
+    let accelerated = variables[acceleration];
+    let force = match coordinate.drive {
+        None => {
+            if !matches!(accelerated.causality, Causality::Output | Causality::Local)
+                || accelerated.derivative.is_some()
+            {
+                return Err(*mistake(name)
+                    .push(" is free, so its acceleration ")
+                    .quoted(acceleration_name)
+                    .push(" must be an output or local variable (an input makes it driven: `Coordinate::driven`)"));
+            }
+            None
+        }
+        Some(force_name) => {
+            if !matches!(accelerated.causality, Causality::Input) {
+                return Err(*mistake(name)
+                    .push(" is driven, so its acceleration ")
+                    .quoted(acceleration_name)
+                    .push(" must be an input"));
+            }
+            let Some(force) = find(variables, force_name) else {
+                return Err(*mistake(name)
+                    .push(": its drive's force ")
+                    .quoted(force_name)
+                    .push(" names no declared variable"));
+            };
+            let output = variables[force];
+            if !matches!(output.causality, Causality::Output | Causality::Local)
+                || !matches!(output.variability, Variability::Continuous)
+                || output.derivative.is_some()
+            {
+                return Err(*mistake(name)
+                    .push(": its drive's force ")
+                    .quoted(force_name)
+                    .push(" must be an output or local variable that is not a state"));
+            }
+            Some(force)
+        }
+    };
+    Ok(Resolved {
+        position,
+        velocity,
+        acceleration,
+        force,
+    })
+}
+
+/// The start of the message about coordinate `name`.
+const fn mistake(name: &str) -> ConstMessage {
+    let mut message = ConstMessage::new();
+    message.push("coordinate ").quoted(name);
+    message
+}
+
+const fn find(variables: &[Variable], name: &str) -> Option<usize> {
+    let mut i = 0;
+    while i < variables.len() {
+        if str_eq(variables[i].name, name) {
+            return Some(i);
+        }
+        i += 1;
+    }
+    None
+}
