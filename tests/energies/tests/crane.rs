@@ -1,0 +1,76 @@
+//! The Crane declared from its energies: the payload's kinetic and potential energies with
+//! the trolley's `x` and the boom's `θ` driven. Lagrange's equations give the swing, and the
+//! generalized forces the drives exert, `F` along the boom and `tau` about `O`, from the
+//! energies alone.
+
+use crane::{Crane, CraneValues};
+use crane_kinematics::{cable_tension, normal_acceleration, radial_acceleration};
+use mechfmu::lagrange::{Coordinate, Lagrangian};
+use mechfmu::model::{lit, sin_cos, Scalar};
+use mechfmu_energies::{agreement, reference_case, same_trajectories, twin};
+
+twin!(EnergyCrane of Crane, evaluate(v) {
+    Self::lagrange(v);
+    // Not from the energies: the cable's pull, for the monitor, and the drives' power.
+    let (sin_s, cos_s) = sin_cos(v.theta - v.phi);
+    let (_, cos_phi) = sin_cos(v.phi);
+    let a_radial = radial_acceleration(v.x, v.theta_dot, v.x_ddot);
+    let a_normal = normal_acceleration(v.x, v.x_dot, v.theta_dot, v.theta_ddot);
+    let a_trolley = (a_radial, a_normal);
+    v.T = cable_tension(v.m, v.l, v.g, a_trolley, (sin_s, cos_s), v.phi_dot, cos_phi);
+    v.P_drives = v.F * v.x_dot + v.tau * v.theta_dot;
+});
+
+impl Lagrangian<3> for EnergyCrane {
+    const COORDINATES: [Coordinate; 3] = [
+        Coordinate::driven("x", "F"),
+        Coordinate::driven("theta", "tau"),
+        Coordinate::free("phi"),
+    ];
+
+    /// The payload at `x (cos θ, sin θ) + l (sin φ, -cos φ)`, differentiated by hand.
+    #[inline(always)]
+    fn kinetic_energy<S: Scalar>(v: &CraneValues<S>) -> S {
+        let (sin_th, cos_th) = sin_cos(v.theta);
+        let (sin_phi, cos_phi) = sin_cos(v.phi);
+        let vel_x = v.x_dot * cos_th - v.x * v.theta_dot * sin_th + v.l * v.phi_dot * cos_phi;
+        let vel_y = v.x_dot * sin_th + v.x * v.theta_dot * cos_th + v.l * v.phi_dot * sin_phi;
+        lit::<S>(0.5) * v.m * (vel_x * vel_x + vel_y * vel_y)
+    }
+
+    #[inline(always)]
+    fn potential_energy<S: Scalar>(v: &CraneValues<S>) -> S {
+        let (sin_th, _) = sin_cos(v.theta);
+        let (_, cos_phi) = sin_cos(v.phi);
+        v.m * v.g * (v.x * sin_th - v.l * cos_phi)
+    }
+}
+
+#[test]
+fn swing_and_drive_forces_agree_at_random_points() {
+    let found = agreement::<Crane, EnergyCrane>(1000, 0xc4ae);
+    println!("{found:?}");
+    assert!(found.worst_value <= 1e-12, "{found:?}");
+    assert!(found.worst_derivative <= 1e-12, "{found:?}");
+}
+
+#[test]
+fn reference_case_agrees() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fmus/crane");
+    let (hand, twin) = reference_case::<Crane, EnergyCrane>(&dir);
+    println!("reference: hand {hand:e}, twin {twin:e}");
+    assert!(twin <= hand + 1e-9, "hand {hand:e}, twin {twin:e}");
+}
+
+#[test]
+fn driven_trajectories_agree() {
+    let start = [
+        ("phi", 1.0),
+        ("x_ddot", 0.2),
+        ("theta_ddot", -0.01),
+        ("theta_dot", 0.1),
+    ];
+    let worst = same_trajectories::<Crane, EnergyCrane>(&start, 5.0, 0.01);
+    println!("trajectories: {worst:e}");
+    assert!(worst <= 1e-9, "{worst:e}");
+}

@@ -1,0 +1,86 @@
+//! The CraneDynamics declared from its energies: the boom's, the trolley's and the payload's
+//! kinetic and potential energies, with the drives' force and torque as generalized forces.
+
+use crane_dynamics::{CraneDynamics, CraneDynamicsValues};
+use crane_kinematics::{cable_tension, normal_acceleration, radial_acceleration};
+use mechfmu::lagrange::{Coordinate, Lagrangian};
+use mechfmu::model::{lit, sin_cos, Scalar};
+use mechfmu_energies::{agreement, reference_case, same_trajectories, twin};
+
+twin!(EnergyCraneDynamics of CraneDynamics, evaluate(v) {
+    Self::lagrange(v);
+    // Not from the energies: the cable's pull, for the monitor, and the drives' power.
+    let (sin_s, cos_s) = sin_cos(v.theta - v.phi);
+    let (_, cos_phi) = sin_cos(v.phi);
+    let a_radial = radial_acceleration(v.x, v.theta_dot, v.x_ddot);
+    let a_normal = normal_acceleration(v.x, v.x_dot, v.theta_dot, v.theta_ddot);
+    let a_trolley = (a_radial, a_normal);
+    v.T = cable_tension(v.m, v.l, v.g, a_trolley, (sin_s, cos_s), v.phi_dot, cos_phi);
+    v.P_drives = v.F * v.x_dot + v.tau * v.theta_dot;
+});
+
+impl Lagrangian<3> for EnergyCraneDynamics {
+    const COORDINATES: [Coordinate; 3] = [
+        Coordinate::free("x"),
+        Coordinate::free("theta"),
+        Coordinate::free("phi"),
+    ];
+
+    /// The boom turning about `O`, the trolley at `x (cos θ, sin θ)`, the payload `l` below it
+    /// along `(sin φ, -cos φ)`.
+    #[inline(always)]
+    fn kinetic_energy<S: Scalar>(v: &CraneDynamicsValues<S>) -> S {
+        let half = lit::<S>(0.5);
+        let (sin_th, cos_th) = sin_cos(v.theta);
+        let (sin_phi, cos_phi) = sin_cos(v.phi);
+        let trolley_x = v.x_dot * cos_th - v.x * v.theta_dot * sin_th;
+        let trolley_y = v.x_dot * sin_th + v.x * v.theta_dot * cos_th;
+        let payload_x = trolley_x + v.l * v.phi_dot * cos_phi;
+        let payload_y = trolley_y + v.l * v.phi_dot * sin_phi;
+        half * v.J_boom * v.theta_dot * v.theta_dot
+            + half * v.m_trolley * (trolley_x * trolley_x + trolley_y * trolley_y)
+            + half * v.m * (payload_x * payload_x + payload_y * payload_y)
+    }
+
+    #[inline(always)]
+    fn potential_energy<S: Scalar>(v: &CraneDynamicsValues<S>) -> S {
+        let (sin_th, _) = sin_cos(v.theta);
+        let (_, cos_phi) = sin_cos(v.phi);
+        let trolley_y = v.x * sin_th;
+        v.g * (v.m_trolley * trolley_y + v.m * (trolley_y - v.l * cos_phi))
+    }
+
+    /// The drive's force along the boom does work on `x`, the boom's torque on `θ`.
+    fn generalized_forces<S: Scalar>(v: &CraneDynamicsValues<S>) -> [S; 3] {
+        [v.F, v.tau, S::zero()]
+    }
+}
+
+#[test]
+fn accelerations_agree_at_random_points() {
+    let found = agreement::<CraneDynamics, EnergyCraneDynamics>(1000, 0xd1_ca);
+    println!("{found:?}");
+    assert!(found.worst_value <= 1e-12, "{found:?}");
+    assert!(found.worst_derivative <= 1e-12, "{found:?}");
+}
+
+#[test]
+fn reference_case_agrees() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fmus/crane_dynamics");
+    let (hand, twin) = reference_case::<CraneDynamics, EnergyCraneDynamics>(&dir);
+    println!("reference: hand {hand:e}, twin {twin:e}");
+    assert!(twin <= hand + 1e-9, "hand {hand:e}, twin {twin:e}");
+}
+
+#[test]
+fn driven_trajectories_agree() {
+    let start = [
+        ("phi", 0.8),
+        ("F", 9000.0),
+        ("tau", 90000.0),
+        ("x_dot", 0.3),
+    ];
+    let worst = same_trajectories::<CraneDynamics, EnergyCraneDynamics>(&start, 5.0, 0.01);
+    println!("trajectories: {worst:e}");
+    assert!(worst <= 1e-9, "{worst:e}");
+}
