@@ -134,6 +134,15 @@ pub fn available() -> bool {
 
 /// Instructions of `exe args` under cachegrind.
 fn instructions(program: &Path, args: &[String]) -> Result<u64, String> {
+    instructions_with(program, args, &[])
+}
+
+/// Instructions of `exe args` under cachegrind, with `environment` set.
+pub(crate) fn instructions_with(
+    program: &Path,
+    args: &[String],
+    environment: &[(&str, String)],
+) -> Result<u64, String> {
     let output = Command::new("valgrind")
         .args([
             "--tool=cachegrind",
@@ -142,6 +151,7 @@ fn instructions(program: &Path, args: &[String]) -> Result<u64, String> {
         ])
         .arg(program)
         .args(args)
+        .envs(environment.iter().map(|(k, v)| (k, v)))
         .output()
         .map_err(|e| format!("cannot run valgrind: {e}"))?;
     let stderr = String::from_utf8_lossy(&output.stderr);

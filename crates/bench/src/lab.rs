@@ -5,6 +5,7 @@
 use crate::binary::Binary;
 use crate::build_time::clean_build;
 use crate::effort::{steps_per_run, Effort};
+use crate::energies::{self, TwinProbe};
 use crate::figures;
 use crate::instructions::{self, ProbeCommand};
 use crate::precision::{self, Problem};
@@ -32,6 +33,9 @@ pub struct Plan<'a> {
     pub python: Option<&'a dyn Fn() -> Result<PathBuf, String>>,
     /// The cargo program to time a clean build of every FMU with (None: not timed).
     pub clean_build: Option<String>,
+    /// The test executables of the mechanisms declared again from their energies, whose
+    /// instructions are counted against the hand-written ones' (empty: not counted).
+    pub energies: Vec<TwinProbe>,
 }
 
 /// A mechanism's FMU as the lab loaded it.
@@ -56,6 +60,14 @@ pub fn run(plan: &Plan) -> Result<Report, String> {
             count_instructions(plan, command, &loaded, &mut report)?;
         } else {
             (report.notes).push("--instructions: valgrind is not installed".into());
+        }
+    }
+    if !plan.energies.is_empty() {
+        if instructions::available() {
+            progress::show("declared from energies: instructions under valgrind");
+            report.energies = energies::count(&plan.energies)?;
+        } else {
+            (report.notes).push("--energies: valgrind is not installed".into());
         }
     }
     if plan.me_only {

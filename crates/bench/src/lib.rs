@@ -23,6 +23,9 @@
 //!   model's equations alone at the same points, and the difference.
 //! - [`instructions`]: the same split in instructions counted by valgrind, repeatable on a
 //!   busy machine.
+//! - [`energies`]: instructions per step and per Model Exchange evaluation of the
+//!   mechanisms declared again from their energies (`tests/energies`), against the
+//!   hand-written ones'.
 //! - [`python`] (`scripts/bench_fmpy.py`): µs per step under FMPy's low-level loop, and
 //!   scipy `solve_ivp` on the Oscillator for the [`precision`] diagram.
 //! - [`build_time`]: a clean release build of every FMU for every platform, timed.
@@ -35,6 +38,7 @@ pub mod binary;
 pub mod build_time;
 pub mod clock;
 pub mod effort;
+pub mod energies;
 pub mod figures;
 pub mod fmi3;
 pub mod instance;

@@ -115,6 +115,13 @@ impl<M: Mechanism> ModelExchange<M> {
         }
     }
 
+    /// The derivatives into `dx` (one per state), without allocating: for counting the
+    /// instructions of an evaluation.
+    pub fn derivatives_into(&mut self, dx: &mut [f64]) -> fmi2Status {
+        // SAFETY: live component, an array of the given length.
+        unsafe { functions::fmi2GetDerivatives::<M>(self.c(), dx.as_mut_ptr(), dx.len()) }
+    }
+
     pub fn event_indicators(&mut self) -> Result<Vec<f64>, fmi2Status> {
         let mut z = vec![f64::NAN; M::EVENT_INDICATORS.len()];
         // SAFETY: live component, an array of the given length.

@@ -387,3 +387,53 @@ pub fn reference_case<Hand: Mechanism, Twin: Mechanism>(crate_dir: &Path) -> (f6
         worst_relative_to_range(&reference, &pick(&twin), &columns),
     )
 }
+
+/// What `mechfmu bench --energies` counts: a run of [`PROBE_STEPS`] `fmi2DoStep` of
+/// 0.01 s at tolerance 1e-6 from the start values, or [`PROBE_STEPS`] Model Exchange
+/// evaluations (`fmi2SetTime`, `fmi2SetContinuousStates`, `fmi2GetDerivatives`) at states
+/// near the start, of the hand-written mechanism or of its twin, repeated.
+pub const PROBE_STEPS: usize = 1000;
+
+/// The probe `mechfmu bench --energies` runs under valgrind, from each test file's ignored
+/// `probe` test, as the environment says: `MECHFMU_ENERGIES_PROBE` (`step` or `me`),
+/// `MECHFMU_ENERGIES_TWIN` (`1`: the twin) and `MECHFMU_ENERGIES_REPEAT` (how many runs).
+pub fn probe<Hand: Mechanism, Twin: Mechanism>() {
+    let setting = |name: &str| std::env::var(name).unwrap_or_default();
+    let repeat: usize = setting("MECHFMU_ENERGIES_REPEAT").parse().unwrap_or(1);
+    let twin = setting("MECHFMU_ENERGIES_TWIN") == "1";
+    let run = match (setting("MECHFMU_ENERGIES_PROBE").as_str(), twin) {
+        ("step", false) => probe_steps::<Hand>,
+        ("step", true) => probe_steps::<Twin>,
+        ("me", false) => probe_model_exchange::<Hand>,
+        ("me", true) => probe_model_exchange::<Twin>,
+        (other, _) => panic!("MECHFMU_ENERGIES_PROBE = `{other}`: expected `step` or `me`"),
+    };
+    for _ in 0..repeat {
+        run();
+    }
+}
+
+fn probe_steps<M: Mechanism>() {
+    let mut fmu = Harness::<M>::new();
+    fmu.initialize(Some(1e-6), 0.0, &[])
+        .unwrap_or_else(|e| panic!("{}: {e}", M::NAME));
+    for k in 0..PROBE_STEPS {
+        assert_eq!(fmu.do_step(k as f64 * 0.01, 0.01), 0, "{}", M::NAME);
+    }
+}
+
+fn probe_model_exchange<M: Mechanism>() {
+    let mut fmu = mechfmu_testkit::model_exchange::ModelExchange::<M>::new();
+    fmu.initialize(Some(1e-6), 0.0, &[])
+        .unwrap_or_else(|e| panic!("{}: {e}", M::NAME));
+    let start = fmu.states().expect("the start states");
+    let (mut x, mut dx) = (start.clone(), vec![0.0; start.len()]);
+    for k in 0..PROBE_STEPS {
+        for (i, (x, x0)) in x.iter_mut().zip(&start).enumerate() {
+            *x = x0 + 1e-3 * ((k * (i + 1)) % 17) as f64;
+        }
+        assert_eq!(fmu.set_time(k as f64 * 1e-3), 0);
+        assert_eq!(fmu.set_states(&x), 0);
+        assert_eq!(fmu.derivatives_into(&mut dx), 0, "{}", M::NAME);
+    }
+}

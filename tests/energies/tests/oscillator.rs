@@ -52,3 +52,10 @@ fn forced_trajectories_agree() {
     println!("trajectories: {worst:e}");
     assert!(worst <= 1e-9, "{worst:e}");
 }
+
+/// What `mechfmu bench --energies` counts the instructions of (see `mechfmu_energies::probe`).
+#[test]
+#[ignore]
+fn probe() {
+    mechfmu_energies::probe::<Oscillator, EnergyOscillator>();
+}

@@ -17,11 +17,41 @@ impl Report {
         self.markdown_steps(&mut o);
         self.markdown_instructions(&mut o);
         self.markdown_model_exchange(&mut o);
+        self.markdown_energies(&mut o);
         self.markdown_calls(&mut o);
         self.markdown_work_precision(&mut o);
         self.markdown_build(&mut o);
         self.markdown_targets(&mut o);
         o
+    }
+
+    /// The mechanisms declared again from their energies against the hand-written ones.
+    fn markdown_energies(&self, o: &mut String) {
+        if self.energies.is_empty() {
+            return;
+        }
+        let _ = writeln!(
+            o,
+            "\n**Declared from energies** (Lagrange's equations from `T`, `V`, `Q`; `tests/energies`) against the hand-written equations, instructions (valgrind) per `fmi2DoStep` (h 1e-2, tol 1e-6) and per Model Exchange evaluation:\n"
+        );
+        let _ = writeln!(
+            o,
+            "| mechanism | step, by hand | step, from energies | ratio | ME evaluation, by hand | ME evaluation, from energies | ratio |"
+        );
+        let _ = writeln!(o, "|---|---:|---:|---:|---:|---:|---:|");
+        for e in &self.energies {
+            let _ = writeln!(
+                o,
+                "| {} | {:.0} | {:.0} | {:.2}× | {:.0} | {:.0} | {:.2}× |",
+                e.mechanism,
+                e.step.0,
+                e.step.1,
+                e.step_ratio(),
+                e.model_exchange.0,
+                e.model_exchange.1,
+                e.model_exchange_ratio()
+            );
+        }
     }
 
     /// `fmi2DoStep` from a native loop, ns per step and where they go.

@@ -8,6 +8,7 @@ pub mod table;
 pub mod targets;
 
 use crate::clock::{num, Stat};
+use crate::energies::EnergyCounts;
 use crate::figures::{CallFigures, Figures};
 use crate::precision::{self, Point};
 use serde_json::{json, Value};
@@ -35,6 +36,8 @@ pub struct Report {
     pub runs: usize,
     /// Notes for the reader (skipped parts and why).
     pub notes: Vec<String>,
+    /// The mechanisms declared again from their energies, against the hand-written ones.
+    pub energies: Vec<EnergyCounts>,
 }
 
 impl Report {
@@ -125,6 +128,7 @@ impl Report {
             "mechanisms": mechanisms,
             "catch_unwind_ns": self.catch_unwind.map(|(d, g)| json!({ "direct": d.to_json(), "guarded": g.to_json() })),
             "work_precision": precision,
+            "from_energies": self.energies.iter().map(EnergyCounts::to_json).collect::<Vec<_>>(),
             "build": self.build.as_ref().map(|b| json!({ "command": b.command, "seconds": b.seconds,
                 "fmus": b.fmus.iter().map(|(n, s)| json!({ "name": n, "bytes": s })).collect::<Vec<_>>() })),
             "python": self.python_versions,

@@ -4,6 +4,7 @@
 use super::format::percent;
 use super::Report;
 use crate::clock::Stat;
+use crate::energies::{self, EnergyCounts};
 use crate::figures::Figures;
 use crate::model_exchange::LIMIT_NS;
 use crate::native::Split;
@@ -35,6 +36,7 @@ impl Report {
             t.extend(fmi3(m));
             t.extend(calls(m));
         }
+        t.extend(self.energies.iter().flat_map(from_energies));
         t.extend(self.work_precision());
         t.extend(self.build_targets());
         t
@@ -235,4 +237,23 @@ fn calls(m: &Figures) -> Vec<Target> {
         }
     }
     t
+}
+
+/// A mechanism declared from its energies against its hand-written declaration: per step
+/// and per Model Exchange evaluation, in instructions.
+fn from_energies(e: &EnergyCounts) -> Vec<Target> {
+    let limit = format!("≤ {}× the hand-written one's", energies::LIMIT);
+    let target = |what: &str, (hand, twin): (f64, f64)| Target {
+        what: format!(
+            "{} declared from its energies: instructions per {what}",
+            e.mechanism
+        ),
+        limit: limit.clone(),
+        value: format!("{:.2}× ({twin:.0} against {hand:.0})", twin / hand),
+        met: Some(twin <= energies::LIMIT * hand),
+    };
+    vec![
+        target("fmi2DoStep", e.step),
+        target("Model Exchange evaluation", e.model_exchange),
+    ]
 }

@@ -10,9 +10,11 @@ use crate::build::{select, Flavor, Platforms};
 use crate::home::python::ensure_venv;
 use crate::package::write_fmus;
 use mechfmu_bench::effort::Effort;
+use mechfmu_bench::energies::TwinProbe;
 use mechfmu_bench::instructions::{ProbeArgs, ProbeCommand};
 use mechfmu_bench::lab::{self, Plan};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -43,7 +45,9 @@ pub struct Args {
     /// alone (with --instructions, their instruction counts).
     #[arg(long)]
     me_only: bool,
-    /// Also count instructions with valgrind (repeatable on a busy machine; slower).
+    /// Also count instructions with valgrind (repeatable on a busy machine; slower), and
+    /// those of the mechanisms declared again from their energies (`tests/energies`, where
+    /// the workspace has them) against the hand-written ones'.
     #[arg(long)]
     instructions: bool,
     /// Also time a clean release build of every FMU for every platform (`cargo run
@@ -83,7 +87,7 @@ pub fn run(args: Args) -> Result<(), String> {
         )?;
     }
     let mut fmus = Vec::new();
-    for name in names {
+    for name in names.iter().cloned() {
         let fmu = fmus_dir.join(format!("{name}.fmu"));
         if !fmu.exists() {
             return Err(format!(
@@ -93,6 +97,10 @@ pub fn run(args: Args) -> Result<(), String> {
         }
         fmus.push((name, fmu));
     }
+    let energies = match args.instructions && !args.me_only {
+        true => twin_probes(&root, &names)?,
+        false => Vec::new(),
+    };
     let python = || ensure_venv(&root);
     let plan = Plan {
         root: root.clone(),
@@ -105,8 +113,67 @@ pub fn run(args: Args) -> Result<(), String> {
         instructions: args.instructions.then(probe_command).transpose()?,
         python: (!args.no_python).then_some(&python as &dyn Fn() -> Result<PathBuf, String>),
         clean_build: args.build_time.then(cargo),
+        energies,
     };
     lab::run(&plan)?.write(&root.join(&args.json))
+}
+
+/// The package that declares the workspace's mechanisms again from their energies.
+const TWINS_PACKAGE: &str = "mechfmu-energies";
+
+/// The test executables of the twins of `names` (`tests/energies`), built in release mode;
+/// none when the workspace has no such package (a workspace of one's own mechanisms).
+fn twin_probes(root: &Path, names: &[String]) -> Result<Vec<TwinProbe>, String> {
+    if !root.join("tests/energies/Cargo.toml").exists() {
+        return Ok(Vec::new());
+    }
+    let output = Command::new(cargo())
+        .current_dir(root)
+        .args(["test", "--release", "--no-run", "--message-format=json"])
+        .args(["-p", TWINS_PACKAGE])
+        .output()
+        .map_err(|e| format!("cannot run cargo: {e}"))?;
+    if !output.status.success() {
+        return Err(format!(
+            "cargo test --no-run -p {TWINS_PACKAGE} failed:\n{}",
+            String::from_utf8_lossy(&output.stderr)
+        ));
+    }
+    let mut probes = Vec::new();
+    for line in String::from_utf8_lossy(&output.stdout).lines() {
+        let Ok(message) = serde_json::from_str::<serde_json::Value>(line) else {
+            continue;
+        };
+        let is_test_file = message["target"]["kind"] == serde_json::json!(["test"]);
+        let (Some(file), Some(executable)) = (
+            message["target"]["name"].as_str(),
+            message["executable"].as_str(),
+        ) else {
+            continue;
+        };
+        let mechanism = model_identifier(file);
+        if is_test_file && names.contains(&mechanism) {
+            probes.push(TwinProbe {
+                mechanism,
+                executable: PathBuf::from(executable),
+            });
+        }
+    }
+    probes.sort_by(|a, b| a.mechanism.cmp(&b.mechanism));
+    Ok(probes)
+}
+
+/// The model identifier a twin's test file is named after: `two_mass_oscillator` →
+/// `TwoMassOscillator`.
+fn model_identifier(file: &str) -> String {
+    file.split('_')
+        .map(|word| {
+            let mut chars = word.chars();
+            chars.next().map_or(String::new(), |first| {
+                first.to_uppercase().chain(chars).collect()
+            })
+        })
+        .collect()
 }
 
 /// This program as the lab runs its probe: `mechfmu bench --probe ...`.
@@ -116,4 +183,15 @@ fn probe_command() -> Result<ProbeCommand, String> {
         program,
         args: vec!["bench".into()],
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::model_identifier;
+
+    #[test]
+    fn a_twins_test_file_names_its_mechanism() {
+        assert_eq!(model_identifier("two_mass_oscillator"), "TwoMassOscillator");
+        assert_eq!(model_identifier("crane"), "Crane");
+    }
 }
