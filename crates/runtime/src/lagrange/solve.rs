@@ -15,7 +15,7 @@
 
 use super::cholesky::solve_positive_definite;
 use super::Jet;
-use super::Lagrangian;
+use super::{Lagrangian, Resolved};
 use crate::model::{Scalar, ValueSet};
 use num_dual::{Dual64, HyperHyperDual64};
 use std::any::Any;
@@ -32,13 +32,16 @@ struct Terms<S, const N: usize> {
 pub(super) fn equations_of_motion<L: Lagrangian<N>, const N: usize, S: Scalar>(
     values: &mut L::Values<S>,
 ) {
+    // The one place the coordinates are read from their constant: a mistake in them is
+    // reported once, here.
+    let resolved = &L::RESOLVED;
     let any = values as &mut dyn Any;
     if let Some(values) = any.downcast_mut::<L::Values<f64>>() {
-        let terms = terms_f64::<L, N>(values);
-        let _ = solve::<L, N, f64>(values, &terms);
+        let terms = terms_f64::<L, N>(values, resolved);
+        let _ = solve::<L, N, f64>(values, &terms, resolved);
     } else if let Some(values) = any.downcast_mut::<L::Values<Dual64>>() {
-        let terms = terms_dual::<L, N>(values);
-        let _ = solve::<L, N, Dual64>(values, &terms);
+        let terms = terms_dual::<L, N>(values, resolved);
+        let _ = solve::<L, N, Dual64>(values, &terms, resolved);
     } else {
         panic!(
             "{}: Lagrange's equations are formed on f64 and Dual64, not on {}",
@@ -52,12 +55,13 @@ pub(super) fn equations_of_motion<L: Lagrangian<N>, const N: usize, S: Scalar>(
 pub(super) fn mass_matrix_problem<L: Lagrangian<N>, const N: usize>(
     values: &L::Values<f64>,
 ) -> Option<String> {
+    let resolved = &L::RESOLVED;
     let mut probe = values.clone();
-    let terms = terms_f64::<L, N>(&probe);
-    let (row, pivot) = solve::<L, N, f64>(&mut probe, &terms).err()?;
+    let terms = terms_f64::<L, N>(&probe, resolved);
+    let (row, pivot) = solve::<L, N, f64>(&mut probe, &terms, resolved).err()?;
     let coordinate = L::COORDINATES[row].name;
-    let velocity = L::VARIABLES[L::RESOLVED[row].velocity].name;
-    let point = (L::RESOLVED.iter())
+    let velocity = L::VARIABLES[resolved[row].velocity].name;
+    let point = (resolved.iter())
         .flat_map(|r| [r.position, r.velocity])
         .map(|vr| {
             let name = L::VARIABLES[vr].name;
@@ -85,8 +89,8 @@ pub(super) fn mass_matrix_problem<L: Lagrangian<N>, const N: usize>(
 fn solve<L: Lagrangian<N>, const N: usize, S: Scalar>(
     values: &mut L::Values<S>,
     terms: &Terms<S, N>,
+    resolved: &[Resolved; N],
 ) -> Result<(), (usize, S)> {
-    let resolved = &L::RESOLVED;
     let (mut free, mut free_count) = ([0; N], 0);
     let mut accelerations = [S::zero(); N];
     for (i, coordinate) in resolved.iter().enumerate() {
@@ -134,9 +138,12 @@ fn value<S: Scalar, V: ValueSet<S>>(values: &V, vr: usize) -> S {
 
 /// The terms on `f64`, from one evaluation of `L = T - V` on [`Jet`]s.
 #[inline]
-fn terms_f64<L: Lagrangian<N>, const N: usize>(values: &L::Values<f64>) -> Terms<f64, N> {
+fn terms_f64<L: Lagrangian<N>, const N: usize>(
+    values: &L::Values<f64>,
+    resolved: &[Resolved; N],
+) -> Terms<f64, N> {
     let mut x = L::map_values(values, Jet::<N>::constant);
-    for (i, coordinate) in L::RESOLVED.iter().enumerate() {
+    for (i, coordinate) in resolved.iter().enumerate() {
         let q_dot = value(values, coordinate.velocity);
         x.set(coordinate.velocity, Jet::velocity(i, q_dot));
         let q = value(values, coordinate.position);
@@ -153,8 +160,10 @@ fn terms_f64<L: Lagrangian<N>, const N: usize>(values: &L::Values<f64>) -> Terms
 
 /// The terms on [`Dual64`]: each with its derivative along the direction the values carry,
 /// from hyper-hyper-dual passes whose third infinitesimal is that direction.
-fn terms_dual<L: Lagrangian<N>, const N: usize>(values: &L::Values<Dual64>) -> Terms<Dual64, N> {
-    let resolved = &L::RESOLVED;
+fn terms_dual<L: Lagrangian<N>, const N: usize>(
+    values: &L::Values<Dual64>,
+    resolved: &[Resolved; N],
+) -> Terms<Dual64, N> {
     type Third = HyperHyperDual64;
     // Every value with its direction as ε3.
     let base = L::map_values(values, |x: Dual64| {
