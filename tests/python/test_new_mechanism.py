@@ -2,7 +2,15 @@
 `mechfmu new` as created (its tests, build and validation pass; renaming the example's
 variable fails both with a message naming it), then `mechfmu new DoublePendulum`, replace the
 example with a double pendulum, build, validate, and check the physics (energy conserved to
-1e-8 relative over 10 s at rtol 1e-10)."""
+1e-8 relative over 10 s at rtol 1e-10).
+
+Then `mechfmu new CartPendulum --energies`, a mechanism declared from its energies, as
+created: its tests, build and validation pass, FMPy validates both FMUs, its accelerations
+under FMPy are Newton's law written here (the rod's tension a third unknown), and a kinetic
+energy edited to forget the swing's velocity is refused at initialization with a message
+naming `theta_dot`. Last, the tutorial's GantryCrane (two driven coordinates and a free one)
+in such a crate: its tests (Newton's law for the swing and both drives' forces), build and
+validation pass."""
 
 import os
 import re
@@ -14,13 +22,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 from fmpy import simulate_fmu
+from fmpy.fmi2 import fmi2Error
 from fmpy.validation import validate_fmu
 
-from fmutest import REPO_ROOT
+from fmutest import REPO_ROOT, Slave, status_name
 
 MECHFMU = REPO_ROOT / "target" / "release" / "mechfmu"
 DOUBLE_PENDULUM = Path(__file__).parent / "data" / "double_pendulum.rs"
 DOUBLE_PENDULUM_CASES = Path(__file__).parent / "data" / "double_pendulum_cases.py"
+GANTRY_CRANE = Path(__file__).parent / "data" / "gantry_crane.rs"
+GANTRY_CRANE_TESTS = Path(__file__).parent / "data" / "gantry_crane_test.rs"
+GANTRY_CRANE_CASES = Path(__file__).parent / "data" / "gantry_crane_cases.py"
 
 
 def run(args, cwd, env=None):
@@ -142,3 +154,116 @@ def test_user_mechanism_comes_out_as_fmi3_too(double_pendulum):
     b = simulate_fmu(str(fmi3), **kwargs)
     for name in ("theta1", "theta2", "E"):
         assert np.array_equal(a[name], b[name]), name
+
+
+# ---------------------------------------------------------------------------------------
+# `mechfmu new --energies`: a cart on a spring carrying a pendulum, declared from T, V, Q
+
+CART_PARAMETERS = dict(M=1.0, m=0.5, l=0.5, k=10.0, c=0.0, g=9.81)
+
+
+@pytest.fixture(scope="module")
+def cart_pendulum(tmp_path_factory):
+    """`mechfmu new CartPendulum --energies` outside the repository, as created: its tests
+    pass and it builds (this machine's platform)."""
+    home = tmp_path_factory.mktemp("energies")
+    crate = home / "cart_pendulum"
+    run([MECHFMU, "new", "CartPendulum", "--energies", "--path", crate], cwd=home)
+    env = user_crate_env()
+    run(["cargo", "test", "-q", "--manifest-path", crate / "Cargo.toml"], cwd=crate, env=env)
+    run([MECHFMU, "build", "--manifest-path", crate / "Cargo.toml", "--out", crate / "fmu", "--platform",
+         "x86_64-linux"], cwd=crate, env=env)
+    return crate
+
+
+def newton(M, m, l, k, c, g, F, x, x_dot, theta, theta_dot):
+    """(x'', theta'') by Newton's law on each body, the rod's tension N a third unknown: the
+    cart M x'' = -k x - c x' + N sin th; the bob at (x + l sin th, -l cos th),
+    m (x'' + l th'' cos th - l th'^2 sin th) = F - N sin th and
+    m (l th'' sin th + l th'^2 cos th) = N cos th - m g."""
+    s, co = np.sin(theta), np.cos(theta)
+    lhs = np.array([[M, 0.0, -s], [m, m * l * co, s], [0.0, m * l * s, -co]])
+    rhs = np.array([-k * x - c * x_dot, F + m * l * theta_dot**2 * s, -m * g - m * l * theta_dot**2 * co])
+    x_ddot, theta_ddot, _ = np.linalg.solve(lhs, rhs)
+    return x_ddot, theta_ddot
+
+
+def test_energies_scaffold_builds_and_validates(cart_pendulum):
+    """As created: declared from its energies, no unsafe code; FMPy validates both FMUs;
+    `mechfmu validate` passes both cases under every importer; the notes show T, V and Q."""
+    lib = (cart_pendulum / "src" / "lib.rs").read_text()
+    assert "#![forbid(unsafe_code)]" in lib and "impl Lagrangian<2> for CartPendulum" in lib
+    assert "Self::lagrange(v);" in lib and "Self::mass_matrix_problem(v)" in lib
+    fmu = cart_pendulum / "fmu" / "CartPendulum.fmu"
+    assert validate_fmu(str(fmu)) == []
+    assert validate_fmu(str(fmu.parent / "fmi3" / fmu.name)) == []
+    page = zipfile.ZipFile(fmu).read("documentation/index.html").decode()
+    for equation in ("T = ½ M ẋ²", "V = ½ k x² - m g l cos θ", "Q_x = F - c ẋ", "Q_θ = F l cos θ"):
+        assert equation in page, f"the notes' `{equation}` is not on the FMU's page"
+    done = subprocess.run([str(MECHFMU), "validate", "--manifest-path", str(cart_pendulum / "Cargo.toml"),
+                           "--fmu-dir", str(cart_pendulum / "fmu"), "--no-fmi-crate"], cwd=cart_pendulum,
+                          capture_output=True, text=True)
+    assert done.returncode == 0 and re.search(r"^\d+ passed, 0 failed$", done.stdout, re.M), done.stdout + done.stderr
+    for case in ("small_oscillations", "energy_conserved"):
+        for importer in ("FMPy", "libcosim", "FMPy ME CVode", "FMPy FMI3 CS"):
+            assert re.search(rf"^CartPendulum\s+{case}\s+{importer}\s.*PASS$", done.stdout, re.M), (case, importer)
+
+
+def test_energies_scaffold_accelerations_are_newtons_law(cart_pendulum):
+    """The FMU's x_ddot and theta_ddot under FMPy, at states, forces and parameters spread
+    over their ranges, against Newton's law above."""
+    fmu = cart_pendulum / "fmu" / "CartPendulum.fmu"
+    worst = 0.0
+    for k in range(8):
+        point = dict(CART_PARAMETERS, M=1.0 + 0.3 * k, c=0.1 * k, F=np.sin(0.7 * k) * 2.0, x=np.cos(0.3 * k),
+                     x_dot=0.4 * k - 1.5, theta=0.9 * k - 3.0, theta_dot=3.0 * np.sin(0.5 * k))
+        with Slave(fmu) as s:
+            s.initialize(point)
+            got = s.get("x_ddot", "theta_ddot")
+        want = newton(**point)
+        for g, w in zip(got, want):
+            worst = max(worst, abs(g - w) / (1.0 + abs(w)))
+    assert worst < 1e-12, f"worst relative difference {worst:.1e}"
+
+
+def test_energies_scaffold_refuses_a_kinetic_energy_that_forgets_a_velocity(tmp_path):
+    """The user writes the bob as moving with the cart, its swing forgotten: T no longer
+    depends on theta_dot, so the mass matrix is singular. Initialization fails, and the
+    message names `theta_dot`."""
+    crate = tmp_path / "forgetful"
+    run([MECHFMU, "new", "Forgetful", "--energies", "--path", crate], cwd=tmp_path)
+    lib = crate / "src" / "lib.rs"
+    whole = "half * v.M * v.x_dot * v.x_dot + half * v.m * (r_dot_x * r_dot_x + r_dot_y * r_dot_y)"
+    assert whole in lib.read_text()
+    lib.write_text(lib.read_text().replace(whole, "half * (v.M + v.m) * v.x_dot * v.x_dot"))
+    run([MECHFMU, "build", "--manifest-path", crate / "Cargo.toml", "--out", crate / "fmu", "--platform",
+         "x86_64-linux"], cwd=crate, env=user_crate_env())
+    with Slave(crate / "fmu" / "Forgetful.fmu", logging_on=True) as s:
+        s.setup()
+        s.enter()
+        status = s.call("fmi2ExitInitializationMode")
+        assert status == fmi2Error, f"{status_name(status)}; log:\n{s.log.text()}"
+        named = s.log.find(r"does not depend on `theta_dot`", status=fmi2Error)
+        assert named, f"no error naming `theta_dot`; log:\n{s.log.text()}"
+
+
+def test_tutorial_gantry_crane_from_its_energies(tmp_path):
+    """The tutorial's chapter 7: `mechfmu new GantryCrane --energies`, its three files
+    replaced by the crane's (trolley and hoist driven, swing free), then `cargo test`
+    (Newton's law for the swing and the drives' forces, conformance), build and validate."""
+    crate = tmp_path / "gantry_crane"
+    run([MECHFMU, "new", "GantryCrane", "--energies", "--path", crate], cwd=tmp_path)
+    shutil.copy(GANTRY_CRANE, crate / "src" / "lib.rs")
+    shutil.copy(GANTRY_CRANE_TESTS, crate / "tests" / "gantry_crane.rs")
+    shutil.copy(GANTRY_CRANE_CASES, crate / "validation" / "cases.py")
+    env = user_crate_env()
+    tests = run(["cargo", "test", "--manifest-path", crate / "Cargo.toml"], cwd=crate, env=env)
+    assert "test swing_and_drive_forces_follow_newtons_law ... ok" in tests.stdout, tests.stdout
+    run([MECHFMU, "build", "--manifest-path", crate / "Cargo.toml", "--out", crate / "fmu", "--platform",
+         "x86_64-linux"], cwd=crate, env=env)
+    assert validate_fmu(str(crate / "fmu" / "GantryCrane.fmu")) == []
+    done = subprocess.run([str(MECHFMU), "validate", "--manifest-path", str(crate / "Cargo.toml"), "--fmu-dir",
+                           str(crate / "fmu"), "--no-fmi-crate"], cwd=crate, capture_output=True, text=True)
+    assert done.returncode == 0 and re.search(r"^\d+ passed, 0 failed$", done.stdout, re.M), done.stdout + done.stderr
+    for case in ("trolley_starts", "hoisting"):
+        assert re.search(rf"^GantryCrane\s+{case}\s+FMPy ME CVode\s.*PASS$", done.stdout, re.M), case

@@ -43,7 +43,8 @@ enum Cmd {
     List(list::Args),
     /// Benchmark FMUs: cost per step, plumbing vs physics, work–precision.
     Bench(bench::Args),
-    /// Scaffold a mechanism crate of your own (a working pendulum to edit).
+    /// Scaffold a mechanism crate of your own (a working pendulum to edit; with `--energies`,
+    /// one declared from its energies).
     New(new::Args),
     /// Run a parameter sweep of an FMU on Dask.
     Sweep(sweep::Args),

@@ -249,7 +249,7 @@ fn every_runtime_module_uses_only_the_layers_above_it() {
 }
 
 #[test]
-fn mechanism_crates_and_the_template_forbid_unsafe_code() {
+fn mechanism_crates_and_the_templates_forbid_unsafe_code() {
     let mut checked = Vec::new();
     for entry in std::fs::read_dir(root().join("fmus")).unwrap().flatten() {
         let lib = entry.path().join("src/lib.rs");
@@ -258,7 +258,8 @@ fn mechanism_crates_and_the_template_forbid_unsafe_code() {
         }
     }
     checked.push(root().join("crates/cli/src/templates/lib.rs.tmpl"));
-    assert!(checked.len() >= 7, "{checked:?}");
+    checked.push(root().join("crates/cli/src/templates/energies/lib.rs.tmpl"));
+    assert!(checked.len() >= 8, "{checked:?}");
     for file in checked {
         let text = std::fs::read_to_string(&file).unwrap();
         assert!(

@@ -1,4 +1,6 @@
-//! `mechfmu new`: scaffolds a mechanism crate of the user's own, outside this repository.
+//! `mechfmu new`: scaffolds a mechanism crate of the user's own, outside this repository:
+//! its equations written by hand (a damped pendulum), or, with `--energies`, declared from its
+//! energies (a cart on a spring carrying a pendulum, `mechfmu::lagrange`).
 
 use std::path::{Path, PathBuf};
 
@@ -15,12 +17,34 @@ pub struct Args {
     /// Depend on mechfmu from a git repository instead of a path.
     #[arg(long)]
     git: Option<String>,
+    /// Declare the example from its energies (kinetic, potential, generalized forces) and
+    /// let the runtime form Lagrange's equations, instead of writing them by hand.
+    #[arg(long)]
+    energies: bool,
 }
 
 const CARGO_TOML: &str = include_str!("../templates/Cargo.toml.tmpl");
-const LIB_RS: &str = include_str!("../templates/lib.rs.tmpl");
-const TEST_RS: &str = include_str!("../templates/test.rs.tmpl");
-const CASES: &str = include_str!("../templates/cases.py.tmpl");
+
+/// The files of one example that differ between the two kinds of mechanism.
+struct Example {
+    lib_rs: &'static str,
+    test_rs: &'static str,
+    cases_py: &'static str,
+}
+
+/// Equations written by hand: a damped pendulum.
+const BY_HAND: Example = Example {
+    lib_rs: include_str!("../templates/lib.rs.tmpl"),
+    test_rs: include_str!("../templates/test.rs.tmpl"),
+    cases_py: include_str!("../templates/cases.py.tmpl"),
+};
+
+/// Declared from its energies: a cart on a spring carrying a pendulum.
+const FROM_ENERGIES: Example = Example {
+    lib_rs: include_str!("../templates/energies/lib.rs.tmpl"),
+    test_rs: include_str!("../templates/energies/test.rs.tmpl"),
+    cases_py: include_str!("../templates/energies/cases.py.tmpl"),
+};
 
 pub fn run(args: Args) -> Result<(), String> {
     check_name(&args.name)?;
@@ -53,26 +77,16 @@ pub fn run(args: Args) -> Result<(), String> {
             }
         })
     };
-    let runtime = dependency("mechfmu", "runtime")?;
-    let testkit = dependency("mechfmu-testkit", "testkit")?;
-    let fill = |template: &str| {
-        template
-            .replace("{{Name}}", &args.name)
-            .replace("{{snake}}", &snake)
-            .replace("{{crate}}", &snake.replace('_', "-"))
-            .replace("{{mechfmu_dependency}}", &runtime)
-            .replace("{{testkit_dependency}}", &testkit)
+    let dependencies = Dependencies {
+        runtime: dependency("mechfmu", "runtime")?,
+        testkit: dependency("mechfmu-testkit", "testkit")?,
     };
-    let files: [(PathBuf, String); 5] = [
-        (dir.join("Cargo.toml"), fill(CARGO_TOML)),
-        (dir.join("src/lib.rs"), fill(LIB_RS)),
-        (dir.join(format!("tests/{snake}.rs")), fill(TEST_RS)),
-        (dir.join("validation/cases.py"), fill(CASES)),
-        (
-            dir.join(".gitignore"),
-            "/target\n/fmu\nCargo.lock\n__pycache__\n".to_string(),
-        ),
-    ];
+    let example = if args.energies {
+        &FROM_ENERGIES
+    } else {
+        &BY_HAND
+    };
+    let files = render(&args.name, &dir, example, &dependencies);
     for (path, text) in &files {
         write(path, text)?;
     }
@@ -93,6 +107,41 @@ pub fn run(args: Args) -> Result<(), String> {
         println!("  {command:<58} # {what}");
     }
     Ok(())
+}
+
+/// Where the crate finds the runtime and the test kit: the inside of a `[dependencies]`
+/// entry's braces (`path = "..."` or `git = "..."`).
+struct Dependencies {
+    runtime: String,
+    testkit: String,
+}
+
+/// The crate's files, by path under `dir`, with the templates filled in.
+fn render(
+    name: &str,
+    dir: &Path,
+    example: &Example,
+    dependencies: &Dependencies,
+) -> [(PathBuf, String); 5] {
+    let snake = snake_case(name);
+    let fill = |template: &str| {
+        template
+            .replace("{{Name}}", name)
+            .replace("{{snake}}", &snake)
+            .replace("{{crate}}", &snake.replace('_', "-"))
+            .replace("{{mechfmu_dependency}}", &dependencies.runtime)
+            .replace("{{testkit_dependency}}", &dependencies.testkit)
+    };
+    [
+        (dir.join("Cargo.toml"), fill(CARGO_TOML)),
+        (dir.join("src/lib.rs"), fill(example.lib_rs)),
+        (dir.join(format!("tests/{snake}.rs")), fill(example.test_rs)),
+        (dir.join("validation/cases.py"), fill(example.cases_py)),
+        (
+            dir.join(".gitignore"),
+            "/target\n/fmu\nCargo.lock\n__pycache__\n".to_string(),
+        ),
+    ]
 }
 
 fn write(path: &Path, text: &str) -> Result<(), String> {
@@ -140,7 +189,7 @@ fn check_name(name: &str) -> Result<(), String> {
 
 /// Type names a mechanism's struct cannot take: `Self`, the names Rust's prelude brings into
 /// every module (the struct would shadow them in the code `mechanism!` generates) and the
-/// ones the scaffold's `lib.rs` and tests import.
+/// ones the scaffolds' `lib.rs` and tests import (either example's: one list for both).
 const TAKEN_TYPE_NAMES: &[&str] = &[
     "Self",
     "Box",
@@ -186,6 +235,8 @@ const TAKEN_TYPE_NAMES: &[&str] = &[
     "Scalar",
     "Variable",
     "Harness",
+    "Coordinate",
+    "Lagrangian",
 ];
 
 /// Crate names cargo refuses or that cannot be a folder on Windows: Rust's keywords (a
@@ -272,6 +323,10 @@ fn snake_case(name: &str) -> String {
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+    use clap::Parser;
+    use std::collections::BTreeMap;
+
     #[test]
     fn names_rust_cargo_or_windows_take_are_refused() {
         for taken in [
@@ -296,7 +351,127 @@ mod tests {
         }
     }
 
-    use super::*;
+    /// `mechfmu new`'s arguments, parsed as the command line gives them.
+    #[derive(clap::Parser)]
+    struct New {
+        #[command(flatten)]
+        args: Args,
+    }
+
+    fn parse(line: &[&str]) -> Result<Args, clap::Error> {
+        New::try_parse_from(std::iter::once("new").chain(line.iter().copied())).map(|n| n.args)
+    }
+
+    #[test]
+    fn energies_is_a_flag_off_by_default() {
+        let by_hand = parse(&["DoublePendulum"]).unwrap();
+        assert!(!by_hand.energies);
+        assert_eq!(by_hand.name, "DoublePendulum");
+        let args = parse(&["CartPendulum", "--energies", "--path", "cart"]).unwrap();
+        assert!(args.energies);
+        assert_eq!(args.path, Some(PathBuf::from("cart")));
+        let args = parse(&["CartPendulum", "--git", "https://x/mechfmu", "--energies"]).unwrap();
+        assert!(args.energies && args.git.is_some());
+        assert!(parse(&["CartPendulum", "--energies=yes"]).is_err());
+        assert!(parse(&["CartPendulum", "--mechfmu-path", "a", "--git", "b"]).is_err());
+    }
+
+    fn rendered(example: &Example) -> BTreeMap<String, String> {
+        let dependencies = Dependencies {
+            runtime: "path = \"/m/crates/runtime\"".into(),
+            testkit: "path = \"/m/crates/testkit\"".into(),
+        };
+        let files = render("CartPendulum", Path::new("cart"), example, &dependencies);
+        let by_path =
+            files.map(|(path, text)| (path.display().to_string().replace('\\', "/"), text));
+        BTreeMap::from(by_path)
+    }
+
+    #[test]
+    fn both_examples_fill_every_placeholder_in_the_same_layout() {
+        for example in [&BY_HAND, &FROM_ENERGIES] {
+            let files = rendered(example);
+            let paths: Vec<&str> = files.keys().map(String::as_str).collect();
+            assert_eq!(
+                paths,
+                [
+                    "cart/.gitignore",
+                    "cart/Cargo.toml",
+                    "cart/src/lib.rs",
+                    "cart/tests/cart_pendulum.rs",
+                    "cart/validation/cases.py"
+                ]
+            );
+            for (path, text) in &files {
+                assert!(!text.contains("{{"), "{path} keeps a placeholder");
+            }
+            let manifest = &files["cart/Cargo.toml"];
+            assert!(manifest.contains("name = \"cart-pendulum\""), "{manifest}");
+            assert!(manifest.contains("mechfmu = { path = \"/m/crates/runtime\" }"));
+            assert!(manifest.contains("model = \"CartPendulum\""));
+            let lib = &files["cart/src/lib.rs"];
+            assert!(lib.lines().any(|l| l == "#![forbid(unsafe_code)]"));
+            assert!(lib.contains("pub struct CartPendulum / CartPendulumValues {"));
+            assert!(lib.contains("mechfmu::export_fmu!(CartPendulum);"));
+            let tests = &files["cart/tests/cart_pendulum.rs"];
+            assert!(tests.contains("use cart_pendulum::{CartPendulum, CartPendulumValues};"));
+            assert!(tests.contains("conformance::check::<CartPendulum>()"));
+        }
+    }
+
+    #[test]
+    fn the_energies_example_is_declared_from_its_energies() {
+        let files = rendered(&FROM_ENERGIES);
+        let lib = &files["cart/src/lib.rs"];
+        for line in [
+            "impl Lagrangian<2> for CartPendulum {",
+            "const COORDINATES: [Coordinate; 2] = [Coordinate::free(\"x\"), Coordinate::free(\"theta\")];",
+            "fn kinetic_energy<S: Scalar>(v: &CartPendulumValues<S>) -> S {",
+            "fn potential_energy<S: Scalar>(v: &CartPendulumValues<S>) -> S {",
+            "fn generalized_forces<S: Scalar>(v: &CartPendulumValues<S>) -> [S; 2] {",
+            "Self::lagrange(v);",
+            "Self::mass_matrix_problem(v)",
+        ] {
+            assert!(lib.contains(line), "no `{line}` in\n{lib}");
+        }
+        let inlined = lib.lines().filter(|l| l.trim() == "#[inline(always)]");
+        assert_eq!(inlined.count(), 2, "on T and V");
+        // The notes show T, V and Q (lines indented by four spaces are equations).
+        for equation in [
+            "T = ½ M ẋ²",
+            "V = ½ k x²",
+            "Q_x = F - c ẋ",
+            "Q_θ = F l cos θ",
+        ] {
+            assert!(lib.contains(equation), "the notes lack `{equation}`");
+        }
+        assert!(files["cart/tests/cart_pendulum.rs"].contains("fn newton("));
+        assert!(files["cart/validation/cases.py"].contains("def linear_modes("));
+        assert!(!rendered(&BY_HAND)["cart/src/lib.rs"].contains("Lagrangian"));
+    }
+
+    /// Every type name a scaffold's `lib.rs` or tests import is refused as a mechanism's name:
+    /// the struct would clash with the import.
+    #[test]
+    fn the_names_the_scaffolds_import_are_taken() {
+        for example in [&BY_HAND, &FROM_ENERGIES] {
+            let files = rendered(example);
+            for code in [
+                &files["cart/src/lib.rs"],
+                &files["cart/tests/cart_pendulum.rs"],
+            ] {
+                for line in code.lines().filter(|l| l.starts_with("use ")) {
+                    let imported = line
+                        .split(|c: char| !c.is_ascii_alphanumeric() && c != '_')
+                        .filter(|word| word.starts_with(|c: char| c.is_ascii_uppercase()))
+                        .filter(|word| !word.starts_with("CartPendulum"));
+                    for name in imported {
+                        assert!(TAKEN_TYPE_NAMES.contains(&name), "`{name}` ({line})");
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn names() {
