@@ -105,11 +105,14 @@ def run_fmpy3(f3: Fmi3, case: Case, relative_tolerance: float | None | str = "ca
     names = f3.names
     rtol = case.relative_tolerance if relative_tolerance == "case" else relative_tolerance
     mark = fmulog.LogMark()
-    table = fmpy.simulate_fmu(
-        str(f3.fmu.directory), fmi_type="CoSimulation", start_time=0.0, stop_time=case.stop_time,
-        output_interval=case.output_interval, relative_tolerance=rtol,
-        start_values=names.fmi3_start_values(case.start_values), input=names.fmi3_input(case.input_table()),
-        output=names.fmi3_record(case.recorded()), validate=False, logger=fmulog.fmi3_logger(), **options)
+    try:
+        table = fmpy.simulate_fmu(
+            str(f3.fmu.directory), fmi_type="CoSimulation", start_time=0.0, stop_time=case.stop_time,
+            output_interval=case.output_interval, relative_tolerance=rtol,
+            start_values=names.fmi3_start_values(case.start_values), input=names.fmi3_input(case.input_table()),
+            output=names.fmi3_record(case.recorded()), validate=False, logger=fmulog.fmi3_logger(), **options)
+    except Exception as e:
+        raise mark.explain(e) from None
     return Result(names.fmi2_columns(_checked(table, case), case.recorded()), [r.brief() for r in mark.records])
 
 
@@ -120,11 +123,14 @@ def simulate_me3(f3: Fmi3, *, stop_time: float, output_interval: float, solver: 
     names = f3.names
     output = list(output or [])
     mark = fmulog.LogMark()
-    table = fmpy.simulate_fmu(
-        str(f3.fmu.directory), fmi_type="ModelExchange", solver=solver, start_time=0.0, stop_time=stop_time,
-        output_interval=output_interval, step_size=output_interval, relative_tolerance=relative_tolerance,
-        start_values=names.fmi3_start_values(start_values or {}), input=names.fmi3_input(input),
-        output=names.fmi3_record(output), record_events=True, validate=False, logger=fmulog.fmi3_logger())
+    try:
+        table = fmpy.simulate_fmu(
+            str(f3.fmu.directory), fmi_type="ModelExchange", solver=solver, start_time=0.0, stop_time=stop_time,
+            output_interval=output_interval, step_size=output_interval, relative_tolerance=relative_tolerance,
+            start_values=names.fmi3_start_values(start_values or {}), input=names.fmi3_input(input),
+            output=names.fmi3_record(output), record_events=True, validate=False, logger=fmulog.fmi3_logger())
+    except Exception as e:
+        raise mark.explain(e) from None
     columns = names.fmi2_columns(table, output)
     flat = np.zeros(len(table), dtype=[(n, np.float64) for n in columns])
     for n, col in columns.items():
@@ -227,6 +233,7 @@ def agreement_row(f3: Fmi3, fmu2: Fmu) -> dict[str, Any]:
     variable against its FMI 3.0 counterpart (each place of an array element)."""
     row = dict(kind="check", fmu=fmu2.model, case=AGREEMENT, importer="FMPy", tolerance=AGREEMENT_TOLERANCE,
                problems=[], notes=[])
+    mark = fmulog.LogMark()
     try:
         names = f3.names
         fmi2 = [v.name for v in fmu2.md.modelVariables if v.type == "Real"]
@@ -246,7 +253,7 @@ def agreement_row(f3: Fmi3, fmu2: Fmu) -> dict[str, Any]:
                 if err > worst or not where:
                     worst, where = err, name if k < 0 else f"{name} = {names.element_names_of(name)[0]}"
     except Exception as e:
-        return dict(row, max_error=None, passed=False, problems=[f"{type(e).__name__}: {e}"])
+        return dict(row, max_error=None, passed=False, problems=[f"{type(e).__name__}: {mark.explain(e)}"])
     row.update(max_error=worst, passed=worst <= AGREEMENT_TOLERANCE,
                notes=[f"{len(fmi2)} variables over {len(cs2)} points of the DefaultExperiment; worst: {where}"])
     if not row["passed"]:

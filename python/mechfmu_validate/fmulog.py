@@ -181,3 +181,13 @@ class LogMark:
     def find(self, pattern: str, *, status: int | None = None, flags: int = re.IGNORECASE) -> list[LogRecord]:
         rx = re.compile(pattern, flags)
         return [r for r in self.records if rx.search(r.message) and (status is None or r.status == status)]
+
+    def explain(self, error: Exception) -> Exception:
+        """``error`` (an importer's exception for an FMI call that failed) with the reason the
+        FMU logged for it: its last messages of status Discard or worse since the mark,
+        appended to the exception's text. The importer says only which call failed; the FMU
+        says why."""
+        reasons = [r.message for r in self.records if r.status >= 2]
+        if reasons:
+            error.args = (f"{str(error).rstrip('.')}; the FMU logged: {' | '.join(reasons[-3:])}",)
+        return error

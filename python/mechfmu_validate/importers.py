@@ -151,18 +151,21 @@ def run_fmpy_as_libcosim(fmu: Fmu, case: Case) -> Result:
 
 def _simulate(fmu: Fmu, case: Case, rtol: float | None, **settings) -> Result:
     mark = fmulog.LogMark()
-    table = fmpy.simulate_fmu(
-        str(fmu.directory),
-        start_time=0.0,
-        stop_time=case.stop_time,
-        output_interval=case.output_interval,
-        relative_tolerance=rtol,
-        start_values=dict(case.start_values),
-        input=case.input_table(),
-        output=case.recorded(),
-        validate=False,
-        **settings,
-    )
+    try:
+        table = fmpy.simulate_fmu(
+            str(fmu.directory),
+            start_time=0.0,
+            stop_time=case.stop_time,
+            output_interval=case.output_interval,
+            relative_tolerance=rtol,
+            start_values=dict(case.start_values),
+            input=case.input_table(),
+            output=case.recorded(),
+            validate=False,
+            **settings,
+        )
+    except Exception as e:
+        raise mark.explain(e) from None
     n = case.steps() + 1
     if len(table) != n:
         raise RuntimeError(f"FMPy recorded {len(table)} rows, expected {n} (did the FMU stop early?)")
@@ -195,10 +198,13 @@ def simulate_me(fmu: Fmu, *, stop_time: float, output_interval: float, solver: s
     Euler's step is ``output_interval``. The run ends early only when the FMU asks for
     terminateSimulation (FMPy stops there without a word): the reason is in its log."""
     mark = fmulog.LogMark()
-    table = fmpy.simulate_fmu(
-        str(fmu.directory), fmi_type="ModelExchange", solver=solver, start_time=0.0, stop_time=stop_time,
-        output_interval=output_interval, step_size=output_interval, relative_tolerance=relative_tolerance,
-        start_values=dict(start_values or {}), input=input, output=output, record_events=True, validate=False)
+    try:
+        table = fmpy.simulate_fmu(
+            str(fmu.directory), fmi_type="ModelExchange", solver=solver, start_time=0.0, stop_time=stop_time,
+            output_interval=output_interval, step_size=output_interval, relative_tolerance=relative_tolerance,
+            start_values=dict(start_values or {}), input=input, output=output, record_events=True, validate=False)
+    except Exception as e:
+        raise mark.explain(e) from None
     stops = [r.message for r in mark.records if "terminateSimulation" in r.message]
     return MeRun(table, [r.brief() for r in mark.records], stops[-1] if stops else None)
 

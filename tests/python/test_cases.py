@@ -10,6 +10,7 @@ under fmus/<crate>/reference/ (packaged into each FMU) are current.
 
 from __future__ import annotations
 
+import dataclasses
 import tomllib
 import zipfile
 from pathlib import Path
@@ -83,6 +84,17 @@ def test_case_under_fmpy(model, case):
     failed = [f"{s.name}: {s.max_error:.3e} of scale {s.scale:.4g} at t = {s.at_time:g} (tolerance {s.tolerance:g})"
               for s in ev.signals if not s.passed]
     assert not failed, f"{model} / {case.name}:\n" + "\n".join(failed)
+
+
+def test_a_run_that_fails_says_why_the_fmu_refused_it():
+    """FMPy's exception names the FMI call that failed; the FMU's log says why. The row of a
+    failed run carries both (here the Oscillator refusing a mass that is not > 0)."""
+    case = next(c for m, c in CASES if m == "Oscillator")
+    refused = dataclasses.replace(case, start_values={**case.start_values, "m": -1.0})
+    with pytest.raises(Exception) as failure:
+        run_fmpy(fmu_of("Oscillator"), refused)
+    text = str(failure.value)
+    assert "the FMU logged:" in text and "m = -1" in text, text
 
 
 @pytest.mark.parametrize("model, case", CASES, ids=[_ids(p) for p in CASES])
