@@ -14,7 +14,9 @@ from fmpy.fmi2 import fmi2Error
 
 from fmutest import Slave, fmu_path
 
-MECHANISMS = ["Oscillator", "TwoMassOscillator", "PendulumCart", "Crane", "CraneDynamics", "RigidBody"]
+MECHANISMS = [
+    "Oscillator", "TwoMassOscillator", "PendulumCart", "Crane", "CraneDynamics", "RigidBody", "DoublePendulumCart",
+]
 
 
 def outputs(md):

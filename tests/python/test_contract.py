@@ -35,7 +35,9 @@ from fmpy.validation import validate_fmu
 from fmutest import REPO_ROOT, fmu_path
 
 #: the mechanisms of docs/mechanisms/README.md: each must have its contract file
-MECHANISMS = ["Oscillator", "TwoMassOscillator", "PendulumCart", "Crane", "CraneDynamics", "RigidBody"]
+MECHANISMS = [
+    "Oscillator", "TwoMassOscillator", "PendulumCart", "Crane", "CraneDynamics", "RigidBody", "DoublePendulumCart",
+]
 
 #: SI base unit exponents (kg, m, s, rad) of each unit name a contract uses; the other base
 #: units (A, K, mol, cd) are 0, factor 1, offset 0. None: dimensionless ("1"), which may
@@ -53,6 +55,7 @@ UNIT_DIMS = {
     "J": (1, 2, -2, 0),
     "N/m": (1, 0, -2, 0),
     "N.s/m": (1, 0, -1, 0),
+    "N.s": (1, 1, -1, 0),
     "N.m.s/rad": (1, 2, -1, -1),
     "kg.m2": (1, 2, 0, 0),
     "kg.m2/s": (1, 2, -1, 0),

@@ -9,7 +9,7 @@ with its <ModelExchange>.
 The rows where the importer's solver does not reach the case's limit are listed in
 KNOWN_LIMITS with what was measured: here they must be LIMIT (reported, not failed: not a
 pass, not a failure of the FMU), and so in `mechfmu validate` (tests/python/test_validate.py).
-The three CVode ones meet the case's limits at rtol 1e-12.
+The CVode ones meet the case's limits at rtol 1e-12.
 """
 
 from __future__ import annotations
@@ -51,6 +51,20 @@ KNOWN_LIMITS = {
         "|q| - 1 stays at ~3.5e-6 whatever h (order 0.13): in Model Exchange the FMU projects q when it drifts "
         "by more than its tolerance (the DefaultExperiment's 1e-6: FMPy passes none), not at every point as in "
         "Co-Simulation, whose 1e-8 the case asks",
+    ("DoublePendulumCart", "default_experiment", EULER):
+        "the lower rod swings at up to 9 rad/s: Euler at h = 1.25 ms (the floor) is outside its asymptotic range "
+        "(phi1_dot off by 0.91 of its range at h, 0.79 at h/2: observed order 0.20)",
+    ("DoublePendulumCart", "default_experiment", RK4):
+        "RK4 at h = 5 ms (its floor) is not yet in its asymptotic range for the accelerations: phi1_ddot off by "
+        "2.1e-6 at h, 3.8e-8 at h/2 (observed order 5.80, above the 5.25 allowed)",
+    ("DoublePendulumCart", "chaotic_swing", EULER):
+        "the lower rod flips over: Euler at h = 1.25 ms (the floor) is outside its asymptotic range (x off by 0.11 "
+        "of its range at h and at h/2: observed order -0.04)",
+    ("DoublePendulumCart", "chaotic_invariants", CVODE):
+        "CVode's drift of E is 3.9e-7 at rtol 1e-10, against the case's 1e-8 (9.4e-9 at rtol 1e-12)",
+    ("DoublePendulumCart", "forced_damped", EULER):
+        "Euler at h = 2.5 ms is outside its asymptotic range (phi1_dot off by 0.74 of its range at h, 0.47 at "
+        "h/2: observed order 0.66); at h = 0.5 ms it passes the same run's balances (forced_damped_balances)",
 }
 
 _fmus: dict[str, Fmu] = {}

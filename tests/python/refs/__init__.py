@@ -13,8 +13,8 @@ docs/derivations.md, never from the Rust sources. Every module has:
 ``derive`` holds the sympy derivations (Lagrange and Newton-Euler) used to cross-check them.
 """
 
-from . import oscillator, two_mass, pendulum_cart, crane, crane_dynamics, rigid_body  # noqa: F401
+from . import oscillator, two_mass, pendulum_cart, crane, crane_dynamics, rigid_body, double_pendulum_cart  # noqa: F401
 from ._common import step_input  # noqa: F401
 
 __all__ = ["oscillator", "two_mass", "pendulum_cart", "crane", "crane_dynamics", "rigid_body",
-           "step_input"]
+           "double_pendulum_cart", "step_input"]
