@@ -24,8 +24,11 @@ pub(super) fn solve_positive_definite<S: Scalar, const N: usize>(
         for k in 0..j {
             pivot -= l[j][k] * l[j][k];
         }
-        // NaN is not positive either.
-        if pivot.partial_cmp(&S::zero()) != Some(std::cmp::Ordering::Greater) {
+        // Positive beyond rounding (8 n ε of its diagonal): a singular matrix leaves a pivot
+        // of rounding noise, of either sign, and a solution of noise amplified. NaN is not
+        // positive either.
+        let noise = m[rows[j]][rows[j]] * S::from_subset(&(8.0 * n as f64 * f64::EPSILON));
+        if pivot.partial_cmp(&noise) != Some(std::cmp::Ordering::Greater) {
             return Err((j, pivot));
         }
         let diagonal = pivot.sqrt();
@@ -73,6 +76,15 @@ mod tests {
         let singular = [[1.0, 1.0], [1.0, 1.0]];
         let err = solve_positive_definite(&singular, &[0, 1], &mut [1.0, 1.0]).unwrap_err();
         assert_eq!(err, (1, 0.0));
+        // Rank one, u uᵀ, whose second pivot is rounding noise (of either sign): refused.
+        let mut refused = 0;
+        for k in 1..=1000 {
+            let (a, b) = (0.37 * k as f64 + 0.1, (k as f64).sqrt() - 7.3);
+            let rank_one = [[a * a, a * b], [a * b, b * b]];
+            refused +=
+                solve_positive_definite(&rank_one, &[0, 1], &mut [1.0, 1.0]).is_err() as usize;
+        }
+        assert_eq!(refused, 1000);
         let nan = [[f64::NAN]];
         assert!(solve_positive_definite(&nan, &[0], &mut [1.0]).is_err());
     }

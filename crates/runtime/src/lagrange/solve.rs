@@ -32,8 +32,8 @@ struct Terms<S, const N: usize> {
 pub(super) fn equations_of_motion<L: Lagrangian<N>, const N: usize, S: Scalar>(
     values: &mut L::Values<S>,
 ) {
-    // The one place the coordinates are read from their constant: a mistake in them is
-    // reported once, here.
+    // Where the equations read the coordinates' constant: a mistake in them is reported
+    // once, here.
     let resolved = &L::RESOLVED;
     let any = values as &mut dyn Any;
     if let Some(values) = any.downcast_mut::<L::Values<f64>>() {
@@ -69,8 +69,15 @@ pub(super) fn mass_matrix_problem<L: Lagrangian<N>, const N: usize>(
         })
         .collect::<Vec<_>>()
         .join(", ");
-    let why = if terms.mass[row][row] == 0.0 {
+    let row_of_mass = &terms.mass[row];
+    let why = if !row_of_mass.iter().all(|m| m.is_finite()) || !pivot.is_finite() {
+        format!("its row for `{coordinate}` is not a number there (T or V is not, or not differentiable)")
+    } else if row_of_mass.iter().all(|&m| m == 0.0) {
         format!("the kinetic energy does not depend on `{velocity}` there")
+    } else if row_of_mass[row] == 0.0 {
+        format!(
+            "∂²T/∂{velocity}² = 0 there: the kinetic energy is not quadratic in `{velocity}` (½ m v² for each body's velocity v)"
+        )
     } else {
         format!(
             "its pivot for `{coordinate}` is {pivot:e}: the coordinates are not independent there, or a mass is not positive"

@@ -21,47 +21,123 @@ fn every_operation<S: nalgebra::RealField + Copy>([v1, v2, q1, q2, t]: [S; 5]) -
     a * b + d - e * v2 / (q1 * q1 + lit(2.0))
 }
 
+/// The other functions a jet implements, on arguments inside their domains: inverse and
+/// hyperbolic functions, logarithms, powers (integer, constant, by a jet), a division by a
+/// constant, `abs` of a negative value, `atan2` with `|y| > |x|`.
+fn every_other_operation<S: nalgebra::RealField + Copy>([v1, v2, q1, q2, t]: [S; 5]) -> S {
+    let lit = |x: f64| -> S { nalgebra::convert(x) };
+    let small = (q1 * v2 * lit(0.1)).sin() * lit(0.5); // in (-0.5, 0.5)
+    let above_one = v1 * v1 + q2 * q2 + lit(1.5);
+    let a = small.asin() * v1 + small.acos() * q2 + small.atanh() * t + above_one.acosh();
+    let b = (q1 * v2).cosh() / lit(3.0) + (v1 * q2).asinh() + above_one.ln_1p() * v2.exp2();
+    let c = (q2 * lit(0.3)).exp_m1() * above_one.cbrt() + above_one.log(lit(3.0)) * v1.log2();
+    let d = above_one.log10() * q1.powi(0) + v2.powi(1) * q1.powi(2) + v1.powi(-1) + q2.powi(4);
+    let e = (-above_one).abs() * (v2 * q1 + lit(3.0)).powf(lit(2.5))
+        + above_one.powf(q1 * v2)
+        + above_one.recip();
+    let f = (v1 * lit(7.0)).atan2(q1 * lit(0.1) + lit(0.2));
+    a * b + c * d - e * f
+}
+
+/// Seeds of the five arguments as jets, and the reference's: ε1 on the velocities, ε2 on all
+/// five (the full Hessian rows of the velocities).
+fn seeded(x: [f64; 5]) -> ([Jet<2>; 5], [Reference; 5]) {
+    let [v1, v2, q1, q2, t] = x;
+    let jets = [
+        Jet::velocity(0, v1),
+        Jet::velocity(1, v2),
+        Jet::coordinate(0, q1, v1),
+        Jet::coordinate(1, q2, v2),
+        Jet::time(t),
+    ];
+    let reference = std::array::from_fn(|i| {
+        let e1 = (i < 2).then(|| Derivative::derivative_generic(Const::<2>, Const::<1>, i));
+        HyperDualVec::new(
+            x[i],
+            e1.unwrap_or(Derivative::none()),
+            Derivative::derivative_generic(Const::<1>, Const::<5>, i),
+            Derivative::none(),
+        )
+    });
+    (jets, reference)
+}
+
+type Reference = HyperDualVec<f64, Const<2>, Const<5>>;
+
+/// A test function, on jets and on the reference.
+type Both = (fn([Jet<2>; 5]) -> Jet<2>, fn([Reference; 5]) -> Reference);
+
 #[test]
 fn jets_carry_the_second_derivatives_of_a_hyper_dual_vector() {
-    type Reference = HyperDualVec<f64, Const<2>, Const<5>>;
-    for k in 0..50 {
-        let x = [0.3, -0.7, 1.1, 0.4, 0.9].map(|x: f64| x + 0.05 * k as f64);
-        let [v1, v2, q1, q2, t] = x;
-        let jet = every_operation::<Jet<2>>([
-            Jet::velocity(0, v1),
-            Jet::velocity(1, v2),
-            Jet::coordinate(0, q1, v1),
-            Jet::coordinate(1, q2, v2),
-            Jet::time(t),
-        ]);
-        // ε1 on the velocities, ε2 on all five: the full Hessian rows of the velocities.
-        let seed = |i: usize| {
-            let e1 = (i < 2).then(|| Derivative::derivative_generic(Const::<2>, Const::<1>, i));
-            Reference::new(
-                x[i],
-                e1.unwrap_or(Derivative::none()),
-                Derivative::derivative_generic(Const::<1>, Const::<5>, i),
-                Derivative::none(),
-            )
-        };
-        let reference = every_operation::<Reference>(std::array::from_fn(seed));
-        let hessian = reference.eps1eps2.unwrap_generic(Const::<2>, Const::<5>);
-        let gradient = reference.eps2.unwrap_generic(Const::<1>, Const::<5>);
-        let close = |a: f64, b: f64| (a - b).abs() <= 1e-13 * (1.0 + b.abs());
-        assert!(close(jet.re, reference.re), "{k}");
-        for i in 0..2 {
-            assert!(close(jet.v[i], gradient[i]), "∂/∂v{i} at {k}");
-            assert!(close(jet.q[i], gradient[2 + i]), "∂/∂q{i} at {k}");
-            for j in i..2 {
-                assert!(close(jet.vv[i][j], hessian[(i, j)]), "vv{i}{j} at {k}");
-            }
-            // Along the path: the coordinates at the velocities, the time at 1.
-            let along = hessian[(i, 2)] * v1 + hessian[(i, 3)] * v2 + hessian[(i, 4)];
-            assert!(close(jet.vp[i], along), "vp{i} at {k}");
+    let functions: [(&str, Both); 2] = [
+        ("every_operation", (every_operation, every_operation)),
+        (
+            "every_other_operation",
+            (every_other_operation, every_other_operation),
+        ),
+    ];
+    for (name, (on_jets, on_reference)) in functions {
+        for k in 0..50 {
+            let x = [0.3, -0.7, 1.1, 0.4, 0.9].map(|x: f64| x + 0.05 * k as f64);
+            let (jets, reference) = seeded(x);
+            check_jet(
+                on_jets(jets),
+                on_reference(reference),
+                x,
+                &format!("{name} at {k}"),
+            );
         }
-        let along = gradient[2] * v1 + gradient[3] * v2 + gradient[4];
-        assert!(close(jet.p, along), "p at {k}");
     }
+}
+
+/// The jet's parts against the hyper-dual vector's derivatives at `x`.
+fn check_jet(jet: Jet<2>, reference: Reference, x: [f64; 5], at: &str) {
+    let [v1, v2, ..] = x;
+    let hessian = reference.eps1eps2.unwrap_generic(Const::<2>, Const::<5>);
+    let gradient = reference.eps2.unwrap_generic(Const::<1>, Const::<5>);
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-13 * (1.0 + b.abs());
+    assert!(
+        close(jet.re, reference.re),
+        "{at}: {} / {}",
+        jet.re,
+        reference.re
+    );
+    for i in 0..2 {
+        assert!(close(jet.v[i], gradient[i]), "∂/∂v{i} at {at}");
+        assert!(close(jet.q[i], gradient[2 + i]), "∂/∂q{i} at {at}");
+        for j in i..2 {
+            assert!(close(jet.vv[i][j], hessian[(i, j)]), "vv{i}{j} at {at}");
+        }
+        // Along the path: the coordinates at the velocities, the time at 1.
+        let along = hessian[(i, 2)] * v1 + hessian[(i, 3)] * v2 + hessian[(i, 4)];
+        assert!(close(jet.vp[i], along), "vp{i} at {at}");
+    }
+    let along = gradient[2] * v1 + gradient[3] * v2 + gradient[4];
+    assert!(close(jet.p, along), "p at {at}");
+}
+
+#[test]
+fn a_negative_base_to_a_constant_integer_power_is_its_power() {
+    use nalgebra::ComplexField;
+    let (jets, _) = seeded([0.3, -0.7, 1.1, 0.4, 0.9]);
+    let x = jets[1] * jets[2] - jets[4]; // negative
+    assert!(x.re < 0.0);
+    let (by_powf, by_powi) = (x.powf(Jet::constant(3.0)), x.powi(3));
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-14 * (1.0 + b.abs());
+    assert!(close(by_powf.re, by_powi.re));
+    for i in 0..2 {
+        assert!(close(by_powf.v[i], by_powi.v[i]) && close(by_powf.q[i], by_powi.q[i]));
+        assert!(close(by_powf.vv[i][1], by_powi.vv[i][1]) && close(by_powf.vp[i], by_powi.vp[i]));
+    }
+}
+
+#[test]
+fn a_remainder_carries_the_derivatives_of_its_dividend() {
+    let (jets, _) = seeded([0.3, -0.7, 1.1, 0.4, 0.9]);
+    let x = jets[0] * jets[2] + jets[4];
+    let r = x % Jet::constant(0.25);
+    assert_eq!(r.re, x.re % 0.25);
+    assert_eq!((r.v, r.q, r.p, r.vv, r.vp), (x.v, x.q, x.p, x.vv, x.vp));
 }
 
 #[test]
@@ -215,6 +291,26 @@ fn a_driven_coordinate_and_a_time_dependent_energy_give_newtons_law() {
             (dual.phi_ddot.eps - d_phi_ddot).abs() <= 1e-13 * (1.0 + d_phi_ddot.abs()),
             "{k}"
         );
+
+        // Along the time (the shaking moves with it) and along φ̇ (the drive's force has a
+        // centripetal term).
+        let mut dual = Shaken::map_values(&v, Dual64::from_re);
+        dual.time = Dual64::new(v.time, 1.0);
+        dual.phi_dot = Dual64::new(v.phi_dot, 0.5);
+        Shaken::evaluate(&mut dual);
+        let d_phi_ddot = v.A * v.w.powi(3) * (v.w * v.time).cos() * sin / v.l;
+        let d_force = 0.5 * (-2.0 * v.m * v.l * v.phi_dot * sin) + v.m * v.l * cos * d_phi_ddot;
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + b.abs());
+        assert!(
+            close(dual.phi_ddot.eps, d_phi_ddot),
+            "{k}: {} / {d_phi_ddot}",
+            dual.phi_ddot.eps
+        );
+        assert!(
+            close(dual.F.eps, d_force),
+            "{k}: {} / {d_force}",
+            dual.F.eps
+        );
     }
 }
 
@@ -273,4 +369,63 @@ fn a_kinetic_energy_without_a_velocity_is_refused_at_initialization_naming_it() 
     assert!(message.contains("does not depend on `y_dot`"), "{message}");
     assert!(message.contains("x = 0.5"), "names the point: {message}");
     assert!(message.contains("`x_ddot` evaluates to NaN"), "{message}");
+}
+
+crate::mechanism! {
+    /// A cart whose second coordinate loses its inertia where the first turns negative.
+    pub struct Collapsing / CollapsingValues {
+        /// Mass
+        m: Variable::parameter("kg", 1.0).positive(),
+        /// First coordinate
+        x: Variable::state("m", 0.05, "x_dot"),
+        /// Its velocity
+        x_dot: Variable::state("m/s", -1.0, "x_ddot"),
+        /// Second coordinate
+        y: Variable::state("m", 0.0, "y_dot"),
+        /// Its velocity
+        y_dot: Variable::state("m/s", 0.0, "y_ddot"),
+        /// First acceleration
+        x_ddot: Variable::output("m/s2"),
+        /// Second acceleration
+        y_ddot: Variable::output("m/s2"),
+    }
+}
+
+impl Lagrangian<2> for Collapsing {
+    const COORDINATES: [Coordinate; 2] = [Coordinate::free("x"), Coordinate::free("y")];
+    fn kinetic_energy<S: Scalar>(v: &CollapsingValues<S>) -> S {
+        let inertia = nalgebra::RealField::max(v.x, S::zero());
+        lit::<S>(0.5) * v.m * (v.x_dot * v.x_dot + inertia * v.y_dot * v.y_dot)
+    }
+    fn potential_energy<S: Scalar>(_: &CollapsingValues<S>) -> S {
+        S::zero()
+    }
+}
+
+impl Mechanism for Collapsing {
+    const EXPERIMENT: Experiment = Experiment {
+        start: 0.0,
+        stop: 1.0,
+        step: 0.1,
+        tolerance: 1e-6,
+    };
+    fn evaluate<S: Scalar>(v: &mut CollapsingValues<S>) {
+        Self::lagrange(v);
+    }
+    fn diagnose(v: &CollapsingValues<f64>) -> Option<String> {
+        Self::mass_matrix_problem(v)
+    }
+}
+
+#[test]
+fn a_step_into_a_singular_mass_matrix_stops_and_says_why() {
+    let mut sim = Simulation::<Collapsing>::new(Layout::new(Collapsing::VARIABLES).unwrap());
+    sim.setup(None, 0.0).unwrap();
+    sim.update().unwrap();
+    let failure = sim.step(0.0, 0.1).unwrap_err();
+    let crate::simulation::StepFailure::Stopped { time, message, .. } = failure else {
+        panic!("{failure:?}")
+    };
+    assert!(time < 0.05 + 1e-9, "stopped at {time}, past x = 0");
+    assert!(message.contains("does not depend on `y_dot`"), "{message}");
 }

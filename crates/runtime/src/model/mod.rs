@@ -167,7 +167,7 @@ pub trait Mechanism: Declaration {
     /// Why the equations have no solution at the point the values hold, when they can
     /// tell (a mechanism declared from its energies: a mass matrix that is not positive
     /// definite, [`Lagrangian::mass_matrix_problem`](crate::lagrange::Lagrangian::mass_matrix_problem)).
-    /// Asked only where an evaluation left a derivative or output that is not a number, and
+    /// Asked only where an evaluation left a derivative or output that is not finite, and
     /// added to the message that refuses the point (at initialization, after
     /// `fmi2SetReal`, in a step that stops there). `None` by default.
     fn diagnose(_values: &Self::Values<f64>) -> Option<String> {

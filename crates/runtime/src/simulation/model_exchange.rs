@@ -213,8 +213,10 @@ impl<M: Mechanism> Simulation<M> {
     #[inline(never)]
     fn outside_the_domain(&self, values: &[f64], references: &[usize], what: &str) -> String {
         let i = values.iter().position(|v| !v.is_finite()).unwrap_or(0);
+        let why = M::diagnose(&self.values)
+            .unwrap_or_else(|| "the point is outside the equations' domain".into());
         format!(
-            "{what} `{}` is {} at t = {}: the point is outside the equations' domain",
+            "{what} `{}` is {} at t = {}: {why}",
             M::VARIABLES[references[i]].name,
             values[i],
             self.time()

@@ -79,6 +79,13 @@ impl<M: Mechanism> Simulation<M> {
         // (A system without states has no evaluations: its values are still at `t`.) The
         // stages computed the derivatives only: the outputs no derivative needs are computed
         // here, once per communication point, where they become visible.
+        // Where the equations gave no number, the values still hold the point that gave
+        // none: the mechanism's account of why is taken there, before they are evaluated
+        // back at the last accepted point.
+        let diagnosis = match &result {
+            Err(SolverError::NonFinite { .. }) => M::diagnose(system.values),
+            _ => None,
+        };
         if result.is_err() || M::State::DIM == 0 {
             system.evaluate_at(time, &y);
         }
@@ -97,7 +104,8 @@ impl<M: Mechanism> Simulation<M> {
             self.first_non_finite(M::CONTINUOUS)
         };
         if let Some(name) = non_finite {
-            let diagnosis = M::diagnose(&self.values).map(|why| format!(": {why}"));
+            let diagnosis =
+                (diagnosis.or_else(|| M::diagnose(&self.values))).map(|why| format!(": {why}"));
             self.undo(t, &start);
             self.solver.restore(memory);
             self.warning_active = warning_active;
@@ -136,7 +144,10 @@ impl<M: Mechanism> Simulation<M> {
             Err(e) => Err(StepFailure::Stopped {
                 time,
                 limit: matches!(e, SolverError::Stopped { .. }),
-                message: describe(&e),
+                message: match diagnosis {
+                    Some(why) => format!("{}: {why}", describe(&e)),
+                    None => describe(&e),
+                },
             }),
         }
     }

@@ -1,5 +1,5 @@
-//! The elementary functions on jets: `libm`'s value (the same bits on every platform) and
-//! the chain rule with the first two derivatives.
+//! The elementary functions on jets: the value and the chain rule with the first two
+//! derivatives, from `libm` (the same bits on every platform).
 
 use super::Jet;
 
@@ -157,8 +157,21 @@ impl<const N: usize> Jet<N> {
     #[inline]
     pub(crate) fn cbrt_jet(self) -> Self {
         let c = libm::cbrt(self.re);
-        let d = c / (3.0 * self.re);
+        // 1/(3 c²) rather than c/(3x): infinite at 0, as the derivative is, not NaN.
+        let d = 1.0 / (3.0 * c * c);
         self.chain(c, d, -2.0 * d / (3.0 * self.re))
+    }
+
+    /// `self^n` for a constant `n`: defined for a negative base where `n` is an integer, as
+    /// on `f64` (`exp(n ln x)` is not).
+    #[inline]
+    pub(crate) fn powf_constant(self, n: f64) -> Self {
+        let x = self.re;
+        self.chain(
+            libm::pow(x, n),
+            n * libm::pow(x, n - 1.0),
+            n * (n - 1.0) * libm::pow(x, n - 2.0),
+        )
     }
 
     #[inline]

@@ -11,9 +11,10 @@
 //!   (taken as zero), which is exact for the kept parts, since no kept part is ever computed
 //!   from a dropped one.
 //!
-//! It is what a general hyper-dual vector would give with the unused half of its second
-//! derivatives never computed, in plain arrays (no optional parts), so that a right-hand side
-//! costs a few times the hand-written equations rather than ten (`mechfmu bench`).
+//! It is what a general hyper-dual vector would give with the second derivatives the
+//! equations do not use never computed, in plain arrays, each part marked zero or not, so
+//! that a right-hand side costs one to two and a half times the hand-written equations'
+//! rather than ten (`mechfmu bench --instructions`).
 
 mod functions;
 mod traits;
@@ -37,17 +38,17 @@ mod part {
 /// A value with its derivatives for Lagrange's equations in `N` coordinates (see the module).
 #[derive(Clone, Copy, Debug)]
 pub struct Jet<const N: usize> {
-    pub re: f64,
+    pub(crate) re: f64,
     /// `∂/∂q̇_i`
-    pub v: [f64; N],
+    pub(crate) v: [f64; N],
     /// `∂/∂q_i`
-    pub q: [f64; N],
+    pub(crate) q: [f64; N],
     /// Along the path: `Σ q̇_j ∂/∂q_j + ∂/∂t`.
-    pub p: f64,
+    pub(crate) p: f64,
     /// `∂²/∂q̇_i∂q̇_j`, for `i ≤ j` (the upper triangle; the rest is not kept).
-    pub vv: [[f64; N]; N],
+    pub(crate) vv: [[f64; N]; N],
     /// `∂/∂q̇_i` of the derivative along the path.
-    pub vp: [f64; N],
+    pub(crate) vp: [f64; N],
     /// Which parts may be nonzero (bits of `part`); the others are zeros.
     parts: u8,
 }

@@ -329,7 +329,11 @@ impl<const N: usize> ComplexField for Jet<N> {
         self.powi_jet(n)
     }
     fn powf(self, n: Self) -> Self {
-        (self.ln_jet() * n).exp_jet()
+        if n.parts == 0 {
+            self.powf_constant(n.re)
+        } else {
+            (self.ln_jet() * n).exp_jet()
+        }
     }
     fn powc(self, n: Self) -> Self {
         self.powf(n)
