@@ -44,6 +44,7 @@ pub struct Resolved {
 
 /// The value references of `coordinates` among `variables`. Panics (at compile time, where
 /// it is evaluated as a constant) with a message naming the first coordinate declared wrong.
+#[doc(hidden)]
 pub const fn resolve<const N: usize>(
     variables: &[Variable],
     coordinates: &[Coordinate; N],
@@ -142,6 +143,36 @@ const fn resolve_one(
                     .push(": its drive's force ")
                     .quoted(force_name)
                     .push(" must be an output or local variable that is not a state"));
+            }
+            // The force output is the drive's alone: no coordinate's own variable, no other
+            // drive's force (either would be overwritten by the other).
+            let mut k = 0;
+            while k < coordinates.len() {
+                let other = coordinates[k];
+                let mut used = false;
+                if let Some(other_position) = find(variables, other.name) {
+                    used = force == other_position;
+                    if let Some(velocity) = variables[other_position].derivative {
+                        used = used || str_eq(velocity, force_name);
+                        if let Some(v) = find(variables, velocity) {
+                            if let Some(acceleration) = variables[v].derivative {
+                                used = used || str_eq(acceleration, force_name);
+                            }
+                        }
+                    }
+                }
+                if let Some(other_force) = other.drive {
+                    used = used || (k != i && str_eq(other_force, force_name));
+                }
+                if used {
+                    return Err(*mistake(name)
+                        .push(": its drive's force ")
+                        .quoted(force_name)
+                        .push(" is also coordinate ")
+                        .quoted(other.name)
+                        .push("'s variable or its drive's force"));
+                }
+                k += 1;
             }
             Some(force)
         }
