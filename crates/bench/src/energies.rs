@@ -14,7 +14,9 @@ use crate::instructions::instructions_with;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
-/// `fmi2DoStep`s or Model Exchange evaluations per probe run (`mechfmu_energies::PROBE_STEPS`).
+/// `fmi2DoStep`s or Model Exchange evaluations per probe run: `mechfmu_energies::PROBE_STEPS`
+/// (a test crate, which the lab cannot depend on; a mismatch halves or doubles every count
+/// of both sides alike, and the ratios stay).
 const PROBE_STEPS: f64 = 1000.0;
 
 /// The target: the twin's instructions at most this many times the hand-written one's.
@@ -89,5 +91,11 @@ fn per_unit(executable: &Path, probe: &str, twin: bool) -> Result<f64, String> {
         instructions_with(executable, &args, &settings)
     };
     let (one, three) = (run(1)?, run(3)?);
-    Ok(three.saturating_sub(one) as f64 / (2.0 * PROBE_STEPS))
+    if three <= one {
+        return Err(format!(
+            "{}: three runs of the {probe} probe counted {three} instructions, one run {one}: no work was measured",
+            executable.display()
+        ));
+    }
+    Ok((three - one) as f64 / (2.0 * PROBE_STEPS))
 }

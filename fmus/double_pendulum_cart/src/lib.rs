@@ -99,7 +99,8 @@ impl Lagrangian<3> for DoublePendulumCart {
     ];
 
     /// The cart at `ẋ`; `m1` and `m2` at the velocities of `p1` and `p2`.
-    // Inlined, the jets' zero derivatives of the parameters fold away: 2.5x hand-written, not 6x.
+    // Inlined, the work on the parameters' zero derivatives folds away: a step costs 2.3-2.6
+    // times these equations written by hand, against 5.8-7.0 not inlined.
     #[inline(always)]
     fn kinetic_energy<S: Scalar>(v: &DoublePendulumCartValues<S>) -> S {
         let [v1, v2] = velocities(v);
@@ -110,7 +111,7 @@ impl Lagrangian<3> for DoublePendulumCart {
     }
 
     /// Gravity on both masses, heights from the track.
-    // Inlined, the jets' zero derivatives of the parameters fold away: 2.5x hand-written, not 6x.
+    // Inlined for the same reason.
     #[inline(always)]
     fn potential_energy<S: Scalar>(v: &DoublePendulumCartValues<S>) -> S {
         let [p1, p2] = positions(v);

@@ -101,7 +101,8 @@ impl Rng {
 
 /// A random point: each parameter within a factor of two of its start value (inside its
 /// bounds), each state and input its start value moved by up to its own size (at least 1),
-/// angles anywhere in (-π, π), and the calculated parameters computed.
+/// angles and angular rates (units `rad...`) in (-3, 3), and the calculated parameters
+/// computed.
 pub fn random_point<M: Mechanism>(rng: &mut Rng) -> M::Values<f64> {
     loop {
         let mut values = M::zeros::<f64>();
@@ -327,7 +328,13 @@ pub fn worst_relative_to_range(a: &[Vec<f64>], b: &[Vec<f64>], columns: &[usize]
             hi.abs().max(1e-300)
         };
         for (ra, rb) in a.iter().zip(b) {
-            worst = worst.max((ra[c] - rb[c]).abs() / range);
+            // NaN is the worst difference (`max` would drop it).
+            let difference = (ra[c] - rb[c]).abs() / range;
+            worst = if difference.is_nan() {
+                f64::INFINITY
+            } else {
+                worst.max(difference)
+            };
         }
     }
     worst
