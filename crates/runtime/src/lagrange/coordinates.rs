@@ -1,7 +1,9 @@
 //! A mechanism's generalized coordinates: declared by name, resolved to value references at
 //! compile time, each mistake a compile error naming the coordinate.
 
-use crate::model::{str_eq, Causality, ConstMessage, Variability, Variable};
+use crate::model::{
+    closest_name, str_eq, variable_position, Causality, ConstMessage, Variability, Variable,
+};
 
 /// A generalized coordinate, named by its position state.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -83,15 +85,20 @@ const fn resolve_one(
         }
         j += 1;
     }
-    let Some(position) = find(variables, name) else {
-        return Err(*mistake(name).push(" names no declared variable"));
+    let Some(position) = variable_position(variables, name) else {
+        let mut message = mistake(name);
+        message.push(" names no declared variable");
+        if let Some(close) = closest_name(variables, name) {
+            message.push(" (did you mean ").quoted(close).push("?)");
+        }
+        return Err(message);
     };
     let Some(velocity_name) = variables[position].derivative else {
         return Err(*mistake(name).push(
             " is not a state: declare it `Variable::state(unit, start, \"<its velocity>\")`",
         ));
     };
-    let Some(velocity) = find(variables, velocity_name) else {
+    let Some(velocity) = variable_position(variables, velocity_name) else {
         return Err(*mistake(name).push(" has a derivative that names no declared variable"));
     };
     let Some(acceleration_name) = variables[velocity].derivative else {
@@ -102,7 +109,7 @@ const fn resolve_one(
             " is not a state: declare it `Variable::state(unit, start, \"<its acceleration>\")`",
         ));
     };
-    let Some(acceleration) = find(variables, acceleration_name) else {
+    let Some(acceleration) = variable_position(variables, acceleration_name) else {
         return Err(*mistake(name)
             .push(": its acceleration ")
             .quoted(acceleration_name)
@@ -128,7 +135,7 @@ const fn resolve_one(
                     .quoted(acceleration_name)
                     .push(" must be an input"));
             }
-            let Some(force) = find(variables, force_name) else {
+            let Some(force) = variable_position(variables, force_name) else {
                 return Err(*mistake(name)
                     .push(": its drive's force ")
                     .quoted(force_name)
@@ -150,11 +157,11 @@ const fn resolve_one(
             while k < coordinates.len() {
                 let other = coordinates[k];
                 let mut used = false;
-                if let Some(other_position) = find(variables, other.name) {
+                if let Some(other_position) = variable_position(variables, other.name) {
                     used = force == other_position;
                     if let Some(velocity) = variables[other_position].derivative {
                         used = used || str_eq(velocity, force_name);
-                        if let Some(v) = find(variables, velocity) {
+                        if let Some(v) = variable_position(variables, velocity) {
                             if let Some(acceleration) = variables[v].derivative {
                                 used = used || str_eq(acceleration, force_name);
                             }
@@ -190,15 +197,4 @@ const fn mistake(name: &str) -> ConstMessage {
     let mut message = ConstMessage::new();
     message.push("coordinate ").quoted(name);
     message
-}
-
-const fn find(variables: &[Variable], name: &str) -> Option<usize> {
-    let mut i = 0;
-    while i < variables.len() {
-        if str_eq(variables[i].name, name) {
-            return Some(i);
-        }
-        i += 1;
-    }
-    None
 }

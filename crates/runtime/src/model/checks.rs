@@ -134,7 +134,7 @@ const fn earlier_state_with_derivative(
 }
 
 /// The position of the variable called `name`.
-const fn position(variables: &[Variable], name: &str) -> Option<usize> {
+pub(crate) const fn position(variables: &[Variable], name: &str) -> Option<usize> {
     let mut i = 0;
     while i < variables.len() {
         if str_eq(variables[i].name, name) {
@@ -147,7 +147,7 @@ const fn position(variables: &[Variable], name: &str) -> Option<usize> {
 
 /// The declared name nearest to a misspelled `name` (at most a third of its letters, and
 /// at least one, changed, added or removed), if one is.
-const fn closest_name(variables: &[Variable], name: &str) -> Option<&'static str> {
+pub(crate) const fn closest_name(variables: &[Variable], name: &str) -> Option<&'static str> {
     let limit = if name.len() / 3 > 1 {
         name.len() / 3
     } else {
