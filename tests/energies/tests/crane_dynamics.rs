@@ -1,22 +1,16 @@
 //! The CraneDynamics declared from its energies: the boom's, the trolley's and the payload's
 //! kinetic and potential energies, with the drives' force and torque as generalized forces.
 
+mod crane_outputs;
+
 use crane_dynamics::{CraneDynamics, CraneDynamicsValues};
-use crane_kinematics::{cable_tension, normal_acceleration, radial_acceleration};
 use mechfmu::lagrange::{Coordinate, Lagrangian};
 use mechfmu::model::{lit, sin_cos, Scalar};
 use mechfmu_energies::{agreement, reference_case, same_trajectories, twin};
 
 twin!(EnergyCraneDynamics of CraneDynamics, evaluate(v) {
     Self::lagrange(v);
-    // Not from the energies: the cable's pull, for the monitor, and the drives' power.
-    let (sin_s, cos_s) = sin_cos(v.theta - v.phi);
-    let (_, cos_phi) = sin_cos(v.phi);
-    let a_radial = radial_acceleration(v.x, v.theta_dot, v.x_ddot);
-    let a_normal = normal_acceleration(v.x, v.x_dot, v.theta_dot, v.theta_ddot);
-    let a_trolley = (a_radial, a_normal);
-    v.T = cable_tension(v.m, v.l, v.g, a_trolley, (sin_s, cos_s), v.phi_dot, cos_phi);
-    v.P_drives = v.F * v.x_dot + v.tau * v.theta_dot;
+    crane_outputs::tension_and_power!(v);
 });
 
 impl Lagrangian<3> for EnergyCraneDynamics {
