@@ -12,10 +12,12 @@
 //!   state and its bytes, derivatives against finite differences, threads, Model
 //!   Exchange, FMI 3.0 against FMI 2.0);
 //! - [`golden`]: committed files generated from the declaration (modelDescription,
-//!   interface page) checked to be current, or regenerated with `MECHFMU_BLESS=1`.
+//!   interface page) checked to be current, or regenerated with `MECHFMU_BLESS=1`;
+//! - [`rng`]: a deterministic generator for checks at random points.
 
 pub mod conformance;
 pub mod fmi3;
 pub mod golden;
 pub mod harness;
 pub mod model_exchange;
+pub mod rng;

@@ -5,6 +5,7 @@
 use double_pendulum_cart::DoublePendulumCart;
 use mechfmu::fmi2::ffi::*;
 use mechfmu_testkit::harness::Harness;
+use mechfmu_testkit::rng::Rng;
 
 type Fmu = Harness<DoublePendulumCart>;
 
@@ -22,19 +23,6 @@ fn interface_is_current() {
         env!("CARGO_MANIFEST_DIR"),
         env!("CARGO_PKG_NAME"),
     );
-}
-
-/// A small deterministic generator (xorshift64*), uniform in [lo, hi).
-struct Rng(u64);
-
-impl Rng {
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        let u = (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64;
-        lo + (hi - lo) * u
-    }
 }
 
 const NAMES: [&str; 14] = [

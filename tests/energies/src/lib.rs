@@ -13,6 +13,7 @@
 
 use mechfmu::model::{Causality, Mechanism, ValueSet, Variability};
 use mechfmu_testkit::harness::Harness;
+pub use mechfmu_testkit::rng::Rng;
 use num_dual::Dual64;
 use std::path::Path;
 
@@ -84,19 +85,6 @@ macro_rules! twin {
             }
         }
     };
-}
-
-/// A small deterministic generator (xorshift64*), uniform in [lo, hi).
-pub struct Rng(pub u64);
-
-impl Rng {
-    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        let u = (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64;
-        lo + (hi - lo) * u
-    }
 }
 
 /// A random point: each parameter within a factor of two of its start value (inside its
