@@ -20,6 +20,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import shutil
 import tempfile
 import threading
@@ -34,7 +35,7 @@ import pytest
 import fmpy
 from fmpy import read_model_description
 from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import FMU2Slave, fmi2OK, fmi2Warning
+from fmpy.fmi2 import FMU2Slave, fmi2Error, fmi2OK, fmi2Warning
 
 from mechfmu_validate import fmulog
 from mechfmu_validate.fmulog import LogMark, LogRecord, status_name  # noqa: F401 (the suite's names)
@@ -229,6 +230,21 @@ class Slave:
     # asserting helpers -----------------------------------------------------------------
     def expect_ok(self, what: str, status: int) -> None:
         assert status in (fmi2OK, fmi2Warning), f"{what} returned {status_name(status)}; log:\n{self.log.text()}"
+
+    def expect_refused_at_initialization(self, name: str, value: float) -> None:
+        """Setting parameter ``name`` to ``value`` fails with fmi2Error by the end of
+        initialization (at fmi2SetReal, or at entering or leaving initialization mode), with
+        an error message naming the parameter."""
+        self.setup()
+        statuses = [self.set_real_status({name: value})]
+        if statuses[-1] < fmi2Error:
+            statuses.append(self.call("fmi2EnterInitializationMode"))
+        if statuses[-1] < fmi2Error:
+            statuses.append(self.call("fmi2ExitInitializationMode"))
+        assert max(statuses) == fmi2Error, f"{name} = {value}: statuses {statuses}"
+        named = [r for r in self.log.records
+                 if r.status >= fmi2Error and re.search(rf"(?<![\w.]){name}(?![\w(])", r.message)]
+        assert named, f"no error message naming {name}; log:\n{self.log.text()}"
 
     def setup(self, tolerance: float | None = 1e-8, start: float = 0.0, stop: float | None = None) -> None:
         self.expect_ok(
