@@ -14,9 +14,10 @@ What other exporters write, legal, is held to PASS under every
 importer, each reproduced on FirstOrder: aliases sharing a value reference (as Dymola's
 `mass.a` and `der(mass.v)`), XML's `xmlns:xsi` on the root (which the fmi crate's schema
 refuses), a solver of its own whose result depends on the tolerance it is given (-DOWN_SOLVER);
-aliases that cannot be one value fail, naming the standard's clause. And three of the Modelica
-Reference-FMUs, built from their sources (data/foreign/reference-fmus/, BSD-2-Clause), pass in
-FMI 2.0 and 3.0.
+aliases that cannot be one value fail, naming the standard's clause. And three small models
+written here (data/foreign/models/: a decay, a bouncing ball with state events, a staircase
+with time events that ends its simulation early), packaged with results named by an FMI-LS-REF
+manifest, pass in FMI 2.0 and 3.0.
 """
 
 from __future__ import annotations
@@ -47,6 +48,13 @@ SOURCE = Path(__file__).resolve().parent / "data" / "foreign"
 REF_DIR = "extra/org.fmi-standard.fmi-ls-ref"
 REFERENCE = {name: (SOURCE / name).read_text() for name in ("FirstOrder_ref.csv", "FirstOrder_in.csv",
                                                             "FirstOrder_ref.opt")}
+
+
+def manifest(results: str) -> str:
+    """The FMI-LS-REF manifest (``fmi-ls-manifest.xml``) naming ``results`` the reference results."""
+    return ('<?xml version="1.0" encoding="UTF-8"?>\n<fmiReferences xmlns:fmi-ls="http://fmi-standard.org/'
+            'fmi-ls-manifest" fmi-ls:fmi-ls-name="org.fmi-standard.fmi-ls-ref" fmi-ls:fmi-ls-version="1.0.0">\n'
+            f'  <Related type="text/csv" source="{results}" role="result"/>\n</fmiReferences>\n')
 
 
 def build(directory: Path, *defines: str, name: str = "FirstOrder.fmu", binary_folder: str = "linux64",
@@ -126,10 +134,7 @@ def test_a_foreign_fmu_passes_against_the_reference_it_carries(good, fmi_run, tm
 def test_the_reference_fmus_layout_is_read_too(tmp_path, fmi_run):
     """As the Modelica Reference-FMUs package theirs: <Id>_out.csv named by fmi-ls-manifest.xml,
     unquoted names, no options file (the tolerance is then the default, 1e-3 of the range)."""
-    manifest = ('<?xml version="1.0" encoding="UTF-8"?>\n<fmiReferences xmlns:fmi-ls="http://fmi-standard.org/'
-                'fmi-ls-manifest" fmi-ls:fmi-ls-name="org.fmi-standard.fmi-ls-ref" fmi-ls:fmi-ls-version="1.0.0">\n'
-                '  <Related type="text/csv" source="results.csv" role="result"/>\n</fmiReferences>\n')
-    files = {f"{REF_DIR}/fmi-ls-manifest.xml": manifest,
+    files = {f"{REF_DIR}/fmi-ls-manifest.xml": manifest("results.csv"),
              f"{REF_DIR}/results.csv": REFERENCE["FirstOrder_ref.csv"].replace('"', ""),
              f"{REF_DIR}/FirstOrder_in.csv": REFERENCE["FirstOrder_in.csv"]}
     proc, rows = validate(tmp_path, fmi_run, str(build(tmp_path / "fmu", files=files)))
@@ -355,50 +360,48 @@ def test_an_fmu_with_its_own_solver_is_compared_with_libcosim_at_libcosims_setti
 
 
 # ---------------------------------------------------------------------------------------
-# The Modelica Reference-FMUs, built from their sources (data/foreign/reference-fmus/)
+# Small models with events, in FMI 2.0 and 3.0 (data/foreign/models/)
 
 
-REFERENCE_FMUS = SOURCE / "reference-fmus"
+MODELS = SOURCE / "models"
 
 
-def build_reference_fmu(directory: Path, model: str, version: int) -> Path:
-    """``model`` of the Reference-FMUs for FMI ``version``, compiled with gcc and packaged as
-    their CMakeLists.txt packages it (the FMI-LS-REF manifest beside the results)."""
+def build_model(directory: Path, model: str, version: int) -> Path:
+    """``model`` of data/foreign/models/ for FMI ``version``, compiled with gcc (its C file and the
+    FMI layer, fmi.c) and packaged with its results and the FMI-LS-REF manifest naming them, in
+    ``extra/org.fmi-standard.fmi-ls-ref/``."""
     folder = directory / f"fmi{version}"
     folder.mkdir(parents=True, exist_ok=True)
     binary = folder / f"{model}.so"
-    subprocess.run(["gcc", "-shared", "-fPIC", "-O2", "-Wall", f"-DFMI_VERSION={version}", "-DDISABLE_PREFIX",
-                    "-I", str(REFERENCE_FMUS / "include"), "-I", str(REFERENCE_FMUS / model),
-                    "-I", str(Path(fmpy.__file__).parent / "c-code"), str(REFERENCE_FMUS / model / "model.c"),
-                    str(REFERENCE_FMUS / "src" / f"fmi{version}Functions.c"),
-                    str(REFERENCE_FMUS / "src" / "cosimulation.c"), "-o", str(binary), "-lm"],
-                   check=True, capture_output=True, text=True)
+    subprocess.run(["gcc", "-shared", "-fPIC", "-O2", "-std=c99", "-Wall", "-Werror", f"-DFMI_VERSION={version}",
+                    "-I", str(Path(fmpy.__file__).parent / "c-code"), str(MODELS / f"{model}.c"),
+                    str(MODELS / "fmi.c"), "-o", str(binary), "-lm"], check=True, capture_output=True, text=True)
     path = folder / f"{model}.fmu"
     with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
-        z.write(REFERENCE_FMUS / model / f"FMI{version}.xml", "modelDescription.xml")
+        z.write(MODELS / f"{model}.fmi{version}.xml", "modelDescription.xml")
         z.write(binary, f"binaries/{'linux64' if version == 2 else 'x86_64-linux'}/{model}.so")
-        z.write(REFERENCE_FMUS / model / "fmi-ls-ref.xml", f"{REF_DIR}/fmi-ls-manifest.xml")
-        z.write(REFERENCE_FMUS / model / f"{model}_out.csv", f"{REF_DIR}/{model}_out.csv")
+        z.writestr(f"{REF_DIR}/fmi-ls-manifest.xml", manifest(f"{model}_out.csv"))
+        z.write(MODELS / f"{model}_out.csv", f"{REF_DIR}/{model}_out.csv")
     binary.unlink()
     return path
 
 
-def test_the_reference_fmus_pass_in_both_versions(tmp_path, fmi_run):
-    """Dahlquist, BouncingBall (state events) and Stair (time events, the end of its
+def test_the_models_with_events_pass_in_both_versions(tmp_path, fmi_run):
+    """Decay, BouncingBall (state events) and Staircase (time events, the end of its
     simulation at t = 9) in FMI 2.0 and 3.0, in one call: every check passes, every run meets
     the results the FMU carries, and an importer that records Real variables only skips
-    Stair's integer counter, saying so; each file is its own JUnit suite, named by its path
+    Staircase's integer counter, saying so; each file is its own JUnit suite, named by its path
     (the two versions share each model name)."""
-    fmus = [build_reference_fmu(tmp_path / "fmus", model, version)
-            for model in ("Dahlquist", "BouncingBall", "Stair") for version in (2, 3)]
+    fmus = [build_model(tmp_path / "fmus", model, version)
+            for model in ("Decay", "BouncingBall", "Staircase") for version in (2, 3)]
     junit = tmp_path / "validate.xml"
     proc, rows = validate(tmp_path, fmi_run, *map(str, fmus), "--junit", str(junit))
     runs = [r for r in rows if not r["importer"].endswith(CRITERION)]  # FMPy's criterion: tests of its own
     verdicts = {(Path(r["fmu"]).stem, Path(r["fmu"]).parent.name, r["importer"]): result_text(r)
                 for r in runs if r["case"] == embedded_reference.CASE_NAME}
     expected = {}
-    for model in ("Dahlquist", "BouncingBall", "Stair"):
-        others = "SKIP" if model == "Stair" else "PASS"
+    for model in ("Decay", "BouncingBall", "Staircase"):
+        others = "SKIP" if model == "Staircase" else "PASS"
         expected.update({(model, "fmi2", "FMPy"): "PASS", (model, "fmi2", "libcosim"): others,
                          (model, "fmi2", "fmi crate"): others, (model, "fmi3", "FMPy FMI3 CS"): "PASS",
                          (model, "fmi3", "fmi crate FMI3 CS"): others})
@@ -407,12 +410,12 @@ def test_the_reference_fmus_pass_in_both_versions(tmp_path, fmi_run):
         [r for r in runs if not r["passed"]]
     assert {r["fmu"] for r in rows} == set(map(str, fmus))
     assert {s.get("name") for s in ET.parse(junit).getroot().findall("testsuite")} == set(map(str, fmus))
-    [stair] = [r for r in runs if r["fmu"].endswith("fmi2/Stair.fmu") and r["importer"] == "libcosim"]
+    [stair] = [r for r in runs if r["fmu"].endswith("fmi2/Staircase.fmu") and r["importer"] == "libcosim"]
     assert stair["problems"] == ["this importer's runs record Real variables only, and no compared signal is Real"]
-    # FMPy's criterion judges Stair up to where its own reference ends: the FMU ends there
+    # FMPy's criterion judges Staircase up to where its own reference ends: the FMU ends there
     criteria = [r for r in rows if r["importer"].endswith(CRITERION)]
     assert criteria and all(r["passed"] for r in criteria), [r for r in criteria if not r["passed"]]
-    assert any("judged up to 9 s" in n for r in criteria if "Stair" in r["fmu"] for n in r["notes"])
+    assert any("judged up to 9 s" in n for r in criteria if "Staircase" in r["fmu"] for n in r["notes"])
     assert proc.returncode == 0, proc.stdout[-6000:]
 
 
