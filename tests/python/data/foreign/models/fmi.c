@@ -16,9 +16,11 @@
 #if FMI_VERSION == 2
 #include "fmi2Functions.h"
 typedef fmi2ValueReference Reference;
+typedef fmi2CallbackLogger Logger;
 #elif FMI_VERSION == 3
 #include "fmi3Functions.h"
 typedef fmi3ValueReference Reference;
+typedef fmi3LogMessageCallback Logger;
 #else
 #error "compile with -DFMI_VERSION=2 or -DFMI_VERSION=3"
 #endif
@@ -32,11 +34,7 @@ typedef struct {
     double time;
     int initialized; /* the initialization has ended */
     int ended;       /* the model has ended the simulation */
-#if FMI_VERSION == 2
-    fmi2CallbackLogger logger;
-#else
-    fmi3LogMessageCallback logger;
-#endif
+    Logger logger;
     double v[]; /* by value reference; v[0] is unused, time is `time` */
 } Fmu;
 
@@ -55,7 +53,7 @@ static void start(Fmu *fmu) {
     fmu->initialized = fmu->ended = 0;
 }
 
-static Fmu *instantiate(const char *name, const char *token) {
+static Fmu *instantiate(const char *name, const char *token, Logger logger, void *environment) {
     if (!name || !token || strcmp(token, model_token) != 0) return NULL;
     Fmu *fmu = calloc(1, sizeof(Fmu) + model_variable_count * sizeof(double));
     if (!fmu || !(fmu->name = malloc(strlen(name) + 1))) {
@@ -63,6 +61,8 @@ static Fmu *instantiate(const char *name, const char *token) {
         return NULL;
     }
     strcpy(fmu->name, name);
+    fmu->logger = logger;
+    fmu->environment = environment;
     start(fmu);
     return fmu;
 }
@@ -71,6 +71,20 @@ static void free_instance(Fmu *fmu) {
     if (!fmu) return;
     free(fmu->name);
     free(fmu);
+}
+
+static int exists(const Fmu *fmu) { return fmu ? OK : ERROR; }
+
+static int start_at(Fmu *fmu, double time) {
+    if (!fmu) return ERROR;
+    fmu->time = time;
+    return OK;
+}
+
+static int reset(Fmu *fmu) {
+    if (!fmu) return ERROR;
+    start(fmu);
+    return OK;
 }
 
 static int end_initialization(Fmu *fmu) {
@@ -132,16 +146,14 @@ const char *fmi2GetVersion(void) { return fmi2Version; }
 
 fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n, const fmi2String categories[]) {
     (void)on, (void)n, (void)categories;
-    return c ? fmi2OK : fmi2Error;
+    return exists(c);
 }
 
 fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid, fmi2String resources,
                               const fmi2CallbackFunctions *callbacks, fmi2Boolean visible, fmi2Boolean loggingOn) {
     (void)resources, (void)visible, (void)loggingOn;
     if (type != fmi2CoSimulation || !callbacks) return NULL;
-    Fmu *fmu = instantiate(name, guid);
-    if (fmu) fmu->logger = callbacks->logger, fmu->environment = callbacks->componentEnvironment;
-    return fmu;
+    return instantiate(name, guid, callbacks->logger, callbacks->componentEnvironment);
 }
 
 void fmi2FreeInstance(fmi2Component c) { free_instance(c); }
@@ -149,20 +161,13 @@ void fmi2FreeInstance(fmi2Component c) { free_instance(c); }
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance,
                                fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime) {
     (void)toleranceDefined, (void)tolerance, (void)stopTimeDefined, (void)stopTime;
-    if (!c) return fmi2Error;
-    ((Fmu *)c)->time = startTime;
-    return fmi2OK;
+    return start_at(c, startTime);
 }
 
-fmi2Status fmi2EnterInitializationMode(fmi2Component c) { return c ? fmi2OK : fmi2Error; }
+fmi2Status fmi2EnterInitializationMode(fmi2Component c) { return exists(c); }
 fmi2Status fmi2ExitInitializationMode(fmi2Component c) { return end_initialization(c); }
-fmi2Status fmi2Terminate(fmi2Component c) { return c ? fmi2OK : fmi2Error; }
-
-fmi2Status fmi2Reset(fmi2Component c) {
-    if (!c) return fmi2Error;
-    start(c);
-    return fmi2OK;
-}
+fmi2Status fmi2Terminate(fmi2Component c) { return exists(c); }
+fmi2Status fmi2Reset(fmi2Component c) { return reset(c); }
 
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Real value[]) GET(REAL)
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Integer value[])
@@ -220,7 +225,7 @@ const char *fmi3GetVersion(void) { return fmi3Version; }
 
 fmi3Status fmi3SetDebugLogging(fmi3Instance c, fmi3Boolean on, size_t n, const fmi3String categories[]) {
     (void)on, (void)n, (void)categories;
-    return c ? fmi3OK : fmi3Error;
+    return exists(c);
 }
 
 fmi3Instance fmi3InstantiateCoSimulation(fmi3String name, fmi3String token, fmi3String resources, fmi3Boolean visible,
@@ -231,9 +236,7 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String name, fmi3String token, fmi3
     (void)resources, (void)visible, (void)loggingOn, (void)earlyReturnAllowed, (void)intermediate;
     (void)nIntermediate, (void)update;
     if (eventModeUsed) return NULL; /* the model description says it has no event mode */
-    Fmu *fmu = instantiate(name, token);
-    if (fmu) fmu->logger = logger, fmu->environment = environment;
-    return fmu;
+    return instantiate(name, token, logger, environment);
 }
 
 void fmi3FreeInstance(fmi3Instance c) { free_instance(c); }
@@ -241,19 +244,12 @@ void fmi3FreeInstance(fmi3Instance c) { free_instance(c); }
 fmi3Status fmi3EnterInitializationMode(fmi3Instance c, fmi3Boolean toleranceDefined, fmi3Float64 tolerance,
                                        fmi3Float64 startTime, fmi3Boolean stopTimeDefined, fmi3Float64 stopTime) {
     (void)toleranceDefined, (void)tolerance, (void)stopTimeDefined, (void)stopTime;
-    if (!c) return fmi3Error;
-    ((Fmu *)c)->time = startTime;
-    return fmi3OK;
+    return start_at(c, startTime);
 }
 
 fmi3Status fmi3ExitInitializationMode(fmi3Instance c) { return end_initialization(c); }
-fmi3Status fmi3Terminate(fmi3Instance c) { return c ? fmi3OK : fmi3Error; }
-
-fmi3Status fmi3Reset(fmi3Instance c) {
-    if (!c) return fmi3Error;
-    start(c);
-    return fmi3OK;
-}
+fmi3Status fmi3Terminate(fmi3Instance c) { return exists(c); }
+fmi3Status fmi3Reset(fmi3Instance c) { return reset(c); }
 
 #define ACCESSORS(Type, body_get, body_set)                                                              \
     fmi3Status fmi3Get##Type(fmi3Instance c, const fmi3ValueReference vr[], size_t n, fmi3##Type value[],   \
