@@ -96,7 +96,7 @@ def test_every_platform_is_there_and_self_contained(inspected, path, version):
 
 
 def libsystem_symbols() -> set[str]:
-    """Every symbol the vendored libSystem stub lists, for any architecture (a looser reading
+    """Every symbol the libSystem stub lists, for any architecture (a looser reading
     than the build's, per architecture)."""
     text = (REPO_ROOT / "crates/cli/src/build/macos/libSystem.tbd").read_text()
     lists = re.findall(r"(?:symbols|objc-classes|reexports):\s*\[([^\]]*)\]", text)

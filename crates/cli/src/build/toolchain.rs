@@ -4,8 +4,8 @@
 //! Every platform's binary is built from the same crate by Rust's own target: Linux and
 //! Windows with the GNU toolchains (Debian's cross linkers), macOS with Rust's own linker,
 //! `rust-lld` (which ships with rustc), against the text stub of Apple's `libSystem` in
-//! `macos/libSystem.tbd` (no Apple SDK: the stub lists what libSystem exports; see
-//! `macos/README.md`).
+//! `macos/libSystem.tbd` (no Apple SDK: the stub lists the symbols of libSystem the binaries
+//! take; the comment at its top says how it is written).
 
 use mechfmu_host::platform::Platform;
 use std::path::{Path, PathBuf};
@@ -39,7 +39,7 @@ impl std::fmt::Display for MissingToolchain {
 }
 
 /// The text stub of macOS's `/usr/lib/libSystem.B.dylib` the macOS binaries link against,
-/// and the list of what they may import.
+/// and the list of what they may import: the same symbols.
 pub const LIBSYSTEM_TBD: &str = include_str!("macos/libSystem.tbd");
 
 /// The linker of the macOS targets: Rust's own, in the sysroot beside rustc.

@@ -183,7 +183,7 @@ pub fn check(
 /// the platform's own, exactly the functions of `expected_exports` (those of this machine's
 /// binary of the same crate); for macOS also an install name of `@rpath/`, no `LC_RPATH`
 /// (a folder of the building machine to load from), a minimum macOS
-/// no newer than [`minimum_macos`], every import one that libSystem exports, and a valid
+/// no newer than [`minimum_macos`], every import one the libSystem stub lists, and a valid
 /// code signature (required on Apple silicon, which refuses to load unsigned code).
 pub fn check_facts(
     facts: &Facts,
@@ -261,7 +261,7 @@ fn check_mac(facts: &Facts, mac: &MacFacts, platform: Platform) -> Result<(), St
         .collect();
     if !unknown.is_empty() {
         return Err(format!(
-            "it imports {unknown:?}, which /usr/lib/libSystem.B.dylib does not export"
+            "it imports {unknown:?}, which the stub of /usr/lib/libSystem.B.dylib does not list"
         ));
     }
     match (&mac.signature, arch) {

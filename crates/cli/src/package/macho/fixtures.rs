@@ -12,10 +12,8 @@ pub const X86_64: &[u8] = include_bytes!(concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/tests/data/macho/libtiny-x86_64.dylib"
 ));
-pub const STUB: &str = include_str!(concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/tests/data/macho/libSystem-min.tbd"
-));
+/// The libSystem stub the Mac binaries link against (the tiny dylibs were linked against it too).
+pub const STUB: &str = crate::build::toolchain::LIBSYSTEM_TBD;
 
 /// Where the first load command `cmd` of the thin file `m` starts.
 pub fn command_at(m: &[u8], cmd: u32) -> usize {
