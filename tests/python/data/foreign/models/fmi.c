@@ -129,6 +129,13 @@ static double value_of(const Fmu *fmu, Reference vr) { return vr == 0 ? fmu->tim
 /* ... and of a type no variable has: only an empty request succeeds */
 #define NONE { (void)vr, (void)value; return c && n == 0 ? OK : ERROR; }
 
+/* The functions of the two versions that differ only in their prefix and types */
+#define LIFECYCLE(prefix, Status, Instance)                                                           \
+    void prefix##FreeInstance(Instance c) { free_instance(c); }                                        \
+    Status prefix##ExitInitializationMode(Instance c) { return end_initialization(c); }                \
+    Status prefix##Terminate(Instance c) { return exists(c); }                                         \
+    Status prefix##Reset(Instance c) { return reset(c); }
+
 static int step(Fmu *fmu, double t, double h) {
     if (!fmu || !fmu->initialized || fmu->ended || !(h >= 0) || fabs(t - fmu->time) > 1e-9 * (1 + fabs(t))) {
         if (fmu) complain(fmu, "a step before the initialization ended, after the model ended the simulation, "
@@ -156,8 +163,6 @@ fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid, f
     return instantiate(name, guid, callbacks->logger, callbacks->componentEnvironment);
 }
 
-void fmi2FreeInstance(fmi2Component c) { free_instance(c); }
-
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance,
                                fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime) {
     (void)toleranceDefined, (void)tolerance, (void)stopTimeDefined, (void)stopTime;
@@ -165,9 +170,7 @@ fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fm
 }
 
 fmi2Status fmi2EnterInitializationMode(fmi2Component c) { return exists(c); }
-fmi2Status fmi2ExitInitializationMode(fmi2Component c) { return end_initialization(c); }
-fmi2Status fmi2Terminate(fmi2Component c) { return exists(c); }
-fmi2Status fmi2Reset(fmi2Component c) { return reset(c); }
+LIFECYCLE(fmi2, fmi2Status, fmi2Component)
 
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Real value[]) GET(REAL)
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Integer value[])
@@ -239,17 +242,13 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String name, fmi3String token, fmi3
     return instantiate(name, token, logger, environment);
 }
 
-void fmi3FreeInstance(fmi3Instance c) { free_instance(c); }
-
 fmi3Status fmi3EnterInitializationMode(fmi3Instance c, fmi3Boolean toleranceDefined, fmi3Float64 tolerance,
                                        fmi3Float64 startTime, fmi3Boolean stopTimeDefined, fmi3Float64 stopTime) {
     (void)toleranceDefined, (void)tolerance, (void)stopTimeDefined, (void)stopTime;
     return start_at(c, startTime);
 }
 
-fmi3Status fmi3ExitInitializationMode(fmi3Instance c) { return end_initialization(c); }
-fmi3Status fmi3Terminate(fmi3Instance c) { return exists(c); }
-fmi3Status fmi3Reset(fmi3Instance c) { return reset(c); }
+LIFECYCLE(fmi3, fmi3Status, fmi3Instance)
 
 #define ACCESSORS(Type, body_get, body_set)                                                              \
     fmi3Status fmi3Get##Type(fmi3Instance c, const fmi3ValueReference vr[], size_t n, fmi3##Type value[],   \
