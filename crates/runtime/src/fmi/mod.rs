@@ -31,17 +31,18 @@ pub const FATAL: Status = 4;
 pub use crate::contract::Version;
 
 /// Expands a table of FMI functions (`fmi2_functions!`, `fmi3_functions!`) into generic
-/// `extern "C"` functions, one per row, generic over the mechanism `M`.
+/// `extern "C"` functions, one per row, generic over the mechanism `M`. A row's body names
+/// `M`, and the items it uses as the module invoking the table has them in scope.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! fmi_generic_functions {
-    (() $(
-        $([before_export: $before:path])?
-        $name:ident($($param:ident: $type:ty),* $(,)?) -> $ret:ty = $body:expr;
+    ($(
+        $(#[before_export($($before:ident)::+)])?
+        pub unsafe extern "C" fn $name:ident($($param:ident: $type:ty),* $(,)?) $(-> $ret:ty)? $body:block
     )*) => {
         $(
             #[allow(unused_variables, unused_unsafe)]
-            pub unsafe extern "C" fn $name<M: Mechanism>($($param: $type),*) -> $ret {
+            pub unsafe extern "C" fn $name<M: Mechanism>($($param: $type),*) $(-> $ret)? {
                 // SAFETY: the arguments are the importer's, valid as the standard promises
                 // them; each conversion of `wall` checks what can be checked and states the
                 // rest as its safety contract.
