@@ -6,21 +6,21 @@
 //! ...): the harness and the tests call these. In a mechanism crate, by
 //! [`export_fmu!`](crate::export_fmu), into the unmangled symbols an importer loads, each
 //! forwarding to its generic function. A row's body converts every pointer argument with
-//! one checked conversion of [`wall`](crate::fmi::wall) and hands the result to the safe
-//! body in [`api`](super::api) or [`common`](crate::fmi::common);
-//! [`guarded`](crate::fmi::wall::guarded) puts it behind the wall.
+//! one checked conversion of [`boundary`](crate::fmi::boundary) and hands the result to the safe
+//! body in [`calls`](super::calls) or [`shared_calls`](crate::fmi::shared_calls);
+//! [`guarded`](crate::fmi::boundary::guarded) puts it behind the boundary.
 
 #![allow(non_snake_case, clippy::missing_safety_doc)]
 
-use super::api;
+use super::calls;
 use super::ffi::*;
 use super::instantiate;
 use super::state::*;
-use crate::fmi::model_exchange as me;
-use crate::fmi::wall::{
+use crate::fmi::boundary::{
     self, fmu_state, guarded, out, slice, slice_mut, strings, Buffer, StateSlot,
 };
-use crate::fmi::{common, Version};
+use crate::fmi::model_exchange as me;
+use crate::fmi::{shared_calls, Version};
 use crate::model::Mechanism;
 
 /// The table of FMI 2.0 functions, written as the `pub unsafe extern "C" fn` items they are
@@ -33,10 +33,10 @@ macro_rules! fmi2_functions {
     ($emit:path) => {
         $emit!(
             pub unsafe extern "C" fn fmi2GetTypesPlatform() -> fmi2String {
-                api::get_types_platform()
+                calls::get_types_platform()
             }
             pub unsafe extern "C" fn fmi2GetVersion() -> fmi2String {
-                api::get_version()
+                calls::get_version()
             }
             pub unsafe extern "C" fn fmi2SetDebugLogging(
                 c: fmi2Component,
@@ -45,14 +45,14 @@ macro_rules! fmi2_functions {
                 categories: *const fmi2String,
             ) -> fmi2Status {
                 guarded::<M>(c, &SET_DEBUG_LOGGING, |inst| {
-                    common::set_debug_logging(
+                    shared_calls::set_debug_logging(
                         inst,
                         loggingOn != 0,
                         &strings(categories, nCategories, "categories[]", "a category")?,
                     )
                 })
             }
-            #[before_export(common::silence_panic_messages)]
+            #[before_export(shared_calls::silence_panic_messages)]
             pub unsafe extern "C" fn fmi2Instantiate(
                 instanceName: fmi2String,
                 fmuType: fmi2Type,
@@ -65,7 +65,7 @@ macro_rules! fmi2_functions {
                 instantiate::instantiate::<M>(instanceName, fmuType, fmuGUID, functions, loggingOn)
             }
             pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
-                wall::free_component::<M>(c, &FREE_INSTANCE)
+                boundary::free_component::<M>(c, &FREE_INSTANCE)
             }
             pub unsafe extern "C" fn fmi2SetupExperiment(
                 c: fmi2Component,
@@ -76,7 +76,7 @@ macro_rules! fmi2_functions {
                 stopTime: fmi2Real,
             ) -> fmi2Status {
                 guarded::<M>(c, &SETUP_EXPERIMENT, |inst| {
-                    api::setup_experiment(
+                    calls::setup_experiment(
                         inst,
                         toleranceDefined,
                         tolerance,
@@ -90,21 +90,21 @@ macro_rules! fmi2_functions {
                 guarded::<M>(
                     c,
                     &ENTER_INITIALIZATION_MODE,
-                    common::enter_initialization_mode,
+                    shared_calls::enter_initialization_mode,
                 )
             }
             pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
                 guarded::<M>(
                     c,
                     &EXIT_INITIALIZATION_MODE,
-                    common::exit_initialization_mode,
+                    shared_calls::exit_initialization_mode,
                 )
             }
             pub unsafe extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
-                guarded::<M>(c, &TERMINATE, common::terminate)
+                guarded::<M>(c, &TERMINATE, shared_calls::terminate)
             }
             pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
-                guarded::<M>(c, &RESET, common::reset)
+                guarded::<M>(c, &RESET, shared_calls::reset)
             }
             pub unsafe extern "C" fn fmi2GetReal(
                 c: fmi2Component,
@@ -113,7 +113,7 @@ macro_rules! fmi2_functions {
                 value: *mut fmi2Real,
             ) -> fmi2Status {
                 guarded::<M>(c, &GET_REAL, |inst| {
-                    common::get_real(
+                    shared_calls::get_real(
                         inst,
                         slice(vr, nvr, "vr[]")?,
                         slice_mut(value, nvr, "value[]")?,
@@ -129,7 +129,7 @@ macro_rules! fmi2_functions {
                 guarded::<M>(c, &GET_INTEGER, |_| {
                     let vr = slice(vr, nvr, "vr[]")?;
                     slice_mut(value, nvr, "value[]")?;
-                    common::no_variables(GET_INTEGER.name, vr, "Integer")
+                    shared_calls::no_variables(GET_INTEGER.name, vr, "Integer")
                 })
             }
             pub unsafe extern "C" fn fmi2GetBoolean(
@@ -141,7 +141,7 @@ macro_rules! fmi2_functions {
                 guarded::<M>(c, &GET_BOOLEAN, |_| {
                     let vr = slice(vr, nvr, "vr[]")?;
                     slice_mut(value, nvr, "value[]")?;
-                    common::no_variables(GET_BOOLEAN.name, vr, "Boolean")
+                    shared_calls::no_variables(GET_BOOLEAN.name, vr, "Boolean")
                 })
             }
             pub unsafe extern "C" fn fmi2GetString(
@@ -153,7 +153,7 @@ macro_rules! fmi2_functions {
                 guarded::<M>(c, &GET_STRING, |_| {
                     let vr = slice(vr, nvr, "vr[]")?;
                     slice_mut(value, nvr, "value[]")?;
-                    common::no_variables(GET_STRING.name, vr, "String")
+                    shared_calls::no_variables(GET_STRING.name, vr, "String")
                 })
             }
             pub unsafe extern "C" fn fmi2SetReal(
@@ -163,7 +163,11 @@ macro_rules! fmi2_functions {
                 value: *const fmi2Real,
             ) -> fmi2Status {
                 guarded::<M>(c, &SET_REAL, |inst| {
-                    common::set_real(inst, slice(vr, nvr, "vr[]")?, slice(value, nvr, "value[]")?)
+                    shared_calls::set_real(
+                        inst,
+                        slice(vr, nvr, "vr[]")?,
+                        slice(value, nvr, "value[]")?,
+                    )
                 })
             }
             pub unsafe extern "C" fn fmi2SetInteger(
@@ -175,7 +179,7 @@ macro_rules! fmi2_functions {
                 guarded::<M>(c, &SET_INTEGER, |_| {
                     let vr = slice(vr, nvr, "vr[]")?;
                     slice(value, nvr, "value[]")?;
-                    common::no_variables(SET_INTEGER.name, vr, "Integer")
+                    shared_calls::no_variables(SET_INTEGER.name, vr, "Integer")
                 })
             }
             pub unsafe extern "C" fn fmi2SetBoolean(
@@ -187,7 +191,7 @@ macro_rules! fmi2_functions {
                 guarded::<M>(c, &SET_BOOLEAN, |_| {
                     let vr = slice(vr, nvr, "vr[]")?;
                     slice(value, nvr, "value[]")?;
-                    common::no_variables(SET_BOOLEAN.name, vr, "Boolean")
+                    shared_calls::no_variables(SET_BOOLEAN.name, vr, "Boolean")
                 })
             }
             pub unsafe extern "C" fn fmi2SetString(
@@ -199,7 +203,7 @@ macro_rules! fmi2_functions {
                 guarded::<M>(c, &SET_STRING, |_| {
                     let vr = slice(vr, nvr, "vr[]")?;
                     slice(value, nvr, "value[]")?;
-                    common::no_variables(SET_STRING.name, vr, "String")
+                    shared_calls::no_variables(SET_STRING.name, vr, "String")
                 })
             }
             pub unsafe extern "C" fn fmi2GetFMUstate(
@@ -207,7 +211,7 @@ macro_rules! fmi2_functions {
                 FMUstate: *mut fmi2FMUstate,
             ) -> fmi2Status {
                 guarded::<M>(c, &GET_FMU_STATE, |inst| {
-                    common::get_fmu_state(inst, StateSlot::new(FMUstate))
+                    shared_calls::get_fmu_state(inst, StateSlot::new(FMUstate))
                 })
             }
             pub unsafe extern "C" fn fmi2SetFMUstate(
@@ -215,7 +219,7 @@ macro_rules! fmi2_functions {
                 FMUstate: fmi2FMUstate,
             ) -> fmi2Status {
                 guarded::<M>(c, &SET_FMU_STATE, |inst| {
-                    common::set_fmu_state(inst, fmu_state(FMUstate)?)
+                    shared_calls::set_fmu_state(inst, fmu_state(FMUstate)?)
                 })
             }
             pub unsafe extern "C" fn fmi2FreeFMUstate(
@@ -230,7 +234,10 @@ macro_rules! fmi2_functions {
                 size: *mut usize,
             ) -> fmi2Status {
                 guarded::<M>(c, &SERIALIZED_FMU_STATE_SIZE, |_| {
-                    common::serialized_fmu_state_size::<M>(fmu_state(FMUstate)?, out(size, "size")?)
+                    shared_calls::serialized_fmu_state_size::<M>(
+                        fmu_state(FMUstate)?,
+                        out(size, "size")?,
+                    )
                 })
             }
             pub unsafe extern "C" fn fmi2SerializeFMUstate(
@@ -240,7 +247,7 @@ macro_rules! fmi2_functions {
                 size: usize,
             ) -> fmi2Status {
                 guarded::<M>(c, &SERIALIZE_FMU_STATE, |_| {
-                    common::serialize_fmu_state::<M>(
+                    shared_calls::serialize_fmu_state::<M>(
                         fmu_state(FMUstate)?,
                         Buffer::new(serializedState as *mut u8, size),
                     )
@@ -253,7 +260,7 @@ macro_rules! fmi2_functions {
                 FMUstate: *mut fmi2FMUstate,
             ) -> fmi2Status {
                 guarded::<M>(c, &DESERIALIZE_FMU_STATE, |_| {
-                    common::deserialize_fmu_state::<M>(
+                    shared_calls::deserialize_fmu_state::<M>(
                         Version::Fmi2,
                         slice(serializedState as *const u8, size, "serializedState[]")?,
                         StateSlot::new(FMUstate),
@@ -270,7 +277,7 @@ macro_rules! fmi2_functions {
                 dvUnknown: *mut fmi2Real,
             ) -> fmi2Status {
                 guarded::<M>(c, &GET_DIRECTIONAL_DERIVATIVE, |inst| {
-                    common::directional_derivative(
+                    shared_calls::directional_derivative(
                         inst,
                         slice(vUnknown_ref, nUnknown, "vUnknown_ref[]")?,
                         slice(vKnown_ref, nKnown, "vKnown_ref[]")?,
@@ -288,7 +295,7 @@ macro_rules! fmi2_functions {
                 fmi2eventInfo: *mut fmi2EventInfo,
             ) -> fmi2Status {
                 guarded::<M>(c, &NEW_DISCRETE_STATES, |inst| {
-                    api::new_discrete_states(inst, out(fmi2eventInfo, "fmi2eventInfo")?)
+                    calls::new_discrete_states(inst, out(fmi2eventInfo, "fmi2eventInfo")?)
                 })
             }
             pub unsafe extern "C" fn fmi2EnterContinuousTimeMode(c: fmi2Component) -> fmi2Status {
@@ -305,7 +312,7 @@ macro_rules! fmi2_functions {
                 terminateSimulation: *mut fmi2Boolean,
             ) -> fmi2Status {
                 guarded::<M>(c, &COMPLETED_INTEGRATOR_STEP, |inst| {
-                    api::completed_integrator_step(
+                    calls::completed_integrator_step(
                         inst,
                         out(enterEventMode, "enterEventMode")?,
                         out(terminateSimulation, "terminateSimulation")?,
@@ -374,7 +381,7 @@ macro_rules! fmi2_functions {
                 value: *const fmi2Real,
             ) -> fmi2Status {
                 guarded::<M>(c, &SET_REAL_INPUT_DERIVATIVES, |inst| {
-                    api::set_real_input_derivatives(
+                    calls::set_real_input_derivatives(
                         inst,
                         slice(vr, nvr, "vr[]")?,
                         slice(order, nvr, "order[]")?,
@@ -390,7 +397,7 @@ macro_rules! fmi2_functions {
                 value: *mut fmi2Real,
             ) -> fmi2Status {
                 guarded::<M>(c, &GET_REAL_OUTPUT_DERIVATIVES, |inst| {
-                    api::get_real_output_derivatives(
+                    calls::get_real_output_derivatives(
                         inst,
                         slice(vr, nvr, "vr[]")?,
                         slice(order, nvr, "order[]")?,
@@ -405,11 +412,11 @@ macro_rules! fmi2_functions {
                 noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
             ) -> fmi2Status {
                 guarded::<M>(c, &DO_STEP, |inst| {
-                    api::do_step(inst, currentCommunicationPoint, communicationStepSize)
+                    calls::do_step(inst, currentCommunicationPoint, communicationStepSize)
                 })
             }
             pub unsafe extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
-                guarded::<M>(c, &CANCEL_STEP, api::cancel_step)
+                guarded::<M>(c, &CANCEL_STEP, calls::cancel_step)
             }
             pub unsafe extern "C" fn fmi2GetStatus(
                 c: fmi2Component,
@@ -417,7 +424,7 @@ macro_rules! fmi2_functions {
                 value: *mut fmi2Status,
             ) -> fmi2Status {
                 guarded::<M>(c, &GET_STATUS, |inst| {
-                    api::get_status(inst, s, out(value, "value")?)
+                    calls::get_status(inst, s, out(value, "value")?)
                 })
             }
             pub unsafe extern "C" fn fmi2GetRealStatus(
@@ -426,7 +433,7 @@ macro_rules! fmi2_functions {
                 value: *mut fmi2Real,
             ) -> fmi2Status {
                 guarded::<M>(c, &GET_REAL_STATUS, |inst| {
-                    api::get_real_status(inst, s, out(value, "value")?)
+                    calls::get_real_status(inst, s, out(value, "value")?)
                 })
             }
             pub unsafe extern "C" fn fmi2GetIntegerStatus(
@@ -435,7 +442,7 @@ macro_rules! fmi2_functions {
                 value: *mut fmi2Integer,
             ) -> fmi2Status {
                 guarded::<M>(c, &GET_INTEGER_STATUS, |inst| {
-                    api::get_integer_status(inst, s)
+                    calls::get_integer_status(inst, s)
                 })
             }
             pub unsafe extern "C" fn fmi2GetBooleanStatus(
@@ -444,7 +451,7 @@ macro_rules! fmi2_functions {
                 value: *mut fmi2Boolean,
             ) -> fmi2Status {
                 guarded::<M>(c, &GET_BOOLEAN_STATUS, |inst| {
-                    api::get_boolean_status(inst, s, out(value, "value")?)
+                    calls::get_boolean_status(inst, s, out(value, "value")?)
                 })
             }
             pub unsafe extern "C" fn fmi2GetStringStatus(
@@ -453,7 +460,7 @@ macro_rules! fmi2_functions {
                 value: *mut fmi2String,
             ) -> fmi2Status {
                 guarded::<M>(c, &GET_STRING_STATUS, |inst| {
-                    api::get_string_status(inst, s, out(value, "value")?)
+                    calls::get_string_status(inst, s, out(value, "value")?)
                 })
             }
         );

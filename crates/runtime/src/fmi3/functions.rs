@@ -12,12 +12,12 @@
 use super::ffi::*;
 use super::instantiate::{self, CoSimulationOptions};
 use super::state::*;
-use super::{api, variables};
-use crate::fmi::model_exchange as me;
-use crate::fmi::wall::{
+use super::{calls, variables};
+use crate::fmi::boundary::{
     self, fmu_state, guarded, out, out_or_null, slice, slice_mut, strings, Buffer, StateSlot,
 };
-use crate::fmi::{common, Version};
+use crate::fmi::model_exchange as me;
+use crate::fmi::{shared_calls, Version};
 use crate::model::Mechanism;
 
 /// The table of FMI 3.0 functions, as [`fmi2_functions!`](crate::fmi2_functions).
@@ -27,7 +27,7 @@ macro_rules! fmi3_functions {
     ($emit:path) => {
         $emit!(
             pub unsafe extern "C" fn fmi3GetVersion() -> *const ::std::os::raw::c_char {
-                api::get_version()
+                calls::get_version()
             }
             pub unsafe extern "C" fn fmi3SetDebugLogging(
                 instance: fmi3Instance,
@@ -36,14 +36,14 @@ macro_rules! fmi3_functions {
                 categories: *const fmi3String,
             ) -> fmi3Status {
                 guarded::<M>(instance, &SET_DEBUG_LOGGING, |inst| {
-                    common::set_debug_logging(
+                    shared_calls::set_debug_logging(
                         inst,
                         loggingOn,
                         &strings(categories, nCategories, "categories[]", "a category")?,
                     )
                 })
             }
-            #[before_export(common::silence_panic_messages)]
+            #[before_export(shared_calls::silence_panic_messages)]
             pub unsafe extern "C" fn fmi3InstantiateModelExchange(
                 instanceName: fmi3String,
                 instantiationToken: fmi3String,
@@ -63,7 +63,7 @@ macro_rules! fmi3_functions {
                     None,
                 )
             }
-            #[before_export(common::silence_panic_messages)]
+            #[before_export(shared_calls::silence_panic_messages)]
             pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
                 instanceName: fmi3String,
                 instantiationToken: fmi3String,
@@ -112,7 +112,7 @@ macro_rules! fmi3_functions {
                 )
             }
             pub unsafe extern "C" fn fmi3FreeInstance(instance: fmi3Instance) {
-                wall::free_component::<M>(instance, &FREE_INSTANCE)
+                boundary::free_component::<M>(instance, &FREE_INSTANCE)
             }
             pub unsafe extern "C" fn fmi3EnterInitializationMode(
                 instance: fmi3Instance,
@@ -123,7 +123,7 @@ macro_rules! fmi3_functions {
                 stopTime: fmi3Float64,
             ) -> fmi3Status {
                 guarded::<M>(instance, &ENTER_INITIALIZATION_MODE, |inst| {
-                    api::enter_initialization_mode(
+                    calls::enter_initialization_mode(
                         inst,
                         toleranceDefined,
                         tolerance,
@@ -139,17 +139,17 @@ macro_rules! fmi3_functions {
                 guarded::<M>(
                     instance,
                     &EXIT_INITIALIZATION_MODE,
-                    common::exit_initialization_mode,
+                    shared_calls::exit_initialization_mode,
                 )
             }
             pub unsafe extern "C" fn fmi3EnterEventMode(instance: fmi3Instance) -> fmi3Status {
-                guarded::<M>(instance, &ENTER_EVENT_MODE, api::enter_event_mode)
+                guarded::<M>(instance, &ENTER_EVENT_MODE, calls::enter_event_mode)
             }
             pub unsafe extern "C" fn fmi3Terminate(instance: fmi3Instance) -> fmi3Status {
-                guarded::<M>(instance, &TERMINATE, common::terminate)
+                guarded::<M>(instance, &TERMINATE, shared_calls::terminate)
             }
             pub unsafe extern "C" fn fmi3Reset(instance: fmi3Instance) -> fmi3Status {
-                guarded::<M>(instance, &RESET, common::reset)
+                guarded::<M>(instance, &RESET, shared_calls::reset)
             }
             pub unsafe extern "C" fn fmi3GetFloat32(
                 instance: fmi3Instance,
@@ -330,7 +330,7 @@ macro_rules! fmi3_functions {
                 nValueReferences: usize,
                 values: *mut fmi3Clock,
             ) -> fmi3Status {
-                guarded::<M>(instance, &GET_CLOCK, |_| api::unsupported("no clocks"))
+                guarded::<M>(instance, &GET_CLOCK, |_| calls::unsupported("no clocks"))
             }
             pub unsafe extern "C" fn fmi3SetFloat32(
                 instance: fmi3Instance,
@@ -511,7 +511,7 @@ macro_rules! fmi3_functions {
                 nValueReferences: usize,
                 values: *const fmi3Clock,
             ) -> fmi3Status {
-                guarded::<M>(instance, &SET_CLOCK, |_| api::unsupported("no clocks"))
+                guarded::<M>(instance, &SET_CLOCK, |_| calls::unsupported("no clocks"))
             }
             pub unsafe extern "C" fn fmi3GetNumberOfVariableDependencies(
                 instance: fmi3Instance,
@@ -519,7 +519,7 @@ macro_rules! fmi3_functions {
                 nDependencies: *mut usize,
             ) -> fmi3Status {
                 guarded::<M>(instance, &GET_NUMBER_OF_VARIABLE_DEPENDENCIES, |_| {
-                    api::variable_dependencies()
+                    calls::variable_dependencies()
                 })
             }
             pub unsafe extern "C" fn fmi3GetVariableDependencies(
@@ -532,7 +532,7 @@ macro_rules! fmi3_functions {
                 nDependencies: usize,
             ) -> fmi3Status {
                 guarded::<M>(instance, &GET_VARIABLE_DEPENDENCIES, |_| {
-                    api::variable_dependencies()
+                    calls::variable_dependencies()
                 })
             }
             pub unsafe extern "C" fn fmi3GetFMUState(
@@ -540,7 +540,7 @@ macro_rules! fmi3_functions {
                 FMUState: *mut fmi3FMUState,
             ) -> fmi3Status {
                 guarded::<M>(instance, &GET_FMU_STATE, |inst| {
-                    common::get_fmu_state(inst, StateSlot::named(FMUState, "FMUState"))
+                    shared_calls::get_fmu_state(inst, StateSlot::named(FMUState, "FMUState"))
                 })
             }
             pub unsafe extern "C" fn fmi3SetFMUState(
@@ -548,7 +548,7 @@ macro_rules! fmi3_functions {
                 FMUState: fmi3FMUState,
             ) -> fmi3Status {
                 guarded::<M>(instance, &SET_FMU_STATE, |inst| {
-                    common::set_fmu_state(inst, fmu_state(FMUState)?)
+                    shared_calls::set_fmu_state(inst, fmu_state(FMUState)?)
                 })
             }
             pub unsafe extern "C" fn fmi3FreeFMUState(
@@ -565,7 +565,10 @@ macro_rules! fmi3_functions {
                 size: *mut usize,
             ) -> fmi3Status {
                 guarded::<M>(instance, &SERIALIZED_FMU_STATE_SIZE, |_| {
-                    common::serialized_fmu_state_size::<M>(fmu_state(FMUState)?, out(size, "size")?)
+                    shared_calls::serialized_fmu_state_size::<M>(
+                        fmu_state(FMUState)?,
+                        out(size, "size")?,
+                    )
                 })
             }
             pub unsafe extern "C" fn fmi3SerializeFMUState(
@@ -575,7 +578,7 @@ macro_rules! fmi3_functions {
                 size: usize,
             ) -> fmi3Status {
                 guarded::<M>(instance, &SERIALIZE_FMU_STATE, |_| {
-                    common::serialize_fmu_state::<M>(
+                    shared_calls::serialize_fmu_state::<M>(
                         fmu_state(FMUState)?,
                         Buffer::new(serializedState, size),
                     )
@@ -588,7 +591,7 @@ macro_rules! fmi3_functions {
                 FMUState: *mut fmi3FMUState,
             ) -> fmi3Status {
                 guarded::<M>(instance, &DESERIALIZE_FMU_STATE, |_| {
-                    common::deserialize_fmu_state::<M>(
+                    shared_calls::deserialize_fmu_state::<M>(
                         Version::Fmi3,
                         slice(serializedState, size, "serializedState[]")?,
                         StateSlot::named(FMUState, "FMUState"),
@@ -641,14 +644,14 @@ macro_rules! fmi3_functions {
                 instance: fmi3Instance,
             ) -> fmi3Status {
                 guarded::<M>(instance, &ENTER_CONFIGURATION_MODE, |_| {
-                    api::unsupported("no structural parameters")
+                    calls::unsupported("no structural parameters")
                 })
             }
             pub unsafe extern "C" fn fmi3ExitConfigurationMode(
                 instance: fmi3Instance,
             ) -> fmi3Status {
                 guarded::<M>(instance, &EXIT_CONFIGURATION_MODE, |_| {
-                    api::unsupported("no structural parameters, so no configuration mode")
+                    calls::unsupported("no structural parameters, so no configuration mode")
                 })
             }
             pub unsafe extern "C" fn fmi3GetIntervalDecimal(
@@ -659,7 +662,7 @@ macro_rules! fmi3_functions {
                 qualifiers: *mut fmi3IntervalQualifier,
             ) -> fmi3Status {
                 guarded::<M>(instance, &GET_INTERVAL_DECIMAL, |_| {
-                    api::unsupported("no clocks")
+                    calls::unsupported("no clocks")
                 })
             }
             pub unsafe extern "C" fn fmi3GetIntervalFraction(
@@ -671,7 +674,7 @@ macro_rules! fmi3_functions {
                 qualifiers: *mut fmi3IntervalQualifier,
             ) -> fmi3Status {
                 guarded::<M>(instance, &GET_INTERVAL_FRACTION, |_| {
-                    api::unsupported("no clocks")
+                    calls::unsupported("no clocks")
                 })
             }
             pub unsafe extern "C" fn fmi3GetShiftDecimal(
@@ -681,7 +684,7 @@ macro_rules! fmi3_functions {
                 shifts: *mut fmi3Float64,
             ) -> fmi3Status {
                 guarded::<M>(instance, &GET_SHIFT_DECIMAL, |_| {
-                    api::unsupported("no clocks")
+                    calls::unsupported("no clocks")
                 })
             }
             pub unsafe extern "C" fn fmi3GetShiftFraction(
@@ -692,7 +695,7 @@ macro_rules! fmi3_functions {
                 resolutions: *mut fmi3UInt64,
             ) -> fmi3Status {
                 guarded::<M>(instance, &GET_SHIFT_FRACTION, |_| {
-                    api::unsupported("no clocks")
+                    calls::unsupported("no clocks")
                 })
             }
             pub unsafe extern "C" fn fmi3SetIntervalDecimal(
@@ -702,7 +705,7 @@ macro_rules! fmi3_functions {
                 intervals: *const fmi3Float64,
             ) -> fmi3Status {
                 guarded::<M>(instance, &SET_INTERVAL_DECIMAL, |_| {
-                    api::unsupported("no clocks")
+                    calls::unsupported("no clocks")
                 })
             }
             pub unsafe extern "C" fn fmi3SetIntervalFraction(
@@ -713,7 +716,7 @@ macro_rules! fmi3_functions {
                 resolutions: *const fmi3UInt64,
             ) -> fmi3Status {
                 guarded::<M>(instance, &SET_INTERVAL_FRACTION, |_| {
-                    api::unsupported("no clocks")
+                    calls::unsupported("no clocks")
                 })
             }
             pub unsafe extern "C" fn fmi3SetShiftDecimal(
@@ -723,7 +726,7 @@ macro_rules! fmi3_functions {
                 shifts: *const fmi3Float64,
             ) -> fmi3Status {
                 guarded::<M>(instance, &SET_SHIFT_DECIMAL, |_| {
-                    api::unsupported("no clocks")
+                    calls::unsupported("no clocks")
                 })
             }
             pub unsafe extern "C" fn fmi3SetShiftFraction(
@@ -734,7 +737,7 @@ macro_rules! fmi3_functions {
                 resolutions: *const fmi3UInt64,
             ) -> fmi3Status {
                 guarded::<M>(instance, &SET_SHIFT_FRACTION, |_| {
-                    api::unsupported("no clocks")
+                    calls::unsupported("no clocks")
                 })
             }
             pub unsafe extern "C" fn fmi3EvaluateDiscreteStates(
@@ -752,7 +755,7 @@ macro_rules! fmi3_functions {
                 nextEventTime: *mut fmi3Float64,
             ) -> fmi3Status {
                 guarded::<M>(instance, &UPDATE_DISCRETE_STATES, |inst| {
-                    api::update_discrete_states(
+                    calls::update_discrete_states(
                         inst,
                         out_or_null(discreteStatesNeedUpdate, "discreteStatesNeedUpdate")?,
                         out_or_null(terminateSimulation, "terminateSimulation")?,
@@ -785,7 +788,7 @@ macro_rules! fmi3_functions {
                 terminateSimulation: *mut fmi3Boolean,
             ) -> fmi3Status {
                 guarded::<M>(instance, &COMPLETED_INTEGRATOR_STEP, |inst| {
-                    api::completed_integrator_step(
+                    calls::completed_integrator_step(
                         inst,
                         out(enterEventMode, "enterEventMode")?,
                         out(terminateSimulation, "terminateSimulation")?,
@@ -863,7 +866,7 @@ macro_rules! fmi3_functions {
                 nEventIndicators: *mut usize,
             ) -> fmi3Status {
                 guarded::<M>(instance, &GET_NUMBER_OF_EVENT_INDICATORS, |inst| {
-                    api::get_number_of_event_indicators(
+                    calls::get_number_of_event_indicators(
                         inst,
                         out(nEventIndicators, "nEventIndicators")?,
                     )
@@ -874,14 +877,14 @@ macro_rules! fmi3_functions {
                 nContinuousStates: *mut usize,
             ) -> fmi3Status {
                 guarded::<M>(instance, &GET_NUMBER_OF_CONTINUOUS_STATES, |inst| {
-                    api::get_number_of_continuous_states(
+                    calls::get_number_of_continuous_states(
                         inst,
                         out(nContinuousStates, "nContinuousStates")?,
                     )
                 })
             }
             pub unsafe extern "C" fn fmi3EnterStepMode(instance: fmi3Instance) -> fmi3Status {
-                guarded::<M>(instance, &ENTER_STEP_MODE, api::enter_step_mode)
+                guarded::<M>(instance, &ENTER_STEP_MODE, calls::enter_step_mode)
             }
             pub unsafe extern "C" fn fmi3GetOutputDerivatives(
                 instance: fmi3Instance,
@@ -911,7 +914,7 @@ macro_rules! fmi3_functions {
                 lastSuccessfulTime: *mut fmi3Float64,
             ) -> fmi3Status {
                 guarded::<M>(instance, &DO_STEP, |inst| {
-                    api::do_step(
+                    calls::do_step(
                         inst,
                         currentCommunicationPoint,
                         communicationStepSize,
@@ -928,7 +931,7 @@ macro_rules! fmi3_functions {
                 activationTime: fmi3Float64,
             ) -> fmi3Status {
                 guarded::<M>(instance, &ACTIVATE_MODEL_PARTITION, |_| {
-                    api::unsupported("no model partitions (Scheduled Execution is not offered)")
+                    calls::unsupported("no model partitions (Scheduled Execution is not offered)")
                 })
             }
         );
