@@ -47,7 +47,9 @@ macro_rules! export_fmu {
             use super::*;
             use $crate::fmi2::ffi::*;
 
-            $crate::fmi2_functions!(exported_functions!($mechanism, fmi2));
+            use $crate::fmi2::functions;
+            type ExportedMechanism = $mechanism;
+            $crate::fmi2_functions!($crate::exported_functions);
 
             /// Not FMI: the modelDescription.xml of this binary, through a buffer (see
             /// [`write_text`]($crate::export::write_text)). Used by `mechfmu build`.
@@ -140,26 +142,29 @@ macro_rules! export_fmu {
             use super::*;
             use $crate::fmi3::ffi::*;
 
-            $crate::fmi3_functions!(exported_functions!($mechanism, fmi3));
+            use $crate::fmi3::functions;
+            type ExportedMechanism = $mechanism;
+            $crate::fmi3_functions!($crate::exported_functions);
         }
     };
 }
 
-/// Expands a table of FMI functions (of layer `fmi2` or `fmi3`) into unmangled symbols,
-/// each forwarding to its generic function in the layer's `functions` module.
+/// Expands a table of FMI functions into unmangled symbols, each forwarding to its generic
+/// function in `functions` (the layer's module) for `ExportedMechanism`, both of which the
+/// module invoking the table has in scope.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! exported_functions {
-    (($mechanism:ty, $layer:ident) $(
-        $([before_export: $($before:ident)::+])?
-        $name:ident($($param:ident: $type:ty),* $(,)?) -> $ret:ty = $body:expr;
+    ($(
+        $(#[before_export($($before:ident)::+)])?
+        pub unsafe extern "C" fn $name:ident($($param:ident: $type:ty),* $(,)?) $(-> $ret:ty)? $body:block
     )*) => {
         $(
             #[no_mangle]
-            pub unsafe extern "C" fn $name($($param: $type),*) -> $ret {
+            pub unsafe extern "C" fn $name($($param: $type),*) $(-> $ret)? {
                 $( $crate::fmi::$($before)::+(); )?
                 // SAFETY: the importer's arguments, forwarded as received.
-                unsafe { $crate::$layer::functions::$name::<$mechanism>($($param),*) }
+                unsafe { functions::$name::<ExportedMechanism>($($param),*) }
             }
         )*
     };

@@ -14,7 +14,7 @@
 //!   categories, GUID);
 //! - [`xml`]: the generated modelDescription.xml;
 //! - [`fmi`]: what both FMI layers share: the instance, its states, FMU states, the
-//!   importer's logger, the C boundary (the wall);
+//!   importer's logger, the C boundary;
 //! - [`fmi2`], [`fmi3`]: the FMI 2.0 and FMI 3.0 layers, Model Exchange and Co-Simulation
 //!   (C types, state tables, the calls);
 //! - [`docs`]: the documentation page every FMU carries;

@@ -30,7 +30,7 @@
 
 use mechfmu::fmi2::ffi::*;
 use mechfmu::fmi2::functions;
-use mechfmu::model::Mechanism;
+use mechfmu::model::{Experiment, Mechanism};
 use std::ffi::{c_char, c_uint, c_void, CStr, CString};
 use std::marker::PhantomData;
 use std::sync::Mutex;
@@ -145,6 +145,15 @@ impl MessageLog {
         self.log.lock().map(|l| l.clone()).unwrap_or_default()
     }
 }
+
+/// The experiment of the test kit's own small mechanisms: one second in steps of 0.1, at
+/// a tolerance tight enough for their exact solutions.
+pub const ONE_SECOND: Experiment = Experiment {
+    start: 0.0,
+    stop: 1.0,
+    step: 0.1,
+    tolerance: 1e-8,
+};
 
 impl<M: Mechanism> Default for Harness<M> {
     fn default() -> Self {

@@ -4,7 +4,7 @@
 use mechfmu::fmi2::ffi::*;
 use mechfmu::fmi2::functions;
 use mechfmu::model::{Experiment, Mechanism, Scalar, Variable};
-use mechfmu_testkit::harness::{Harness, MessageLog};
+use mechfmu_testkit::harness::{Harness, MessageLog, ONE_SECOND};
 
 mechfmu::mechanism! {
     /// Decay: y' = -k y.
@@ -19,12 +19,7 @@ mechfmu::mechanism! {
 }
 
 impl Mechanism for Decay {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 1.0,
-        step: 0.1,
-        tolerance: 1e-8,
-    };
+    const EXPERIMENT: Experiment = ONE_SECOND;
     fn evaluate<S: Scalar>(v: &mut DecayValues<S>) {
         v.y_dot = -v.k * v.y;
     }

@@ -8,7 +8,7 @@ use mechfmu::fmi3::ffi::*;
 use mechfmu::fmi3::functions as f;
 use mechfmu::model::{Array, Experiment, Mechanism, Scalar, Variable};
 use mechfmu_testkit::fmi3::{self, Fmi3Harness};
-use mechfmu_testkit::harness::MessageLog;
+use mechfmu_testkit::harness::{MessageLog, ONE_SECOND};
 
 mechfmu::mechanism! {
     /// Decay of two amounts: y' = -k y.
@@ -27,12 +27,7 @@ mechfmu::mechanism! {
 }
 
 impl Mechanism for Decay {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 1.0,
-        step: 0.1,
-        tolerance: 1e-8,
-    };
+    const EXPERIMENT: Experiment = ONE_SECOND;
     const ARRAYS: &'static [Array] = &[
         Array::new("y", "Amounts", &[2], &["y1", "y2"]),
         Array::new("y_dot", "Rates of change", &[2], &["y1_dot", "y2_dot"]),

@@ -2,7 +2,7 @@
 //! counters, and the parts of a step run alone in the FMU's own compiled code. Not FMI
 //! functions; they log nothing.
 
-use crate::fmi::wall::{guarded_or, instance, slice_mut};
+use crate::fmi::boundary::{guarded_or, instance, slice_mut};
 use crate::fmi::Version;
 use crate::fmi2::ffi::*;
 use crate::model::Mechanism;

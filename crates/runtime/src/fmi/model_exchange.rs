@@ -10,9 +10,9 @@
 //! states onto a manifold asks for a step event when they have drifted off it by more than
 //! the tolerance, and projects them there (`valuesOfContinuousStatesChanged`).
 
+use super::boundary::{discard, error, Failure, Outcome};
 use super::instance::Instance;
 use super::machine::ModelState;
-use super::wall::{discard, error, Failure, Outcome};
 use super::{Status, Version, OK, WARNING};
 use crate::model::Mechanism;
 

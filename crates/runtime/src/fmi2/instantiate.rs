@@ -1,14 +1,14 @@
 //! `fmi2Instantiate` at the C boundary: the callbacks and strings of the importer checked
-//! and turned into a logger and the arguments of [`api::instantiate`](super::api::instantiate).
+//! and turned into a logger and the arguments of [`calls::instantiate`](super::calls::instantiate).
 
 use super::ffi::*;
+use crate::fmi::boundary::{c_str, guarded_or, into_component};
 use crate::fmi::logger::Logger;
-use crate::fmi::wall::{c_str, guarded_or, into_component};
 use crate::fmi::ERROR;
 use crate::model::Mechanism;
 
 /// `fmi2Instantiate`: the callbacks and strings checked, the instance made by
-/// [`api::instantiate`](super::api::instantiate) and handed over; NULL (with a message when
+/// [`calls::instantiate`](super::calls::instantiate) and handed over; NULL (with a message when
 /// there is a logger) on any failure.
 ///
 /// # Safety
@@ -38,7 +38,7 @@ pub unsafe fn instantiate<M: Mechanism>(
         );
         // SAFETY: the caller's promise (read only once the name and the type are accepted).
         let guid = || unsafe { c_str(guid) };
-        match super::api::instantiate::<M>(logger, name, fmu_type, guid) {
+        match super::calls::instantiate::<M>(logger, name, fmu_type, guid) {
             Ok(instance) => into_component(instance),
             Err((logger, message)) => {
                 logger.log(ERROR, &format!("fmi2Instantiate: {message}"));

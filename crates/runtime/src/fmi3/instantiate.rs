@@ -1,11 +1,11 @@
 //! FMI 3.0's three instantiation functions at the C boundary: the strings and the logger
 //! callback of the importer checked and turned into the arguments of
-//! [`api::instantiate`](super::api::instantiate).
+//! [`calls::instantiate`](super::calls::instantiate).
 
 use super::ffi::*;
+use crate::fmi::boundary::{c_str, guarded_or, into_component, slice};
 use crate::fmi::logger::Logger;
 use crate::fmi::machine::Interface;
-use crate::fmi::wall::{c_str, guarded_or, into_component, slice};
 use crate::fmi::ERROR;
 use crate::model::Mechanism;
 
@@ -57,7 +57,7 @@ pub unsafe fn instantiate<M: Mechanism>(
             None => Ok(0),
         };
         let made = match required {
-            Ok(n) => super::api::instantiate::<M>(
+            Ok(n) => super::calls::instantiate::<M>(
                 logger,
                 name,
                 interface,

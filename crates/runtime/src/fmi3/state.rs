@@ -109,7 +109,7 @@ rows!(WRITABLE_DISCRETE =>
     SET_INT64 "fmi3SetInt64", SET_UINT64 "fmi3SetUInt64", SET_BOOLEAN "fmi3SetBoolean",
     SET_STRING "fmi3SetString", SET_BINARY "fmi3SetBinary",
 );
-// Clocks, configuration mode: refused in every state with a message (see `api`).
+// Clocks, configuration mode: refused in every state with a message (see `calls`).
 rows!(LIVE =>
     GET_CLOCK "fmi3GetClock", SET_CLOCK "fmi3SetClock",
     GET_INTERVAL_DECIMAL "fmi3GetIntervalDecimal", GET_INTERVAL_FRACTION "fmi3GetIntervalFraction",

@@ -2,12 +2,12 @@
 //! 0): an array stands for its elements (row-major, `nValues` counts them), the independent
 //! `time` is read-only; the typed getters and setters of types this FMU has none of;
 //! directional, adjoint and output derivatives over the same references. Each call expands the references into the
-//! simulation's scalar ones and hands them to [`common`](crate::fmi::common).
+//! simulation's scalar ones and hands them to [`shared_calls`](crate::fmi::shared_calls).
 
 use super::ffi::*;
-use crate::fmi::common;
+use crate::fmi::boundary::{error, Failure, Outcome};
 use crate::fmi::instance::Instance;
-use crate::fmi::wall::{error, Failure, Outcome};
+use crate::fmi::shared_calls;
 use crate::fmi::OK;
 use crate::model::{Mechanism, Shapes, ValueSet};
 
@@ -115,7 +115,7 @@ pub fn set_float64<M: Mechanism>(
                 M::VARIABLES[scalars[first] as usize].name
             )));
         }
-        common::set_real(inst, &scalars, values)
+        shared_calls::set_real(inst, &scalars, values)
     })();
     inst.scratch = scalars;
     set
@@ -143,7 +143,7 @@ fn disagreeing(scalars: &[u32], values: &[f64]) -> Option<(usize, usize)> {
 
 /// A get or set of a type this FMU has no variables of.
 pub fn no_variables(function: &str, vrs: &[fmi3ValueReference], n_values: usize) -> Outcome {
-    common::no_variables(
+    shared_calls::no_variables(
         function,
         vrs,
         function
@@ -201,7 +201,7 @@ pub fn get_directional_derivative<M: Mechanism>(
     check_values("nSeed", seed.len(), knowns.len())?;
     check_values("nSensitivity", sensitivity.len(), unknowns.len())?;
     let (knowns, seed, time_seed) = split_time(&knowns, seed);
-    common::directional_derivative(inst, &unknowns, &knowns, &seed, time_seed, sensitivity)
+    shared_calls::directional_derivative(inst, &unknowns, &knowns, &seed, time_seed, sensitivity)
 }
 
 /// `seedᵀ J` for the Jacobian `J` of the unknowns by the knowns: one directional
@@ -228,7 +228,14 @@ pub fn get_adjoint_derivative<M: Mechanism>(
             TIME => (&[], &[], 1.0),
             _ => (&knowns[j..=j], &[1.0], 0.0),
         };
-        common::directional_derivative(inst, &unknowns, known, known_seed, time_seed, &mut column)?;
+        shared_calls::directional_derivative(
+            inst,
+            &unknowns,
+            known,
+            known_seed,
+            time_seed,
+            &mut column,
+        )?;
         *out = seed.iter().zip(&column).map(|(s, c)| s * c).sum();
     }
     if let Some(j) = sensitivity.iter().position(|x| !x.is_finite()) {
@@ -260,5 +267,5 @@ pub fn get_output_derivatives<M: Mechanism>(
         return Err(error("time is not an output"));
     }
     check_values("nValues", values.len(), scalars.len())?;
-    common::output_derivatives(inst, &scalars, &scalar_orders, values)
+    shared_calls::output_derivatives(inst, &scalars, &scalar_orders, values)
 }

@@ -40,6 +40,34 @@ pub struct Counters {
     pub evaluations: u64,
 }
 
+/// How much of what the model computes (calculated parameters, derivatives, outputs) is
+/// that of the values the simulation holds, from the least that needs computing to the most.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Freshness {
+    /// All of it: nothing to compute before a value is read or a step taken.
+    Current,
+    /// `evaluate` has run at the point since it last moved (Model Exchange:
+    /// `fmi2GetDerivatives` evaluates no more than that): the derivatives are current, what
+    /// only `outputs` computes is not.
+    DerivativesCurrent,
+    /// Only the point (time, states) or the inputs changed: the parameters are as checked,
+    /// the calculated parameters current; the derivatives and outputs need one evaluation.
+    PointMoved,
+    /// Values were set since the parameters were checked and the calculated parameters and
+    /// outputs computed (or never were): the whole update.
+    Unchecked,
+}
+
+impl Freshness {
+    /// The point or the inputs changed: the evaluation is to be done again, and nothing
+    /// less than what was already due.
+    fn point_moved(&mut self) {
+        if *self != Freshness::Unchecked {
+            *self = Freshness::PointMoved;
+        }
+    }
+}
+
 /// A mechanism's running simulation.
 pub struct Simulation<M: Mechanism> {
     layout: Layout,
@@ -55,15 +83,8 @@ pub struct Simulation<M: Mechanism> {
     /// The monitor's warnings raised by the last step. Kept here rather than returned, so
     /// that a step without any (nearly all) moves no list around.
     warnings: Vec<String>,
-    /// Values were set since calculated parameters and outputs were last computed.
-    dirty: bool,
-    /// Only inputs changed since the outputs were last computed: the parameters are as
-    /// checked, the calculated parameters current; the outputs need one evaluation.
-    stale: bool,
-    /// With `stale`: `evaluate` has run at the point the values hold since it last moved,
-    /// so the derivatives are current and only what `outputs` computes is not (Model
-    /// Exchange: `fmi2GetDerivatives` evaluates no more than that). Meaningless otherwise.
-    derivatives_current: bool,
+    /// How much of what the model computes is that of the values as they are.
+    freshness: Freshness,
     /// The event indicators' value references ([`Mechanism::EVENT_INDICATORS`]).
     indicators: Vec<usize>,
     /// Whether the inputs are held over the next step (see [`Simulation::inputs_held`]),
@@ -83,9 +104,7 @@ impl<M: Mechanism> Clone for Simulation<M> {
             tolerance: self.tolerance,
             warning_active: self.warning_active,
             warnings: self.warnings.clone(),
-            dirty: self.dirty,
-            stale: self.stale,
-            derivatives_current: self.derivatives_current,
+            freshness: self.freshness,
             indicators: self.indicators.clone(),
             held: self.held,
             counters: self.counters,
@@ -115,9 +134,7 @@ impl<M: Mechanism> Simulation<M> {
             tolerance: default_tolerance::<M>(),
             warning_active: false,
             warnings: Vec::new(),
-            dirty: true,
-            stale: false,
-            derivatives_current: false,
+            freshness: Freshness::Unchecked,
             // Checked at compile time by `export_fmu!`, and when an instance is made.
             indicators: crate::model::event_indicator_references(M::VARIABLES, M::EVENT_INDICATORS)
                 .unwrap_or_default(),
@@ -141,8 +158,7 @@ impl<M: Mechanism> Simulation<M> {
         self.solver.forget();
         self.tolerance = default_tolerance::<M>();
         self.warning_active = false;
-        self.dirty = true;
-        self.stale = false;
+        self.freshness = Freshness::Unchecked;
     }
 
     pub fn layout(&self) -> &Layout {
@@ -178,7 +194,7 @@ impl<M: Mechanism> Simulation<M> {
             .ok_or_else(|| format!("tolerance = {tol} must be a finite number > 0"))?;
         self.values.set_time(start_time);
         // The outputs (if ever computed) belong to the old time.
-        self.dirty = true;
+        self.freshness = Freshness::Unchecked;
         Ok(())
     }
 

@@ -4,7 +4,7 @@
 //! points, the drift off the manifold its projection restores.
 
 use super::system::store_point;
-use super::Simulation;
+use super::{Freshness, Simulation};
 use crate::model::{copy_one_by_one, get_one_by_one, Mechanism, Monitor, ValueSet};
 use crate::solver::StateVector;
 
@@ -50,7 +50,10 @@ impl<M: Mechanism> Simulation<M> {
         if nonfinite_bits != 0 {
             return Err(non_finite_state::<M>(x));
         }
-        if !self.derivatives_current {
+        if !matches!(
+            self.freshness,
+            Freshness::Current | Freshness::DerivativesCurrent
+        ) {
             // No derivatives at the current point for the same states to keep (the time has
             // moved, as before most evaluations of an importer's solver): no comparison.
             for (&vr, &v) in M::STATES.iter().zip(states.as_slice()) {
@@ -168,8 +171,7 @@ impl<M: Mechanism> Simulation<M> {
     /// The point the values hold has moved: what was evaluated there is stale.
     #[inline(always)]
     fn moved(&mut self) {
-        self.stale = true;
-        self.derivatives_current = false;
+        self.freshness.point_moved();
         self.held = None;
     }
 
@@ -179,10 +181,10 @@ impl<M: Mechanism> Simulation<M> {
     /// stale until a value is read.
     #[inline(always)]
     fn evaluate_derivatives(&mut self) -> Result<(), String> {
-        if self.dirty {
+        if self.freshness == Freshness::Unchecked {
             return self.update();
         }
-        if self.stale && !self.derivatives_current {
+        if self.freshness == Freshness::PointMoved {
             // The states read back one by one (forwarded from `set_states`' stores) and
             // stored again right before `evaluate`: the compiler then hands them to the
             // equations in registers, where the equations' own loads (wider, across the
@@ -193,7 +195,7 @@ impl<M: Mechanism> Simulation<M> {
             store_point::<M>(&mut self.values, t, &states);
             M::evaluate(&mut self.values);
             self.counters.evaluations += 1;
-            self.derivatives_current = true;
+            self.freshness = Freshness::DerivativesCurrent;
         }
         Ok(())
     }

@@ -1,7 +1,7 @@
 //! What an FMU state captures of a simulation: everything that determines its future, as
 //! plain data, and its restoring, checked.
 
-use super::Simulation;
+use super::{Freshness, Simulation};
 use crate::model::{Mechanism, ValueSet};
 use crate::solver::{SolverMemory, Tolerance};
 
@@ -38,7 +38,7 @@ impl<M: Mechanism> Simulation<M> {
             warning_active: self.warning_active,
             // A state saved with stale outputs is restored for a full update: the same
             // values, one check more.
-            dirty: self.dirty || self.stale,
+            dirty: self.freshness != Freshness::Current,
         }
     }
 
@@ -53,7 +53,7 @@ impl<M: Mechanism> Simulation<M> {
         }
         let before = self.clone();
         self.restore_unchecked(saved)?;
-        self.dirty = true;
+        self.freshness = Freshness::Unchecked;
         // The same values evaluated again: bit for bit what was saved, or a refusal.
         if let Err(message) = self.update() {
             *self = before;
@@ -88,8 +88,11 @@ impl<M: Mechanism> Simulation<M> {
         self.solver.restore(saved.solver);
         self.tolerance = saved.tolerance;
         self.warning_active = saved.warning_active;
-        self.dirty = saved.dirty;
-        self.stale = false;
+        self.freshness = if saved.dirty {
+            Freshness::Unchecked
+        } else {
+            Freshness::Current
+        };
         Ok(())
     }
 }

@@ -2,7 +2,7 @@
 //! update that checks the parameters and computes the calculated parameters and outputs
 //! before any value is read or a step taken; the inputs' derivatives for the next step.
 
-use super::{variable, Simulation};
+use super::{variable, Freshness, Simulation};
 use crate::model::{evaluate_all, Mechanism, SetPhase, ValueSet};
 
 impl<M: Mechanism> Simulation<M> {
@@ -83,11 +83,10 @@ impl<M: Mechanism> Simulation<M> {
             // Inputs only: the parameters passed `update` and are unchanged, so the outputs
             // need an evaluation, not the whole update.
             if input_changed {
-                self.stale = true;
-                self.derivatives_current = false;
+                self.freshness.point_moved();
             }
         } else {
-            self.dirty = true;
+            self.freshness = Freshness::Unchecked;
         }
         Ok(())
     }
@@ -108,9 +107,9 @@ impl<M: Mechanism> Simulation<M> {
     /// computes the calculated parameters and the outputs.
     #[inline]
     pub fn update(&mut self) -> Result<(), String> {
-        // Nothing set since the last update, the case of every step in a plain run: a test
-        // of two flags where it is called, not a call.
-        if !(self.dirty || self.stale) {
+        // Nothing set since the last update, the case of every step in a plain run: one
+        // comparison where it is called, not a call.
+        if self.freshness == Freshness::Current {
             return Ok(());
         }
         self.bring_up_to_date()
@@ -119,8 +118,9 @@ impl<M: Mechanism> Simulation<M> {
     #[inline(never)]
     fn bring_up_to_date(&mut self) -> Result<(), String> {
         self.held = None;
-        if !self.dirty {
-            if self.stale {
+        match self.freshness {
+            Freshness::Current => return Ok(()),
+            Freshness::DerivativesCurrent | Freshness::PointMoved => {
                 // As the full update below, without what only parameters change.
                 let before = self.values.clone();
                 self.evaluate_at_point();
@@ -128,9 +128,10 @@ impl<M: Mechanism> Simulation<M> {
                     self.values = before;
                     return Err(message);
                 }
-                self.stale = false;
+                self.freshness = Freshness::Current;
+                return Ok(());
             }
-            return Ok(());
+            Freshness::Unchecked => {}
         }
         for (vr, var) in M::VARIABLES.iter().enumerate() {
             let value = self.values.get(vr).unwrap_or(f64::NAN);
@@ -150,8 +151,7 @@ impl<M: Mechanism> Simulation<M> {
             self.values = before;
             return Err(message);
         }
-        self.dirty = false;
-        self.stale = false;
+        self.freshness = Freshness::Current;
         Ok(())
     }
 

@@ -148,12 +148,12 @@ pub(super) fn find<'a>(elements: &'a [(usize, Element)], name: &str) -> Vec<&'a 
         .collect()
 }
 
-#[test]
-fn well_formed_and_in_schema_order() {
-    let xml = swing();
+/// The elements of a model description of either standard, checked to be one document
+/// whose top-level elements come in the order both schemas give them.
+pub(super) fn parse_in_schema_order(xml: &str) -> Vec<(usize, Element)> {
     assert!(xml.starts_with("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<fmiModelDescription"));
     assert!(xml.ends_with("</fmiModelDescription>\n"));
-    let elements = parse_back(&xml);
+    let elements = parse_back(xml);
     let top: Vec<&str> = elements
         .iter()
         .filter(|(d, _)| *d == 1)
@@ -172,6 +172,13 @@ fn well_formed_and_in_schema_order() {
             "ModelStructure"
         ]
     );
+    elements
+}
+
+#[test]
+fn well_formed_and_in_schema_order() {
+    let xml = swing();
+    let elements = parse_in_schema_order(&xml);
     let root = &elements[0].1;
     assert_eq!(root.name, "fmiModelDescription");
     assert_eq!(root.get("fmiVersion"), Some("2.0"));

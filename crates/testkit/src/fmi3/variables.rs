@@ -181,12 +181,7 @@ mod tests {
     }
 
     impl Mechanism for Coupled {
-        const EXPERIMENT: Experiment = Experiment {
-            start: 0.0,
-            stop: 1.0,
-            step: 0.1,
-            tolerance: 1e-8,
-        };
+        const EXPERIMENT: Experiment = crate::harness::ONE_SECOND;
         const ARRAYS: &'static [Array] = &[
             Array::new("A", "Rates", &[2, 2], &["a11", "a12", "a12", "a22"]),
             Array::new("y", "Amounts", &[2], &["y1", "y2"]),

@@ -1,6 +1,6 @@
 use super::*;
 use crate::model::{Array, Declaration, Experiment, Scalar};
-use crate::xml::tests::{find, parse_back, Element};
+use crate::xml::tests::{find, parse_in_schema_order, Element};
 
 const EXPERIMENT: Experiment = Experiment {
     start: 0.0,
@@ -123,7 +123,7 @@ impl Mechanism for Plate {
 // 6), x 7 (x_1; x_2 8), v 9 (v_1; v_2 10), a 11 (a_1; a_2 12), E 13, det 14.
 
 fn variables(xml: &str) -> Vec<(usize, Element)> {
-    let elements = parse_back(xml);
+    let elements = parse_in_schema_order(xml);
     assert_eq!(elements[0].1.name, "fmiModelDescription");
     elements
 }
@@ -139,27 +139,7 @@ fn float64<'a>(elements: &'a [(usize, Element)], name: &str) -> &'a Element {
 #[test]
 fn well_formed_and_in_schema_order() {
     let xml = model_description::<Drive>().unwrap();
-    assert!(xml.starts_with("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<fmiModelDescription"));
-    assert!(xml.ends_with("</fmiModelDescription>\n"));
     let elements = variables(&xml);
-    let top: Vec<&str> = elements
-        .iter()
-        .filter(|(d, _)| *d == 1)
-        .map(|(_, e)| e.name.as_str())
-        .collect();
-    assert_eq!(
-        top,
-        [
-            "ModelExchange",
-            "CoSimulation",
-            "UnitDefinitions",
-            "TypeDefinitions",
-            "LogCategories",
-            "DefaultExperiment",
-            "ModelVariables",
-            "ModelStructure"
-        ]
-    );
     let root = &elements[0].1;
     let token = crate::contract::instantiation_token::<Drive>();
     assert_eq!(root.get("fmiVersion"), Some("3.0"));

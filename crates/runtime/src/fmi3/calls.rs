@@ -2,16 +2,16 @@
 //! FMI 2.0's: the instantiation flags, initialization, event and step mode, out
 //! arguments, early return, the features not offered. Variables and derivatives by FMI 3.0
 //! value reference are in [`variables`](super::variables); what both standards do alike
-//! is in [`common`](crate::fmi::common) and [`model_exchange`](crate::fmi::model_exchange).
+//! is in [`shared_calls`](crate::fmi::shared_calls) and [`model_exchange`](crate::fmi::model_exchange).
 
 use super::ffi::*;
 use crate::contract::might_return_early_from_do_step;
-use crate::fmi::common::{self, Stepped};
+use crate::fmi::boundary::{discard, error, Outcome};
 use crate::fmi::instance::Instance;
 use crate::fmi::logger::Logger;
 use crate::fmi::machine::{Interface, ModelState};
 use crate::fmi::model_exchange as me;
-use crate::fmi::wall::{discard, error, Outcome};
+use crate::fmi::shared_calls::{self, Stepped};
 use crate::fmi::{Version, OK, WARNING};
 use crate::model::{Mechanism, Shapes};
 
@@ -20,7 +20,7 @@ pub fn get_version() -> fmi3String {
 }
 
 /// `fmi3InstantiateModelExchange` and `fmi3InstantiateCoSimulation` once the callback is
-/// known (see [`common::instantiate`]), with the Co-Simulation flags and the number of
+/// known (see [`shared_calls::instantiate`]), with the Co-Simulation flags and the number of
 /// required intermediate variables (none may be: there is no intermediate update).
 pub fn instantiate<'a, M: Mechanism>(
     logger: Logger,
@@ -43,7 +43,8 @@ pub fn instantiate<'a, M: Mechanism>(
         Ok(shapes) => shapes,
         Err(message) => return Err((logger, message)),
     };
-    let mut inst = common::instantiate(Version::Fmi3, logger, instance_name, interface, token)?;
+    let mut inst =
+        shared_calls::instantiate(Version::Fmi3, logger, instance_name, interface, token)?;
     inst.shapes = Some(Box::new(shapes));
     inst.event_mode_used = event_mode_used;
     inst.early_return_allowed = early_return_allowed;
@@ -58,13 +59,13 @@ pub fn enter_initialization_mode<M: Mechanism>(
     stop_time_defined: fmi3Boolean,
     stop_time: fmi3Float64,
 ) -> Outcome {
-    common::setup(
+    shared_calls::setup(
         inst,
         tolerance_defined.then_some(tolerance),
         start_time,
         stop_time_defined.then_some(stop_time),
     )?;
-    common::enter_initialization_mode(inst)
+    shared_calls::enter_initialization_mode(inst)
 }
 
 /// Model Exchange always; Co-Simulation if the importer said it uses event mode.
@@ -141,7 +142,7 @@ pub fn do_step<M: Mechanism>(
     early_return: &mut fmi3Boolean,
     last_successful_time: &mut fmi3Float64,
 ) -> Outcome {
-    let stepped = common::step(
+    let stepped = shared_calls::step(
         inst,
         current_communication_point,
         communication_step_size,

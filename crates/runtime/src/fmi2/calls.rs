@@ -1,20 +1,20 @@
 //! What each FMI 2.0 call does, in safe Rust over checked arguments: the instance, slices,
-//! references and strings that [`wall`](crate::fmi::wall) made of the importer's pointers.
+//! references and strings that [`boundary`](crate::fmi::boundary) made of the importer's pointers.
 //! [`functions`](super::functions) wires each C function to its body here or, for what
-//! both standards do alike, in [`common`](crate::fmi::common) and
+//! both standards do alike, in [`shared_calls`](crate::fmi::shared_calls) and
 //! [`model_exchange`](crate::fmi::model_exchange); a body's failure is a
-//! [`Failure`](crate::fmi::wall::Failure), which the wall logs and returns as the call's
+//! [`Failure`](crate::fmi::boundary::Failure), which the boundary logs and returns as the call's
 //! status.
 
 #![allow(non_upper_case_globals)]
 
 use super::ffi::*;
 use super::state::Interface;
+use crate::fmi::boundary::{discard, Outcome};
 use crate::fmi::instance::Instance;
 use crate::fmi::logger::Logger;
 use crate::fmi::model_exchange as me;
-use crate::fmi::wall::{discard, Outcome};
-use crate::fmi::{common, Version};
+use crate::fmi::{shared_calls, Version};
 use crate::model::Mechanism;
 
 // ---------------------------------------------------------------------------------------
@@ -29,7 +29,7 @@ pub fn get_version() -> fmi2String {
     VERSION.as_ptr()
 }
 
-/// `fmi2Instantiate` once the callbacks are known (see [`common::instantiate`]), for
+/// `fmi2Instantiate` once the callbacks are known (see [`shared_calls::instantiate`]), for
 /// `fmu_type`.
 pub fn instantiate<'a, M: Mechanism>(
     logger: Logger,
@@ -49,7 +49,7 @@ pub fn instantiate<'a, M: Mechanism>(
             ))
         }
     };
-    common::instantiate(Version::Fmi2, logger, instance_name, interface, guid)
+    shared_calls::instantiate(Version::Fmi2, logger, instance_name, interface, guid)
 }
 
 pub fn setup_experiment<M: Mechanism>(
@@ -60,7 +60,7 @@ pub fn setup_experiment<M: Mechanism>(
     stop_time_defined: fmi2Boolean,
     stop_time: fmi2Real,
 ) -> Outcome {
-    common::setup(
+    shared_calls::setup(
         inst,
         (tolerance_defined != 0).then_some(tolerance),
         start_time,
@@ -128,7 +128,7 @@ pub fn get_real_output_derivatives<M: Mechanism>(
     order: &[fmi2Integer],
     value: &mut [fmi2Real],
 ) -> Outcome {
-    common::output_derivatives(inst, vr, order, value)
+    shared_calls::output_derivatives(inst, vr, order, value)
 }
 
 pub fn do_step<M: Mechanism>(
@@ -136,13 +136,13 @@ pub fn do_step<M: Mechanism>(
     current_communication_point: fmi2Real,
     communication_step_size: fmi2Real,
 ) -> Outcome {
-    let stepped = common::step(
+    let stepped = shared_calls::step(
         inst,
         current_communication_point,
         communication_step_size,
         "fmi2DoStep",
     )?;
-    common::discarded(stepped)
+    shared_calls::discarded(stepped)
 }
 
 /// Steps run synchronously, so the instance is never in StepInProgress and the state

@@ -6,7 +6,7 @@
 //! failure becomes a status and a message to the importer's logger. Each kind of pointer
 //! argument has one checked conversion here ([`slice()`], [`slice_mut`], [`out`], [`c_str`],
 //! [`strings`], [`fmu_state`], [`StateSlot`], [`Buffer`]), with the one SAFETY argument it rests on; the
-//! bodies they feed ([`common`](super::common) and each layer's `api`) are safe Rust.
+//! bodies they feed ([`shared_calls`](super::shared_calls) and each layer's `calls`) are safe Rust.
 
 #![allow(non_upper_case_globals)]
 
@@ -103,7 +103,7 @@ fn refused<M: Mechanism>(inst: &Instance<M>, function: &Function) -> bool {
     false
 }
 
-/// The wall every function of an instance stands behind: `c` is checked, the call is
+/// The boundary every function of an instance stands behind: `c` is checked, the call is
 /// checked against `function`'s row of the state table, `body` runs under `catch_unwind`,
 /// and a failure is logged through the importer's logger and returned as its status.
 ///

@@ -1,18 +1,18 @@
 //! What the calls both standards share do, in safe Rust over checked arguments: creating an
 //! instance, the experiment and initialization, values by (scalar) value reference, FMU
-//! states, derivatives and the communication step. Each layer's `api` adapts its own
+//! states, derivatives and the communication step. Each layer's `calls` adapts its own
 //! signatures (FMI 3.0's arrays, out arguments, names) to these.
 
+use super::boundary::{discard, error, Buffer, Failure, Outcome, StateSlot};
 use super::fmu_state::FmuState;
 use super::instance::Instance;
 use super::logger::Logger;
 use super::machine::{Interface, ModelState};
-use super::wall::{discard, error, Buffer, Failure, Outcome, StateSlot};
 use super::{Status, Version, DISCARD, OK, WARNING};
 use crate::model::{event_indicator_references, Layout, Mechanism, SetPhase};
 use crate::simulation::StepFailure;
 
-/// Panics are caught at the wall and reported through the importer's logger; the default
+/// Panics are caught at the boundary and reported through the importer's logger; the default
 /// hook would also print them to the importer's stderr. The FMU binary has its own copy of
 /// std, so the hook installed here (once) affects only this FMU's own code. Called by the
 /// exported instantiation functions only, never in-process (tests keep their messages).
