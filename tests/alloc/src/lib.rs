@@ -203,3 +203,30 @@ mod tests {
         assert_eq!((after.0 - before.0, after.1 - before.1), (1, 800));
     }
 }
+
+/// The three allocation tests of one mechanism: the importer's loop through FMI 2.0, the
+/// same with tunable parameters set at every step, and the loop through FMI 3.0, each over
+/// 2,000 communication steps. One test file per mechanism calls it once, since a test
+/// binary links one mechanism crate only.
+#[macro_export]
+macro_rules! allocation_tests {
+    ($mechanism:ty) => {
+        #[test]
+        fn the_importer_loop_allocates_nothing() {
+            let work = $crate::check::<$mechanism>(2_000);
+            assert_eq!(work.steps, 2_000);
+        }
+
+        #[test]
+        fn setting_tunable_parameters_allocates_nothing() {
+            let work = $crate::check_with_tunables::<$mechanism>(2_000);
+            assert_eq!(work.steps, 2_000);
+        }
+
+        #[test]
+        fn the_importer_loop_through_fmi3_allocates_nothing() {
+            let work = $crate::fmi3::check::<$mechanism>(2_000);
+            assert_eq!(work.steps, 2_000);
+        }
+    };
+}
