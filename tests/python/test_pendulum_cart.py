@@ -8,7 +8,7 @@
 References, none taken from mechfmu's Rust code:
 
 * the equations of motion derived twice with sympy (Lagrange, and Newton-Euler body by body
-  with the reaction forces as unknowns) in tests/python/refs/derive.py, evaluated at random
+  with the reaction forces as unknowns) in tests/python/refs/derive/pendulum_cart.py, evaluated at random
   states against the FMU's x_ddot, theta_ddot, F_N and E;
 * the right-hand side written below from the contract's equations, integrated by scipy's
   DOP853 at rtol 1e-12 for the large swings;
@@ -193,7 +193,7 @@ def test_frequencies_follow_a_tunable_stiffness(slave):
 
 
 # =======================================================================================
-# The right-hand side against Lagrange and Newton-Euler (sympy, refs/derive.py)
+# The right-hand side against Lagrange and Newton-Euler (sympy, refs/derive/pendulum_cart.py)
 
 def _random_cases(n: int):
     rng = np.random.default_rng(31415)
