@@ -1,6 +1,6 @@
 """The optional FMI 2.0 co-simulation capabilities, through FMPy: FMU state and
-its serialized form (across processes), reset, input interpolation (directional
-derivatives: the PendulumCart's linearization, test_pendulum_cart.py)."""
+its serialized form (across processes), reset, input interpolation. (The directional
+derivatives: a linearization, in test_pendulum_cart.py.)"""
 
 import subprocess
 import sys
