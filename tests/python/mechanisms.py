@@ -76,13 +76,18 @@ class Mechanism:
         return read_expectations(self.validation / "expectations.toml")
 
 
-def mechanisms(manifest: Path = REPO_ROOT / "Cargo.toml") -> list[Mechanism]:
-    """The mechanism crates of the workspace at ``manifest``, by model name."""
-    return list(_mechanisms(Path(manifest).resolve()))
+def mechanisms(manifest: Path | None = None) -> list[Mechanism]:
+    """The mechanism crates of the workspace at ``manifest`` (the repository's, read once), by
+    model name."""
+    return list(_repository() if manifest is None else _read(Path(manifest).resolve()))
 
 
 @cache
-def _mechanisms(manifest: Path) -> tuple[Mechanism, ...]:
+def _repository() -> tuple[Mechanism, ...]:
+    return _read(REPO_ROOT / "Cargo.toml")
+
+
+def _read(manifest: Path) -> tuple[Mechanism, ...]:
     done = subprocess.run(["cargo", "metadata", "--format-version", "1", "--no-deps", "--manifest-path",
                            str(manifest)], cwd=manifest.parent, capture_output=True, text=True, check=False)
     if done.returncode != 0:
