@@ -13,13 +13,18 @@ from scipy.integrate import quad, solve_ivp
 from refs import crane, derive, step_input
 from test_refs import rel_err
 
-
 RNG = np.random.default_rng(20240611)
+
+
+def random_crane_state(rng: np.random.Generator) -> np.ndarray:
+    """x, x_dot, theta, theta_dot, phi, phi_dot spread over the crane's range (CraneDynamics' too)."""
+    return np.array([rng.uniform(1.0, 20.0), rng.normal(0, 2), rng.uniform(-1.5, 1.5), rng.normal(0, 0.5),
+                     rng.uniform(-2.5, 2.5), rng.normal(0, 1.5)])
+
 
 def random_crane_states(n):
     for _ in range(n):
-        y = np.array([RNG.uniform(1.0, 20.0), RNG.normal(0, 2), RNG.uniform(-1.5, 1.5), RNG.normal(0, 0.5),
-                      RNG.uniform(-2.5, 2.5), RNG.normal(0, 1.5)])
+        y = random_crane_state(RNG)
         yield y, {"x_ddot": float(RNG.normal(0, 2)), "theta_ddot": float(RNG.normal(0, 0.3))}
 
 

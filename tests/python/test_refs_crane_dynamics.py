@@ -10,14 +10,14 @@ import numpy as np
 
 from refs import crane, crane_dynamics, derive, step_input
 from test_refs import energy_rate_check
-
+from test_refs_crane import random_crane_state
 
 RNG = np.random.default_rng(20240611)
 
+
 def random_cd_states(n):
     for _ in range(n):
-        y = np.array([RNG.uniform(1.0, 20.0), RNG.normal(0, 2), RNG.uniform(-1.5, 1.5), RNG.normal(0, 0.5),
-                      RNG.uniform(-2.5, 2.5), RNG.normal(0, 1.5)])
+        y = random_crane_state(RNG)
         yield y, {"F": float(RNG.normal(0, 5e3)), "tau": float(RNG.normal(0, 5e4))}
 
 

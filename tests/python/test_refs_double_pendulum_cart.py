@@ -11,8 +11,8 @@ import numpy as np
 from refs import derive, double_pendulum_cart, step_input
 from test_refs import energy_rate_check, rel_err
 
-
 RNG = np.random.default_rng(20240611)
+
 
 def random_dpc_states(n):
     for _ in range(n):

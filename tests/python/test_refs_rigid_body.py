@@ -12,8 +12,8 @@ import pytest
 from refs import derive, rigid_body
 from test_refs import rel_err
 
-
 RNG = np.random.default_rng(20240611)
+
 
 def test_rigid_body_box_and_rod_inertia():
     c = rigid_body.calculated()
