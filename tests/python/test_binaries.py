@@ -13,9 +13,10 @@ import zipfile
 import pytest
 
 from fmutest import FMU_DIR, REPO_ROOT
+from mechanisms import models
 
 MECHFMU = REPO_ROOT / "target" / "release" / "mechfmu"
-MODELS = ["Crane", "CraneDynamics", "DoublePendulumCart", "Oscillator", "PendulumCart", "RigidBody", "TwoMassOscillator"]
+MODELS = models()
 
 # binaries/<folder>: FMI 2.0 names the x86-64 platforms; FMI 2.0.5 says to use FMI 3.0's
 # platform tuple for any other, so ARM Linux is aarch64-linux and Apple silicon aarch64-darwin

@@ -1,6 +1,6 @@
 """The optional FMI 2.0 co-simulation capabilities, through FMPy: FMU state and
-its serialized form (across processes), reset, input interpolation, directional
-derivatives (linearization)."""
+its serialized form (across processes), reset, input interpolation. (The directional
+derivatives: a linearization, in test_pendulum_cart.py.)"""
 
 import subprocess
 import sys
@@ -13,10 +13,9 @@ from fmpy import read_model_description
 from fmpy.fmi2 import fmi2Error
 
 from fmutest import Slave, fmu_path
+from mechanisms import models
 
-MECHANISMS = [
-    "Oscillator", "TwoMassOscillator", "PendulumCart", "Crane", "CraneDynamics", "RigidBody", "DoublePendulumCart",
-]
+MECHANISMS = models()
 
 
 def outputs(md):
@@ -211,16 +210,3 @@ def test_input_derivatives_of_order_3_or_of_an_output_are_refused():
                             (c_double * 1)(1.0))
             assert status == fmi2Error
 
-
-def test_linearizing_the_pendulum_cart_at_rest_gives_its_natural_frequencies():
-    with Slave(fmu_path("PendulumCart")) as s:
-        s.initialize({"theta": 0.0, "x": 0.0})
-        states = ["x", "theta", "x_dot", "theta_dot"]
-        rates = ["x_dot", "theta_dot", "x_ddot", "theta_ddot"]
-        known = [s.vr[n] for n in states]
-        unknown = [s.vr[n] for n in rates]
-        A = np.column_stack([s.fmu.getDirectionalDerivative(unknown, known, list(np.eye(4)[j])) for j in range(4)])
-        omega = np.sort(np.abs(np.linalg.eigvals(A).imag))[::2]
-        w1, w2 = s.get("omega_n1", "omega_n2")
-        assert omega == pytest.approx([w1, w2], rel=1e-9)
-        assert np.max(np.abs(np.linalg.eigvals(A).real)) < 1e-9 * w2  # undamped by default

@@ -11,7 +11,6 @@ under fmus/<crate>/reference/ (packaged into each FMU) are current.
 from __future__ import annotations
 
 import dataclasses
-import tomllib
 import zipfile
 from pathlib import Path
 
@@ -26,20 +25,12 @@ from mechfmu_validate.cs_rows import LIBCOSIM_TOLERANCE
 from mechfmu_validate.importers import Fmu, agreement, libcosim_available, run_fmpy, run_libcosim
 from mechfmu_validate.loader import default_case, load_cases, reference_case
 from mechfmu_validate.reference import reference_table
+from mechanisms import mechanisms
 
 REPO = fmutest.REPO_ROOT
 
 
-def _crates() -> list[tuple[str, Path]]:
-    out = []
-    for manifest in sorted(REPO.glob("fmus/*/Cargo.toml")):
-        meta = tomllib.loads(manifest.read_text()).get("package", {}).get("metadata", {}).get("mechfmu", {})
-        if "model" in meta:
-            out.append((meta["model"], manifest.parent))
-    return out
-
-
-CRATES = _crates()
+CRATES: list[tuple[str, Path]] = [(m.model, m.crate) for m in mechanisms()]
 CASES = [(model, case) for model, d in CRATES if (d / "validation/cases.py").is_file()
          for case in load_cases(d / "validation/cases.py", model)]
 MODELS = [m for m, _ in CRATES]

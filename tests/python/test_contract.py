@@ -19,9 +19,7 @@ And FMPy's own ``validate_fmu`` finds no problem in any of them.
 
 from __future__ import annotations
 
-import importlib.util
 import re
-import tomllib
 import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
@@ -33,11 +31,13 @@ import fmpy
 from fmpy.validation import validate_fmu
 
 from fmutest import REPO_ROOT, fmu_path
+from mechanisms import mechanisms, models
 
-#: the mechanisms of docs/mechanisms/README.md: each must have its contract file
-MECHANISMS = [
-    "Oscillator", "TwoMassOscillator", "PendulumCart", "Crane", "CraneDynamics", "RigidBody", "DoublePendulumCart",
-]
+MECHANISMS = models()
+
+#: the mechanisms the interface contract (docs/mechanisms/README.md) has a section for, `## N. `Name``:
+#: each must have its contract file
+IN_THE_CONTRACT = re.findall(r"^## \d+\. `(\w+)`", (REPO_ROOT / "docs/mechanisms/README.md").read_text(), re.M)
 
 #: SI base unit exponents (kg, m, s, rad) of each unit name a contract uses; the other base
 #: units (A, K, mol, cd) are 0, factor 1, offset 0. None: dimensionless ("1"), which may
@@ -65,28 +65,13 @@ UNIT_DIMS = {
 GUID = re.compile(r"\{?[0-9a-fA-F]{8}-[0-9a-fA-F]{4}-[0-9a-fA-F]{4}-[0-9a-fA-F]{4}-[0-9a-fA-F]{12}\}?")
 
 
-def _contracts() -> dict[str, ModuleType]:
-    """model -> its crate's validation/contract.py, loaded as a module of its own."""
-    out = {}
-    for manifest in sorted(REPO_ROOT.glob("fmus/*/Cargo.toml")):
-        meta = tomllib.loads(manifest.read_text()).get("package", {}).get("metadata", {}).get("mechfmu", {})
-        path = manifest.parent / "validation" / "contract.py"
-        if "model" not in meta or not path.is_file():
-            continue
-        name = f"mechfmu_contract_{manifest.parent.name}"
-        spec = importlib.util.spec_from_file_location(name, path)
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
-        assert module.MODEL == meta["model"], f"{path}: MODEL = {module.MODEL!r}, the crate's model is {meta['model']!r}"
-        out[meta["model"]] = module
-    return out
-
-
-CONTRACTS = _contracts()
+#: model -> its crate's validation/contract.py
+CONTRACTS = {m.model: m.contract for m in mechanisms() if m.contract is not None}
 
 
 def test_every_mechanism_has_its_contract():
-    missing = [m for m in MECHANISMS if m not in CONTRACTS]
+    assert IN_THE_CONTRACT, "no `## N. `Name`` section in docs/mechanisms/README.md"
+    missing = [m for m in IN_THE_CONTRACT if m not in CONTRACTS]
     assert not missing, f"no fmus/<crate>/validation/contract.py for {missing}"
 
 

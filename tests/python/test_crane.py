@@ -12,7 +12,7 @@ The references do not reuse these lines or the Rust code:
 * the exact pendulum (drives still): period 4 sqrt(l/g) K(sin(phi0/2)), phi(t) from Jacobi
   elliptic functions (refs.crane.pendulum), T = m g (3 cos phi - 2 cos phi0);
 * the payload's Lagrangian with x(t), theta(t) prescribed and the free-body diagrams of
-  payload, trolley and boom, both derived with sympy in refs/derive.py, integrated here
+  payload, trolley and boom, both derived with sympy in refs/derive/crane.py, integrated here
   with scipy DOP853 (rtol 1e-12) under the same zero-order hold as fmpy's input;
 * energy written here from the payload's velocity in ground coordinates.
 
@@ -70,7 +70,7 @@ _NE = None
 
 
 def _lagrange_rhs(t, y, p, u):
-    """State derivative with phi'' from the payload's Lagrangian (sympy, refs/derive.py)."""
+    """State derivative with phi'' from the payload's Lagrangian (sympy, refs/derive/crane.py)."""
     xdd, thdd = u["x_ddot"], u["theta_ddot"]
     return [y[1], xdd, y[3], thdd, y[5], float(_LAG(y, p, u))]
 

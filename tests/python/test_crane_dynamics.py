@@ -6,7 +6,7 @@ from the equations of motion M(q) q'' = f (Lagrange). The references do not reus
 code or its equations as written:
 
 * accelerations from the Lagrangian and T, N from the free-body diagrams of payload,
-  trolley and boom, both derived with sympy in refs/derive.py; the trajectory reference
+  trolley and boom, both derived with sympy in refs/derive/crane_dynamics.py; the trajectory reference
   integrates the Lagrangian with scipy DOP853 (rtol 1e-12) under the same zero-order hold
   of the inputs as fmpy;
 * the total mechanical energy written here from the bodies' velocities in ground
@@ -94,7 +94,7 @@ def _outputs(t, y, p, u):
 
 
 def reference(t_out, inputs, y0=None, p=P):
-    """DOP853 (rtol = atol = 1e-12) of the Lagrangian M q'' = f (refs/derive.py, sympy),
+    """DOP853 (rtol = atol = 1e-12) of the Lagrangian M q'' = f (refs/derive/crane_dynamics.py, sympy),
     restarted at every input switch (zero-order hold); outputs at a switch time use the
     input held over the step that ends there, as fmpy records a co-simulation FMU."""
     global _LAG, _NE

@@ -6,7 +6,7 @@ equations). References, none taken from mechfmu's Rust code:
 
 * Newton's law for the cart, m1 and m2 separately, the rod tensions as unknowns, solved as
   a linear system (tests/python/refs/double_pendulum_cart.py), and the same two routes again
-  with sympy (Lagrange, and Newton with the track's normal force too; refs/derive.py),
+  with sympy (Lagrange, and Newton with the track's normal force too; refs/derive/double_pendulum_cart.py),
   evaluated at random states against the FMU's accelerations, tip, E and p_x, through FMI
   2.0 Co-Simulation and through both versions' Model Exchange derivatives;
 * the balances dE/dt = F x' - c x'^2 and dp_x/dt = F - c x': at every sample by the chain

@@ -2,7 +2,8 @@
 as `mechfmu validate` runs them (mechfmu_validate.fmi3):
 
 * which FMI 2.0 variable each element of their arrays is, as their model descriptions name
-  it (mechfmu_validate.arrays), is the contract's (docs/mechanisms/README.md, "FMI 3.0, arrays");
+  it (mechfmu_validate.arrays), is the contract's (docs/mechanisms/README.md, "FMI 3.0, arrays";
+  ARRAYS in the mechanism's validation/contract.py);
 * every reference case of every mechanism (fmus/*/validation/cases.py) under FMPy's FMI 3.0
   Co-Simulation meets the case's limits, and the fmi crate's FMI 3.0 import agrees with it
   (1e-9); under FMPy's FMI 3.0 Model Exchange (CVode at 1e-10) the case meets its limits, or
@@ -34,29 +35,9 @@ from mechfmu_validate.fmi3 import (AGREEMENT_TOLERANCE, CRATE_TOLERANCE, FMI3_CV
                                    run_fmpy3, run_fmpy3_me)
 from mechfmu_validate.importers import Fmu, agreement, run_fmpy, run_fmpy_me
 from mechfmu_validate.model_exchange import CVODE, CVODE_FLOOR, cvode_row
+from mechanisms import mechanism
 from test_cases import CASES, MODELS
 from test_model_exchange import KNOWN_LIMITS, fmi_run  # noqa: F401 (fmi_run: the fixture)
-
-#: the contract's arrays (docs/mechanisms/README.md): the FMI 2.0 scalar at each element, row-major
-CONTRACT = {
-    "RigidBody": {
-        "I_C": "I_xx I_xy I_xz I_xy I_yy I_yz I_xz I_yz I_zz",
-        "r_C": "r_Cx r_Cy r_Cz",
-        "tau": "tau_x tau_y tau_z",
-        "w": "w_x w_y w_z",
-        "q": "q_w q_x q_y q_z",
-        "H": "H_X H_Y H_Z",
-        "w_dot": "w_x_dot w_y_dot w_z_dot",
-        "q_dot": "q_w_dot q_x_dot q_y_dot q_z_dot",
-        "I_principal": "I_1 I_2 I_3",
-    },
-    "TwoMassOscillator": {
-        "M": "M_11 M_12 M_12 M_22",
-        "K": "K_11 K_12 K_12 K_22",
-        "C": "C_11 C_12 C_12 C_22",
-        "modes": "mode1_x1 mode2_x1 mode1_x2 mode2_x2",
-    },
-}
 
 _fmus: dict[str, tuple[Fmu, Fmi3]] = {}
 
@@ -93,7 +74,8 @@ def _ids(p):
 def test_the_arrays_are_the_contracts(model):
     _, f3 = both(model)
     assert f3.problem is None, f3.problem
-    assert {a: " ".join(e) for a, e in f3.mapping.elements.items()} == CONTRACT.get(model, {})
+    contract = getattr(mechanism(model).contract, "ARRAYS", {})
+    assert {a: " ".join(e) for a, e in f3.mapping.elements.items()} == contract
 
 
 def test_an_fmu_alone_names_its_elements_and_a_foreign_one_says_it_cannot(tmp_path):

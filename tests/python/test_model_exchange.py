@@ -2,14 +2,14 @@
 cases.py) under FMPy's CVode (rtol 1e-10, held to the case's own limits) and Euler, and under
 the fmi crate's RK4 (tools/fmi-run, `--interface me`), the fixed-step ones held to their order
 (mechfmu_validate.model_exchange); the crane's trolley reaching the pivot ending the
-simulation with terminateSimulation where Co-Simulation stops; the PendulumCart's
-linearization from Model Exchange's directional derivatives; FMPy's validation of the XML
+simulation with terminateSimulation where Co-Simulation stops; FMPy's validation of the XML
 with its <ModelExchange>.
 
-The rows where the importer's solver does not reach the case's limit are listed in
-KNOWN_LIMITS with what was measured: here they must be LIMIT (reported, not failed: not a
-pass, not a failure of the FMU), and so in `mechfmu validate` (tests/python/test_validate.py).
-The CVode ones meet the case's limits at rtol 1e-12.
+The rows where the importer's solver does not reach the case's limit are listed, with what
+was measured, in the mechanism's validation/expectations.toml (KNOWN_LIMITS here): here they
+must be LIMIT (reported, not failed: not a pass, not a failure of the FMU), and so in
+`mechfmu validate` (tests/python/test_validate.py). The CVode ones meet the case's limits at
+rtol 1e-12.
 """
 
 from __future__ import annotations
@@ -21,51 +21,24 @@ import subprocess
 import numpy as np
 import pytest
 from fmpy import read_model_description
-from fmpy.fmi2 import FMU2Model, fmi2Discard
+from fmpy.fmi2 import fmi2Discard
 from fmpy.validation import validate_fmu
 
 import fmutest
-from fmutest import LogMark, Slave, fmu_path, simulate
+from fmutest import LogMark, fmu_path, simulate
 from mechfmu_validate import model_exchange
 from mechfmu_validate.case import Result, evaluate
 from mechfmu_validate.fmi_crate import FMI_RUN_ENV
 from mechfmu_validate.importers import Fmu, held_input, on_grid, simulate_me
 from mechfmu_validate.model_exchange import CVODE, EULER, METHODS, RK4
+from mechanisms import known_limits, mechanism
 from refs import crane_dynamics as ref_cd
 from refs import step_input
 from test_cases import CASES, MODELS
 from test_crane_dynamics import TAU0
 
-#: (model, case, importer): why the importer's solver does not reach the case's limit there
-KNOWN_LIMITS = {
-    ("PendulumCart", "energy_conserved", CVODE):
-        "CVode's drift of E is 2.6e-7 at rtol 1e-10, against the case's 1e-8 (5e-9 at rtol 1e-12)",
-    ("RigidBody", "torque_free_invariants", CVODE):
-        "CVode's drift of H_X is 3.1e-8 at rtol 1e-10, against the case's 1e-8 (2.8e-10 at rtol 1e-12)",
-    ("RigidBody", "heavy_top", CVODE):
-        "CVode's drift of H_Z is 2.8e-7 at rtol 1e-10, against the case's 1e-8 (7.3e-9 at rtol 1e-12)",
-    ("RigidBody", "heavy_top", EULER):
-        "the top nutates at ~60 rad/s: Euler at h = 1.25 ms (the floor) is outside its asymptotic range "
-        "(drift of E 22 at h, 1.1 at h/2: observed order 4.3; it needs h ~ 1e-6 s)",
-    ("RigidBody", "torque_free_invariants", EULER):
-        "|q| - 1 stays at ~3.5e-6 whatever h (order 0.13): in Model Exchange the FMU projects q when it drifts "
-        "by more than its tolerance (the DefaultExperiment's 1e-6: FMPy passes none), not at every point as in "
-        "Co-Simulation, whose 1e-8 the case asks",
-    ("DoublePendulumCart", "default_experiment", EULER):
-        "the lower rod swings at up to 9 rad/s: Euler at h = 1.25 ms (the floor) is outside its asymptotic range "
-        "(phi1_dot off by 0.91 of its range at h, 0.79 at h/2: observed order 0.20)",
-    ("DoublePendulumCart", "default_experiment", RK4):
-        "RK4 at h = 5 ms (its floor) is not yet in its asymptotic range for the accelerations: phi1_ddot off by "
-        "2.1e-6 at h, 3.8e-8 at h/2 (observed order 5.80, above the 5.25 allowed)",
-    ("DoublePendulumCart", "chaotic_swing", EULER):
-        "the lower rod flips over: Euler at h = 1.25 ms (the floor) is outside its asymptotic range (x off by 0.11 "
-        "of its range at h and at h/2: observed order -0.04)",
-    ("DoublePendulumCart", "chaotic_invariants", CVODE):
-        "CVode's drift of E is 3.9e-7 at rtol 1e-10, against the case's 1e-8 (9.4e-9 at rtol 1e-12)",
-    ("DoublePendulumCart", "forced_damped", EULER):
-        "Euler at h = 2.5 ms is outside its asymptotic range (phi1_dot off by 0.74 of its range at h, 0.47 at "
-        "h/2: observed order 0.66); at h = 0.5 ms it passes the same run's balances (forced_damped_balances)",
-}
+#: (model, case, importer): why the importer's solver does not reach the case's limit
+KNOWN_LIMITS = known_limits()
 
 _fmus: dict[str, Fmu] = {}
 
@@ -238,45 +211,6 @@ def test_crane_dynamics_trolley_reaching_the_pivot_terminates_at_the_references_
 
 
 # ---------------------------------------------------------------------------------------
-# Linearization through Model Exchange
-
-
-def test_linearizing_the_pendulum_cart_in_model_exchange_gives_its_natural_frequencies():
-    """As test_capabilities.py does in Co-Simulation, in Model Exchange: at rest, in
-    continuous-time mode, A = dx'/dx from fmi2GetDirectionalDerivative (the derivatives'
-    value references as unknowns, the states' as knowns). Its eigenvalues are +-i w1, +-i w2:
-    the FMU's omega_n1, omega_n2, and the same as the Co-Simulation instance's."""
-    directory, md = fmutest.extracted(fmu_path("PendulumCart"))
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    rates = [d.variable for d in md.derivatives]
-    unknown = [r.valueReference for r in rates]
-    known = [r.derivative.valueReference for r in rates]
-    model = FMU2Model(guid=md.guid, unzipDirectory=directory, modelIdentifier=md.modelExchange.modelIdentifier,
-                      instanceName="linearize")
-    model.instantiate(callbacks=fmutest.CALLBACKS)
-    try:
-        model.setupExperiment(startTime=0.0)
-        model.setReal([vr["x"], vr["theta"]], [0.0, 0.0])
-        model.enterInitializationMode()
-        model.exitInitializationMode()
-        assert not model.newDiscreteStates()[1], "terminateSimulation at the start"
-        model.enterContinuousTimeMode()
-        A = np.column_stack([model.getDirectionalDerivative(unknown, known, list(seed)) for seed in np.eye(len(known))])
-        w1, w2 = model.getReal([vr["omega_n1"], vr["omega_n2"]])
-        model.terminate()
-    finally:
-        model.freeInstance()
-    eig = np.linalg.eigvals(A)
-    assert np.sort(np.abs(eig.imag))[::2] == pytest.approx([w1, w2], rel=1e-9)
-    assert np.max(np.abs(eig.real)) < 1e-9 * w2  # undamped by default
-    with Slave(fmu_path("PendulumCart")) as s:
-        s.initialize({"x": 0.0, "theta": 0.0})
-        A_cs = np.column_stack([s.fmu.getDirectionalDerivative(unknown, known, list(seed))
-                                for seed in np.eye(len(known))])
-    assert np.allclose(A, A_cs, rtol=1e-13, atol=0.0)
-
-
-# ---------------------------------------------------------------------------------------
 # The model description
 
 
@@ -284,12 +218,12 @@ def test_linearizing_the_pendulum_cart_in_model_exchange_gives_its_natural_frequ
 def test_fmpy_validates_the_model_exchange_description(model):
     """FMPy's validate_fmu over the XML with both interfaces: <ModelExchange> beside
     <CoSimulation>, the derivatives of every state in <ModelStructure>, and the event
-    indicators (the crane's trolley distance x and cable tension T)."""
+    indicators its contract counts (EVENT_INDICATORS; none without)."""
     path = str(fmu_path(model))
     md = read_model_description(path)
     me, cs = md.modelExchange, md.coSimulation
     assert me is not None and cs is not None and me.modelIdentifier == cs.modelIdentifier
     assert me.providesDirectionalDerivative and me.canGetAndSetFMUstate and me.canSerializeFMUstate
     assert 0 < md.numberOfContinuousStates == len(md.derivatives)
-    assert md.numberOfEventIndicators == (2 if model in ("Crane", "CraneDynamics") else 0)
+    assert md.numberOfEventIndicators == getattr(mechanism(model).contract, "EVENT_INDICATORS", 0)
     assert validate_fmu(path) == [], "\n".join(validate_fmu(path))

@@ -10,7 +10,10 @@ under FMPy are Newton's law written here (the rod's tension a third unknown), an
 energy edited to forget the swing's velocity is refused at initialization with a message
 naming `theta_dot`. Last, the tutorial's GantryCrane (two driven coordinates and a free one)
 in such a crate: its tests (Newton's law for the swing and both drives' forces), build and
-validation pass."""
+validation pass.
+
+And inside a workspace that takes it (as this repository's `fmus/*` does), the new crate is
+a member: one of the mechanisms every test runs on, its expectations read from its folder."""
 
 import os
 import re
@@ -26,6 +29,9 @@ from fmpy.fmi2 import fmi2Error
 from fmpy.validation import validate_fmu
 
 from fmutest import REPO_ROOT, Slave, status_name
+from mechanisms import Expectations, Limit, mechanisms
+from mechfmu_validate.loader import load_cases
+from mechfmu_validate.model_exchange import EULER
 
 MECHFMU = REPO_ROOT / "target" / "release" / "mechfmu"
 DOUBLE_PENDULUM = Path(__file__).parent / "data" / "double_pendulum.rs"
@@ -267,3 +273,39 @@ def test_tutorial_gantry_crane_from_its_energies(tmp_path):
     assert done.returncode == 0 and re.search(r"^\d+ passed, 0 failed$", done.stdout, re.M), done.stdout + done.stderr
     for case in ("trolley_starts", "hoisting"):
         assert re.search(rf"^GantryCrane\s+{case}\s+FMPy ME CVode\s.*PASS$", done.stdout, re.M), case
+
+
+# ---------------------------------------------------------------------------------------
+# `mechfmu new` inside a workspace: a member, one of its mechanisms
+
+
+def test_a_new_crate_in_the_workspace_is_one_of_its_mechanisms(tmp_path):
+    """A workspace whose members are `fmus/*`, as this repository's: `mechfmu new Probe --path
+    fmus/probe` makes a member (its dependencies relative paths, no workspace or profile of its
+    own), and the mechanisms the tests run on (tests/python/mechanisms.py, from cargo metadata)
+    are then it, with its cases; what its `validation/expectations.toml` says loads; `--energies`
+    gives a second."""
+    workspace = tmp_path / "workspace"
+    (workspace / "fmus").mkdir(parents=True)
+    (workspace / "Cargo.toml").write_text('[workspace]\nmembers = ["fmus/*"]\nresolver = "2"\n')
+    run([MECHFMU, "new", "Probe", "--path", workspace / "fmus" / "probe"], cwd=workspace)
+    crate = workspace / "fmus" / "probe"
+    manifest = (crate / "Cargo.toml").read_text()
+    assert "[workspace]" not in manifest and "[profile" not in manifest, manifest
+    assert re.search(r'^mechfmu = \{ path = "(\.\./)+[^"]*crates/runtime" \}$', manifest, re.M), manifest
+    assert not (crate / ".gitignore").exists()
+
+    [probe] = mechanisms(workspace / "Cargo.toml")
+    assert (probe.model, probe.package, probe.crate) == ("Probe", "probe", crate.resolve())
+    assert [c.name for c in load_cases(probe.cases_file, "Probe")], "the scaffold's cases"
+    assert probe.contract is None and probe.expectations == Expectations()
+    (probe.validation / "expectations.toml").write_text(
+        '[[limit]]\ncase = "small_swings"\nimporter = "FMPy ME Euler"\nwhy = "measured"\n\n'
+        '[sweep]\nparameters = ["l=1,2"]\n')
+    assert probe.expectations == Expectations((Limit("small_swings", EULER, "measured"),), ("l=1,2",))
+    (probe.validation / "expectations.toml").write_text('[[limit]]\ncase = "small_swings"\nimporter = "Euler"\n')
+    with pytest.raises(ValueError, match="expectations.toml"):
+        probe.expectations  # noqa: B018 (read to be refused)
+
+    run([MECHFMU, "new", "Cart", "--energies", "--path", workspace / "fmus" / "cart"], cwd=workspace)
+    assert [m.model for m in mechanisms(workspace / "Cargo.toml")] == ["Cart", "Probe"]

@@ -8,7 +8,7 @@
 References, none taken from mechfmu's Rust code:
 
 * the equations of motion derived twice with sympy (Lagrange, and Newton-Euler body by body
-  with the reaction forces as unknowns) in tests/python/refs/derive.py, evaluated at random
+  with the reaction forces as unknowns) in tests/python/refs/derive/pendulum_cart.py, evaluated at random
   states against the FMU's x_ddot, theta_ddot, F_N and E;
 * the right-hand side written below from the contract's equations, integrated by scipy's
   DOP853 at rtol 1e-12 for the large swings;
@@ -32,9 +32,10 @@ from scipy.linalg import eigh
 from scipy.optimize import least_squares
 
 from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import fmi2Error, fmi2OK
+from fmpy.fmi2 import FMU2Model, fmi2Error, fmi2OK
 
-from fmutest import LogMark, max_error, record_figures, simulate
+import fmutest
+from fmutest import LogMark, Slave, fmu_path, max_error, record_figures, simulate
 from refs import derive, step_input
 
 NAME = "PendulumCart"
@@ -192,7 +193,7 @@ def test_frequencies_follow_a_tunable_stiffness(slave):
 
 
 # =======================================================================================
-# The right-hand side against Lagrange and Newton-Euler (sympy, refs/derive.py)
+# The right-hand side against Lagrange and Newton-Euler (sympy, refs/derive/pendulum_cart.py)
 
 def _random_cases(n: int):
     rng = np.random.default_rng(31415)
@@ -476,3 +477,58 @@ def test_legal_sequence_logs_no_error(slave):
         s.step(i * 0.01, 0.01)
     assert s.call("fmi2Terminate") == fmi2OK
     assert not [r for r in s.log.records if r.status >= fmi2Error], s.log.text()
+
+
+# =======================================================================================
+# Linearization: the directional derivatives, in Co-Simulation and in Model Exchange
+
+
+def test_linearizing_the_pendulum_cart_at_rest_gives_its_natural_frequencies():
+    """In Co-Simulation, at rest: A = dx'/dx from fmi2GetDirectionalDerivative; its eigenvalues
+    are +-i w1, +-i w2, the FMU's omega_n1 and omega_n2."""
+    with Slave(fmu_path("PendulumCart")) as s:
+        s.initialize({"theta": 0.0, "x": 0.0})
+        states = ["x", "theta", "x_dot", "theta_dot"]
+        rates = ["x_dot", "theta_dot", "x_ddot", "theta_ddot"]
+        known = [s.vr[n] for n in states]
+        unknown = [s.vr[n] for n in rates]
+        A = np.column_stack([s.fmu.getDirectionalDerivative(unknown, known, list(np.eye(4)[j])) for j in range(4)])
+        omega = np.sort(np.abs(np.linalg.eigvals(A).imag))[::2]
+        w1, w2 = s.get("omega_n1", "omega_n2")
+        assert omega == pytest.approx([w1, w2], rel=1e-9)
+        assert np.max(np.abs(np.linalg.eigvals(A).real)) < 1e-9 * w2  # undamped by default
+
+
+def test_linearizing_the_pendulum_cart_in_model_exchange_gives_its_natural_frequencies():
+    """As the test above does in Co-Simulation, in Model Exchange: at rest, in
+    continuous-time mode, A = dx'/dx from fmi2GetDirectionalDerivative (the derivatives'
+    value references as unknowns, the states' as knowns). Its eigenvalues are +-i w1, +-i w2:
+    the FMU's omega_n1, omega_n2, and the same as the Co-Simulation instance's."""
+    directory, md = fmutest.extracted(fmu_path("PendulumCart"))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    rates = [d.variable for d in md.derivatives]
+    unknown = [r.valueReference for r in rates]
+    known = [r.derivative.valueReference for r in rates]
+    model = FMU2Model(guid=md.guid, unzipDirectory=directory, modelIdentifier=md.modelExchange.modelIdentifier,
+                      instanceName="linearize")
+    model.instantiate(callbacks=fmutest.CALLBACKS)
+    try:
+        model.setupExperiment(startTime=0.0)
+        model.setReal([vr["x"], vr["theta"]], [0.0, 0.0])
+        model.enterInitializationMode()
+        model.exitInitializationMode()
+        assert not model.newDiscreteStates()[1], "terminateSimulation at the start"
+        model.enterContinuousTimeMode()
+        A = np.column_stack([model.getDirectionalDerivative(unknown, known, list(seed)) for seed in np.eye(len(known))])
+        w1, w2 = model.getReal([vr["omega_n1"], vr["omega_n2"]])
+        model.terminate()
+    finally:
+        model.freeInstance()
+    eig = np.linalg.eigvals(A)
+    assert np.sort(np.abs(eig.imag))[::2] == pytest.approx([w1, w2], rel=1e-9)
+    assert np.max(np.abs(eig.real)) < 1e-9 * w2  # undamped by default
+    with Slave(fmu_path("PendulumCart")) as s:
+        s.initialize({"x": 0.0, "theta": 0.0})
+        A_cs = np.column_stack([s.fmu.getDirectionalDerivative(unknown, known, list(seed))
+                                for seed in np.eye(len(known))])
+    assert np.allclose(A, A_cs, rtol=1e-13, atol=0.0)

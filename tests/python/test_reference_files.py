@@ -20,7 +20,6 @@ importer stays in.
 from __future__ import annotations
 
 import re
-import tomllib
 import zipfile
 from pathlib import Path
 
@@ -36,21 +35,13 @@ from mechfmu_validate.case import CONSTANT, Case
 from mechfmu_validate.embedded_reference import REFERENCE_DIR
 from mechfmu_validate.importers import Fmu, libcosim_available, run_libcosim
 from mechfmu_validate.reference import MAX_COLUMNS, write_references
-
-
-def _models() -> list[str]:
-    out = []
-    for manifest in sorted(fmutest.REPO_ROOT.glob("fmus/*/Cargo.toml")):
-        meta = tomllib.loads(manifest.read_text()).get("package", {}).get("metadata", {}).get("mechfmu", {})
-        if (manifest.parent / "reference").is_dir() and "model" in meta:
-            out.append(meta["model"])
-    return out
+from mechanisms import mechanisms
 
 
 # FMPy's criterion imports its filters from scipy's deprecated namespace
 pytestmark = pytest.mark.filterwarnings("ignore:Please import:DeprecationWarning")
 
-MODELS = _models()
+MODELS = [m.model for m in mechanisms() if (m.crate / "reference").is_dir()]
 IMPORTERS = ["FMPy CS", "FMPy ME CVode", "libcosim"]
 FMI3_IMPORTERS = ["FMPy CS", "FMPy ME CVode"]
 ELEMENT = re.compile(r"^(?P<array>[^\[]+)\[(?P<index>[0-9, ]+)\]$")

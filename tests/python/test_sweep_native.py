@@ -1,9 +1,9 @@
 """The native engine of `mechfmu sweep` (`mechfmu sweep-worker`, python/mechfmu_sweep/native.py)
 against the FMPy engine: for every kind of case the sweep tests run (input schedules, a CSV
-input and its scale, refused parameters, a discarded step, a slack-cable warning, three
-mechanisms), the same rows to the bit: status, message and every summary. Then on Dask end
-to end, an FMU that crashes the runner (one chunk fails, the sweep goes on), and the errors
-when the native engine cannot run."""
+input and its scale, refused parameters, a discarded step, a slack-cable warning, the sweep
+each mechanism's validation/expectations.toml names), the same rows to the bit: status,
+message and every summary. Then on Dask end to end, an FMU that crashes the runner (one
+chunk fails, the sweep goes on), and the errors when the native engine cannot run."""
 
 from __future__ import annotations
 
@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from fmutest import REPO_ROOT, fmu_path
+from mechanisms import mechanisms
 from mechfmu_sweep import cli as sweep_cli
 from mechfmu_sweep.native import EXE_ENV, NativeRuntime
 from mechfmu_sweep.results import read_results
@@ -112,12 +113,10 @@ def test_a_discarded_step_gives_the_same_row_and_the_next_case_runs():
     assert "fmi2DoStep discarded the step from t = 0.9" in native[0]["message"]
 
 
-@pytest.mark.parametrize("name, params", [
-    ("Oscillator", ["k=0.5:40:7", "c=0,0.3,5"]),
-    ("RigidBody", ["M=1,2,4", "I_xx=0.01,0.02"]),
-    ("PendulumCart", ["m=0.5,2"]),
-])
+@pytest.mark.parametrize("name, params", [pytest.param(m.model, list(m.expectations.sweep_parameters), id=m.model)
+                                          for m in mechanisms() if m.expectations.sweep_parameters])
 def test_other_mechanisms_give_the_same_rows(name, params):
+    """The sweep each mechanism's validation/expectations.toml names, on the first output's summaries."""
     names = [v.name for v in plan_of(fmu_path(name), "--param", params[0]).md.modelVariables
              if v.causality == "output"]
     extra = [f"{f}({names[0]})" for f in ("max", "min", "mean", "rms", "max_abs")]

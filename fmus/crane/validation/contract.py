@@ -46,3 +46,7 @@ DERIVATIVES = {
     "phi_dot": "phi_ddot",
     "W_drives": "P_drives",
 }
+
+#: the event indicators of Model Exchange: the trolley's distance x from the pivot and the cable
+#: tension T (tests/python/test_model_exchange.py; a mechanism without events leaves this out)
+EVENT_INDICATORS = 2

@@ -32,7 +32,8 @@
 //! tensions `T1`, `T2` as unknowns (the cart `M ẍ = F - c ẋ + T1 sin φ1`, `m1 p̈1 = -T1 e1 +
 //! T2 e2 - m1 g J`, `m2 p̈2 = -T2 e2 - m2 g J` with `e_i = (sin φi, -cos φi)`), solved as
 //! one linear system: `tests/double_pendulum_cart.rs` here, `tests/python/refs/
-//! double_pendulum_cart.py` and `refs/derive.py` (sympy) in the Python suite.
+//! double_pendulum_cart.py` and `refs/derive/double_pendulum_cart.py` (sympy) in the Python
+//! suite.
 
 #![forbid(unsafe_code)]
 

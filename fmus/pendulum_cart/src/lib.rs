@@ -25,8 +25,8 @@
 //! `m a_C = (F - F1, -F2 - m g)` with `a_C = (ẍ + l θ̈ cos θ - l θ̇² sin θ, l θ̈ sin θ + l θ̇² cos θ)`,
 //! and Euler about `C`: `4/3 m l² θ̈ = 2 l F cos θ + l (F1 cos θ + F2 sin θ) - c2 θ̇`.
 //! Eliminating `F1`, `F2` gives the two equations above (done by hand and by sympy in
-//! `tests/python/refs/derive.py`; the tests evaluate both routes at random states against
-//! this right-hand side). The notes reach the same equations, though their Euler step writes
+//! `tests/python/refs/derive/pendulum_cart.py`; the tests evaluate both routes at random
+//! states against this right-hand side). The notes reach the same equations, though their Euler step writes
 //! `r_C × v_A = -ẋ l cos θ K`, whose sign is wrong (it is `+ẋ l cos θ K`); the final line
 //! is right.
 //!

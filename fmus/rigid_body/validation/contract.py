@@ -53,3 +53,17 @@ VARIABLES = {
 
 #: declared with min="0" (the mass and the principal moments of the box must be > 0)
 MIN_ZERO = ["M", "I_xx", "I_yy", "I_zz"]
+
+#: the FMI 3.0 arrays (docs/mechanisms/README.md, "FMI 3.0, arrays"): the FMI 2.0 scalar at each
+#: element, row-major (tests/python/test_fmi3.py; a mechanism without arrays leaves this out)
+ARRAYS = {
+    "I_C": "I_xx I_xy I_xz I_xy I_yy I_yz I_xz I_yz I_zz",
+    "r_C": "r_Cx r_Cy r_Cz",
+    "tau": "tau_x tau_y tau_z",
+    "w": "w_x w_y w_z",
+    "q": "q_w q_x q_y q_z",
+    "H": "H_X H_Y H_Z",
+    "w_dot": "w_x_dot w_y_dot w_z_dot",
+    "q_dot": "q_w_dot q_x_dot q_y_dot q_z_dot",
+    "I_principal": "I_1 I_2 I_3",
+}

@@ -44,3 +44,12 @@ VARIABLES = {
 #: declared with min="0": the masses must be > 0 (the FMU rejects 0), the springs and
 #: dampers >= 0 (k1 = k2 = 0 allowed)
 MIN_ZERO = ["m1", "m2", "k1", "k2", "k3", "c1", "c2", "c3"]
+
+#: the FMI 3.0 arrays (docs/mechanisms/README.md, "FMI 3.0, arrays"): the FMI 2.0 scalar at each
+#: element, row-major (tests/python/test_fmi3.py; a mechanism without arrays leaves this out)
+ARRAYS = {
+    "M": "M_11 M_12 M_12 M_22",
+    "K": "K_11 K_12 K_12 K_22",
+    "C": "C_11 C_12 C_12 C_22",
+    "modes": "mode1_x1 mode2_x1 mode1_x2 mode2_x2",
+}

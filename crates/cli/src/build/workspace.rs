@@ -9,6 +9,8 @@ pub struct MechanismCrate {
     pub model: String,
     pub package: String,
     pub manifest: PathBuf,
+    /// The package's description (`The <Model> FMU: what it is`).
+    pub description: String,
 }
 
 /// The mechanism crates of the workspace (or crate) at `manifest_path`.
@@ -24,6 +26,7 @@ pub fn mechanism_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCra
                 model: model.to_string(),
                 package: p["name"].as_str()?.to_string(),
                 manifest: PathBuf::from(p["manifest_path"].as_str()?),
+                description: p["description"].as_str().unwrap_or_default().to_string(),
             })
         })
         .collect();

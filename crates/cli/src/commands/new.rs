@@ -1,6 +1,8 @@
-//! `mechfmu new`: scaffolds a mechanism crate of the user's own, outside this repository:
-//! its equations written by hand (a damped pendulum), or, with `--energies`, declared from its
-//! energies (a cart on a spring carrying a pendulum, `mechfmu::lagrange`).
+//! `mechfmu new`: scaffolds a mechanism crate: its equations written by hand (a damped
+//! pendulum), or, with `--energies`, declared from its energies (a cart on a spring carrying a
+//! pendulum, `mechfmu::lagrange`). Created where a workspace takes it as a member (this
+//! repository's `fmus/<name>/`), it is one of the workspace's mechanisms, its dependencies
+//! relative paths; anywhere else it is a workspace of its own.
 
 use std::path::{Path, PathBuf};
 
@@ -25,8 +27,21 @@ pub struct Args {
 
 const CARGO_TOML: &str = include_str!("../templates/Cargo.toml.tmpl");
 
+/// What a crate that is a workspace of its own adds to its Cargo.toml (a member's profile
+/// would be ignored: the workspace's applies).
+const STANDALONE: &str = "
+# FMI functions catch panics at the C boundary: keep unwinding on.
+[profile.release]
+panic = \"unwind\"
+
+# A crate of its own, even when created inside another workspace.
+[workspace]
+";
+
 /// The files of one example that differ between the two kinds of mechanism.
 struct Example {
+    /// What the FMU is, in a line: the package's description after "The <Name> FMU: ".
+    summary: &'static str,
     lib_rs: &'static str,
     test_rs: &'static str,
     cases_py: &'static str,
@@ -34,6 +49,7 @@ struct Example {
 
 /// Equations written by hand: a damped pendulum.
 const BY_HAND: Example = Example {
+    summary: "a damped pendulum driven by a torque at its pivot",
     lib_rs: include_str!("../templates/lib.rs.tmpl"),
     test_rs: include_str!("../templates/test.rs.tmpl"),
     cases_py: include_str!("../templates/cases.py.tmpl"),
@@ -41,6 +57,7 @@ const BY_HAND: Example = Example {
 
 /// Declared from its energies: a cart on a spring carrying a pendulum.
 const FROM_ENERGIES: Example = Example {
+    summary: "a cart on a spring carrying a pendulum, declared from its energies",
     lib_rs: include_str!("../templates/energies/lib.rs.tmpl"),
     test_rs: include_str!("../templates/energies/test.rs.tmpl"),
     cases_py: include_str!("../templates/energies/cases.py.tmpl"),
@@ -57,9 +74,10 @@ pub fn run(args: Args) -> Result<(), String> {
         ));
     }
     // The runtime and the test kit, from a git repository (cargo finds each package by
-    // name), from the `crates/` of a checkout, or from the installed command's copy of them.
-    let dependency = |package: &str, folder: &str| -> Result<String, String> {
-        Ok(match (&args.git, &args.mechfmu_path) {
+    // name), from the `crates/` of a checkout, or from the installed command's copy of them;
+    // a path relative to the crate (`relative_to`) for a workspace's member.
+    let dependency = |package: &str, folder: &str, relative_to: Option<&Path>| {
+        Ok::<_, String>(match (&args.git, &args.mechfmu_path) {
             (Some(url), _) => format!("git = \"{url}\""),
             (None, _) => {
                 let tree = match &args.mechfmu_path {
@@ -73,40 +91,117 @@ pub fn run(args: Args) -> Result<(), String> {
                         tree.display()
                     ));
                 }
-                format!("path = {:?}", crate_dir.display().to_string())
+                let path = match relative_to {
+                    Some(dir) => slashed(&relative(dir, &canonical(&crate_dir)?)),
+                    None => crate_dir.display().to_string(),
+                };
+                format!("path = {path:?}")
             }
         })
     };
-    let dependencies = Dependencies {
-        runtime: dependency("mechfmu", "runtime")?,
-        testkit: dependency("mechfmu-testkit", "testkit")?,
+    let dependencies = |relative_to: Option<&Path>| {
+        Ok::<_, String>(Dependencies {
+            runtime: dependency("mechfmu", "runtime", relative_to)?,
+            testkit: dependency("mechfmu-testkit", "testkit", relative_to)?,
+        })
     };
     let example = if args.energies {
         &FROM_ENERGIES
     } else {
         &BY_HAND
     };
-    let files = render(&args.name, &dir, example, &dependencies);
-    for (path, text) in &files {
+    // Written as a member first: cargo then says whether a workspace around it takes it.
+    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let here = canonical(&dir)?;
+    let member = render(
+        &args.name,
+        &dir,
+        example,
+        &dependencies(Some(&here))?,
+        false,
+    );
+    for (path, text) in &member {
         write(path, text)?;
+    }
+    let standalone = !workspace_takes(&here);
+    if standalone {
+        for (path, text) in &render(&args.name, &dir, example, &dependencies(None)?, true) {
+            write(path, text)?;
+        }
     }
     println!("created {} ({})", args.name, dir.display());
     println!("next:");
-    println!("  cd {}", dir.display());
-    for (command, what) in [
-        ("cargo test", "physics and conformance, in-process"),
-        (
-            "mechfmu build --manifest-path Cargo.toml --out fmu",
-            &format!("fmu/{0}.fmu, fmu/fmi3/{0}.fmu", args.name),
-        ),
-        (
-            "mechfmu validate --manifest-path Cargo.toml --fmu-dir fmu",
-            "validation/cases.py under FMPy and others",
-        ),
-    ] {
+    let next: Vec<(String, String)> = if standalone {
+        println!("  cd {}", dir.display());
+        vec![
+            (
+                "cargo test".into(),
+                "physics and conformance, in-process".into(),
+            ),
+            (
+                "mechfmu build --manifest-path Cargo.toml --out fmu".into(),
+                format!("fmu/{0}.fmu, fmu/fmi3/{0}.fmu", args.name),
+            ),
+            (
+                "mechfmu validate --manifest-path Cargo.toml --fmu-dir fmu".into(),
+                "validation/cases.py under FMPy and others".into(),
+            ),
+        ]
+    } else {
+        let package = snake_case(&args.name).replace('_', "-");
+        vec![
+            (
+                format!("cargo test -p {package}"),
+                "physics and conformance, in-process".into(),
+            ),
+            (
+                format!("mechfmu build {}", args.name),
+                "with the workspace's other mechanisms".into(),
+            ),
+            (
+                format!("mechfmu validate --write-references {}", args.name),
+                "its reference results".into(),
+            ),
+            (
+                "mechfmu docs".into(),
+                "its interface page, in the index".into(),
+            ),
+        ]
+    };
+    for (command, what) in next {
         println!("  {command:<58} # {what}");
     }
     Ok(())
+}
+
+/// Whether a workspace around the crate at `dir` (written as a member) takes it: cargo reads
+/// the crate as one of its members, or, when none does, refuses it (inside a workspace that
+/// does not list it) or reads it as its own root (inside none).
+fn workspace_takes(dir: &Path) -> bool {
+    crate::build::workspace::workspace_root(Some(&dir.join("Cargo.toml")))
+        .and_then(|root| canonical(&root))
+        .is_ok_and(|root| root != dir)
+}
+
+/// The path from the folder `from` to `to`, both canonical: `..` up to what they share.
+fn relative(from: &Path, to: &Path) -> PathBuf {
+    let (from, to): (Vec<_>, Vec<_>) = (from.components().collect(), to.components().collect());
+    let shared = from.iter().zip(&to).take_while(|(a, b)| a == b).count();
+    let up = std::iter::repeat_n(std::path::Component::ParentDir, from.len() - shared);
+    up.chain(to[shared..].iter().copied()).collect()
+}
+
+/// A relative path with `/` between its parts on every platform, as Cargo.toml files write it.
+fn slashed(path: &Path) -> String {
+    let parts: Vec<String> = path
+        .iter()
+        .map(|p| p.to_string_lossy().into_owned())
+        .collect();
+    parts.join("/")
+}
+
+fn canonical(path: &Path) -> Result<PathBuf, String> {
+    std::fs::canonicalize(path).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// Where the crate finds the runtime and the test kit: the inside of a `[dependencies]`
@@ -116,32 +211,39 @@ struct Dependencies {
     testkit: String,
 }
 
-/// The crate's files, by path under `dir`, with the templates filled in.
+/// The crate's files, by path under `dir`, with the templates filled in: a workspace's
+/// member, or (`standalone`) a workspace of its own, which ignores what it builds.
 fn render(
     name: &str,
     dir: &Path,
     example: &Example,
     dependencies: &Dependencies,
-) -> [(PathBuf, String); 5] {
+    standalone: bool,
+) -> Vec<(PathBuf, String)> {
     let snake = snake_case(name);
     let fill = |template: &str| {
         template
             .replace("{{Name}}", name)
             .replace("{{snake}}", &snake)
             .replace("{{crate}}", &snake.replace('_', "-"))
+            .replace("{{summary}}", example.summary)
+            .replace("{{standalone}}", if standalone { STANDALONE } else { "" })
             .replace("{{mechfmu_dependency}}", &dependencies.runtime)
             .replace("{{testkit_dependency}}", &dependencies.testkit)
     };
-    [
+    let mut files = vec![
         (dir.join("Cargo.toml"), fill(CARGO_TOML)),
         (dir.join("src/lib.rs"), fill(example.lib_rs)),
         (dir.join(format!("tests/{snake}.rs")), fill(example.test_rs)),
         (dir.join("validation/cases.py"), fill(example.cases_py)),
-        (
+    ];
+    if standalone {
+        files.push((
             dir.join(".gitignore"),
             "/target\n/fmu\nCargo.lock\n__pycache__\n".to_string(),
-        ),
-    ]
+        ));
+    }
+    files
 }
 
 fn write(path: &Path, text: &str) -> Result<(), String> {
@@ -377,14 +479,64 @@ mod tests {
     }
 
     fn rendered(example: &Example) -> BTreeMap<String, String> {
+        rendered_as(example, true)
+    }
+
+    fn rendered_as(example: &Example, standalone: bool) -> BTreeMap<String, String> {
         let dependencies = Dependencies {
             runtime: "path = \"/m/crates/runtime\"".into(),
             testkit: "path = \"/m/crates/testkit\"".into(),
         };
-        let files = render("CartPendulum", Path::new("cart"), example, &dependencies);
-        let by_path =
-            files.map(|(path, text)| (path.display().to_string().replace('\\', "/"), text));
-        BTreeMap::from(by_path)
+        let files = render(
+            "CartPendulum",
+            Path::new("cart"),
+            example,
+            &dependencies,
+            standalone,
+        );
+        files
+            .into_iter()
+            .map(|(path, text)| (path.display().to_string().replace('\\', "/"), text))
+            .collect()
+    }
+
+    #[test]
+    fn a_member_leaves_the_workspace_and_the_profile_to_its_workspace() {
+        for example in [&BY_HAND, &FROM_ENERGIES] {
+            let member = rendered_as(example, false);
+            let paths: Vec<&str> = member.keys().map(String::as_str).collect();
+            assert_eq!(
+                paths,
+                [
+                    "cart/Cargo.toml",
+                    "cart/src/lib.rs",
+                    "cart/tests/cart_pendulum.rs",
+                    "cart/validation/cases.py"
+                ]
+            );
+            let manifest = &member["cart/Cargo.toml"];
+            assert!(!manifest.contains("[workspace]") && !manifest.contains("[profile"));
+            assert!(!manifest.contains("{{"), "{manifest}");
+            let own = &rendered_as(example, true)["cart/Cargo.toml"];
+            assert!(own.contains("\n[workspace]\n") && own.contains("panic = \"unwind\""));
+            let summary = format!(
+                "description = \"The CartPendulum FMU: {}\"",
+                example.summary
+            );
+            assert!(
+                manifest.contains(&summary) && own.contains(&summary),
+                "{manifest}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_members_dependencies_are_relative_to_it() {
+        let path = |p: &str| PathBuf::from(p);
+        let up = relative(&path("/repo/fmus/probe"), &path("/repo/crates/runtime"));
+        assert_eq!(slashed(&up), "../../crates/runtime");
+        assert_eq!(slashed(&relative(&path("/a/b"), &path("/a/b/c"))), "c");
+        assert_eq!(slashed(&relative(&path("/a/b"), &path("/x"))), "../../x");
     }
 
     #[test]

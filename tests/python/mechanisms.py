@@ -1,0 +1,157 @@
+"""The mechanisms of a workspace and what the test suite expects of each, read from their crates.
+
+The list is cargo's: every package of the workspace whose Cargo.toml names its model in
+``[package.metadata.mechfmu] model = "Name"`` (as ``mechfmu build`` finds them). What a test
+expects of one mechanism lives in its crate's ``validation/`` folder, next to its reference
+cases (``cases.py``):
+
+* ``contract.py``: its interface contract (test_contract.py; the FMI 3.0 arrays and the
+  number of event indicators are read from it too), where the mechanism has one;
+* ``expectations.toml``: the rows where an importer's solver does not reach a case's limit
+  (``[[limit]]``: case, importer, why) and a parameter sweep run by both engines of
+  ``mechfmu sweep`` (``[sweep] parameters``); a mechanism without the file expects neither.
+
+Adding a mechanism is adding its crate: every test that runs on every mechanism finds it here.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import subprocess
+import tomllib
+from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+from types import ModuleType
+
+from mechfmu_validate.model_exchange import CVODE, EULER, RK4
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
+
+#: the importers whose rows may be a known LIMIT: the Model Exchange ones with a solver of the importer's
+LIMIT_IMPORTERS = (CVODE, EULER, RK4)
+
+
+@dataclass(frozen=True)
+class Limit:
+    """A (case, importer) row reported as LIMIT: the importer's solver, not the FMU, misses the case's limit."""
+
+    case: str
+    importer: str
+    why: str
+
+
+@dataclass(frozen=True)
+class Expectations:
+    """A mechanism's ``validation/expectations.toml``."""
+
+    limits: tuple[Limit, ...] = ()
+    sweep_parameters: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class Mechanism:
+    """One mechanism crate of the workspace."""
+
+    model: str
+    package: str
+    crate: Path
+
+    @property
+    def validation(self) -> Path:
+        return self.crate / "validation"
+
+    @property
+    def cases_file(self) -> Path:
+        return self.validation / "cases.py"
+
+    @property
+    def contract(self) -> ModuleType | None:
+        """``validation/contract.py`` as a module of its own, or None."""
+        return _contract(self.validation / "contract.py", self.model)
+
+    @property
+    def expectations(self) -> Expectations:
+        return read_expectations(self.validation / "expectations.toml")
+
+
+def mechanisms(manifest: Path | None = None) -> list[Mechanism]:
+    """The mechanism crates of the workspace at ``manifest`` (the repository's, read once), by
+    model name."""
+    return list(_repository() if manifest is None else _read(Path(manifest).resolve()))
+
+
+@cache
+def _repository() -> tuple[Mechanism, ...]:
+    return _read(REPO_ROOT / "Cargo.toml")
+
+
+def _read(manifest: Path) -> tuple[Mechanism, ...]:
+    done = subprocess.run(["cargo", "metadata", "--format-version", "1", "--no-deps", "--manifest-path",
+                           str(manifest)], cwd=manifest.parent, capture_output=True, text=True, check=False)
+    if done.returncode != 0:
+        raise RuntimeError(f"cargo metadata failed for {manifest}:\n{done.stderr}")
+    found = []
+    for package in json.loads(done.stdout)["packages"]:
+        model = ((package.get("metadata") or {}).get("mechfmu") or {}).get("model")
+        if model:
+            found.append(Mechanism(model, package["name"], Path(package["manifest_path"]).parent))
+    return tuple(sorted(found, key=lambda m: m.model))
+
+
+def models() -> list[str]:
+    """The model names of the repository's mechanisms."""
+    return [m.model for m in mechanisms()]
+
+
+def mechanism(model: str) -> Mechanism:
+    """The repository's mechanism named ``model``."""
+    return next(m for m in mechanisms() if m.model == model)
+
+
+def known_limits() -> dict[tuple[str, str, str], str]:
+    """(model, case, importer) -> why, over every mechanism of the repository."""
+    return {(m.model, limit.case, limit.importer): limit.why for m in mechanisms() for limit in m.expectations.limits}
+
+
+def read_expectations(path: Path) -> Expectations:
+    """The expectations in ``path`` (none when it does not exist); a key or importer it does not
+    know is an error naming the file."""
+    if not path.is_file():
+        return Expectations()
+    data = tomllib.loads(path.read_text())
+
+    def fail(what: str) -> ValueError:
+        return ValueError(f"{path}: {what}")
+
+    unknown = set(data) - {"limit", "sweep"}
+    if unknown:
+        raise fail(f"unknown keys {sorted(unknown)} (known: limit, sweep)")
+    limits = []
+    for row in data.get("limit", []):
+        if set(row) != {"case", "importer", "why"} or not all(isinstance(v, str) for v in row.values()):
+            raise fail(f"a [[limit]] has exactly case, importer and why, as strings: {row}")
+        if row["importer"] not in LIMIT_IMPORTERS:
+            raise fail(f"importer {row['importer']!r} is not one of {list(LIMIT_IMPORTERS)}")
+        limits.append(Limit(row["case"], row["importer"], row["why"]))
+    sweep = data.get("sweep", {})
+    if set(sweep) - {"parameters"}:
+        raise fail(f"unknown keys in [sweep]: {sorted(set(sweep) - {'parameters'})} (known: parameters)")
+    parameters = sweep.get("parameters", [])
+    if not isinstance(parameters, list) or not all(isinstance(p, str) for p in parameters):
+        raise fail("[sweep] parameters is a list of `--param` values (strings)")
+    return Expectations(tuple(limits), tuple(parameters))
+
+
+@cache
+def _contract(path: Path, model: str) -> ModuleType | None:
+    if not path.is_file():
+        return None
+    spec = importlib.util.spec_from_file_location(f"mechfmu_contract_{path.parent.parent.name}", path)
+    assert spec is not None and spec.loader is not None, path
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    if module.MODEL != model:
+        raise ValueError(f"{path}: MODEL = {module.MODEL!r}, the crate's model is {model!r}")
+    return module
