@@ -2,8 +2,8 @@
 
 The contract of each mechanism is data, next to the mechanism: ``fmus/<crate>/validation/
 contract.py`` (``MODEL``, ``DEFAULT_EXPERIMENT``, ``VARIABLES``, ``MIN_ZERO`` and, where the
-structure is part of it, ``DERIVATIVES``; the file's docstring says how to read a row). One
-test checks every FMU against its file, the same way:
+structure is part of it, ``DERIVATIVES``). The Rust side does not read it. One test checks
+every FMU against its file, the same way:
 
 * identity: FMI 2.0, modelName and modelIdentifier, Model Exchange and Co-Simulation
   with the same model identifier, variable communication steps, a GUID;
@@ -15,6 +15,11 @@ test checks every FMU against its file, the same way:
 * min="0" on the variables that must be > 0, and the <Derivatives> where the contract has them.
 
 And FMPy's own ``validate_fmu`` finds no problem in any of them.
+
+A contract's ``VARIABLES`` maps a name to (causality, variability, initial, start, unit). A
+variability is a value or a tuple of the values allowed; initial is None for an input (no
+`initial` attribute), "exact" with the start value given, or "calculated" (no start value);
+unit is the name of a <UnitDefinitions> unit ("1": dimensionless).
 """
 
 from __future__ import annotations

@@ -1,12 +1,5 @@
-"""The interface contract of `CraneDynamics` (docs/mechanisms/CraneDynamics.md): what its
-modelDescription.xml must declare. Data only: tests/python/test_contract.py checks every FMU
-against its crate's file (mechfmu's Rust side does not read it).
-
-VARIABLES: name -> (causality, variability, initial, start, unit). A variability is a value
-or a tuple of the values allowed; initial is None for an input (no `initial` attribute),
-"exact" with the start value given, or "calculated" (no start value); unit is the name of a
-<UnitDefinitions> unit ("1": dimensionless).
-"""
+"""The interface contract of `CraneDynamics` (docs/mechanisms/CraneDynamics.md) as data: what its
+modelDescription.xml must declare, in the rows tests/python/test_contract.py reads."""
 
 import math
 
