@@ -13,8 +13,11 @@
 //!   Exchange, FMI 3.0 against FMI 2.0);
 //! - [`golden`]: committed files generated from the declaration (modelDescription,
 //!   interface page) checked to be current, or regenerated with `MECHFMU_BLESS=1`;
-//! - [`rng`]: a deterministic generator for checks at random points.
+//! - [`rng`]: a deterministic generator for checks at random points;
+//! - [`allocations`]: a counting allocator, and [`allocation_tests!`], the proof that the
+//!   calls of an importer's loop never allocate.
 
+pub mod allocations;
 pub mod conformance;
 pub mod fmi3;
 pub mod golden;

@@ -26,6 +26,8 @@ pub struct Args {
 }
 
 const CARGO_TOML: &str = include_str!("../templates/Cargo.toml.tmpl");
+/// The allocation tests, the same for either kind of mechanism.
+const ALLOCATIONS_RS: &str = include_str!("../templates/allocations.rs.tmpl");
 
 /// What a crate that is a workspace of its own adds to its Cargo.toml (a member's profile
 /// would be ignored: the workspace's applies).
@@ -235,6 +237,7 @@ fn render(
         (dir.join("Cargo.toml"), fill(CARGO_TOML)),
         (dir.join("src/lib.rs"), fill(example.lib_rs)),
         (dir.join(format!("tests/{snake}.rs")), fill(example.test_rs)),
+        (dir.join("tests/allocations.rs"), fill(ALLOCATIONS_RS)),
         (dir.join("validation/cases.py"), fill(example.cases_py)),
     ];
     if standalone {
@@ -510,6 +513,7 @@ mod tests {
                 [
                     "cart/Cargo.toml",
                     "cart/src/lib.rs",
+                    "cart/tests/allocations.rs",
                     "cart/tests/cart_pendulum.rs",
                     "cart/validation/cases.py"
                 ]
@@ -550,6 +554,7 @@ mod tests {
                     "cart/.gitignore",
                     "cart/Cargo.toml",
                     "cart/src/lib.rs",
+                    "cart/tests/allocations.rs",
                     "cart/tests/cart_pendulum.rs",
                     "cart/validation/cases.py"
                 ]

@@ -1,19 +1,21 @@
-//! A counting global allocator, and the check that the FMI functions an importer calls at
-//! every communication step (`fmi2SetReal`, `fmi2DoStep`, `fmi2GetReal`; through FMI 3.0
+//! A counting allocator, and the check that the FMI functions an importer calls at every
+//! communication step (`fmi2SetReal`, `fmi2DoStep`, `fmi2GetReal`; through FMI 3.0
 //! `fmi3SetFloat64`, `fmi3DoStep`, `fmi3GetFloat64`: [`fmi3`]) never allocate once an
 //! instance is running. The functions are the real ones (`mechfmu::fmi2::functions`,
 //! `mechfmu::fmi3::functions`, what `export_fmu!` exports), called in-process on the
 //! mechanism crates.
 //!
 //! The counts are per thread, so tests running in parallel do not see each other's
-//! allocations. Every test binary linking this crate uses the counting allocator.
+//! allocations. The counting allocator is the global one of the test binaries that call
+//! [`allocation_tests!`](crate::allocation_tests) (a mechanism crate's `tests/allocations.rs`),
+//! and of no other.
 
 pub mod fmi3;
 
+use crate::harness::Harness;
 use mechfmu::fmi2::ffi::*;
 use mechfmu::fmi2::functions;
 use mechfmu::model::{Causality, Mechanism, Variability};
-use mechfmu_testkit::harness::Harness;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
@@ -50,9 +52,6 @@ unsafe impl GlobalAlloc for Counting {
         unsafe { System.dealloc(ptr, layout) }
     }
 }
-
-#[global_allocator]
-static ALLOCATOR: Counting = Counting;
 
 /// (allocations, bytes) made by the calling thread so far.
 pub fn allocated() -> (u64, u64) {
@@ -190,42 +189,41 @@ pub fn check_with_tunables<M: Mechanism>(n: u64) -> Work {
     run::<M>(n, true)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::allocated;
-
-    #[test]
-    fn the_allocator_counts() {
-        let before = allocated();
-        let v: Vec<u64> = std::hint::black_box(Vec::with_capacity(100));
-        let after = allocated();
-        drop(v);
-        assert_eq!((after.0 - before.0, after.1 - before.1), (1, 800));
-    }
-}
-
-/// The three allocation tests of one mechanism: the importer's loop through FMI 2.0, the
-/// same with tunable parameters set at every step, and the loop through FMI 3.0, each over
-/// 2,000 communication steps. One test file per mechanism calls it once, since a test
-/// binary links one mechanism crate only.
+/// The allocation tests of one mechanism, with the counting allocator as the test
+/// binary's global one: the importer's loop through FMI 2.0, the same with tunable
+/// parameters set every tenth step, and the loop through FMI 3.0, each over 2,000
+/// communication steps. A test file of its own calls it once (its binary then counts every
+/// allocation).
 #[macro_export]
 macro_rules! allocation_tests {
     ($mechanism:ty) => {
+        #[global_allocator]
+        static ALLOCATOR: $crate::allocations::Counting = $crate::allocations::Counting;
+
+        /// Without the counting allocator as the global one, every check would pass.
+        #[test]
+        fn the_counting_allocator_counts() {
+            let before = $crate::allocations::allocated();
+            std::hint::black_box(Box::new(0u64));
+            let after = $crate::allocations::allocated();
+            assert_eq!((after.0 - before.0, after.1 - before.1), (1, 8));
+        }
+
         #[test]
         fn the_importer_loop_allocates_nothing() {
-            let work = $crate::check::<$mechanism>(2_000);
+            let work = $crate::allocations::check::<$mechanism>(2_000);
             assert_eq!(work.steps, 2_000);
         }
 
         #[test]
         fn setting_tunable_parameters_allocates_nothing() {
-            let work = $crate::check_with_tunables::<$mechanism>(2_000);
+            let work = $crate::allocations::check_with_tunables::<$mechanism>(2_000);
             assert_eq!(work.steps, 2_000);
         }
 
         #[test]
         fn the_importer_loop_through_fmi3_allocates_nothing() {
-            let work = $crate::fmi3::check::<$mechanism>(2_000);
+            let work = $crate::allocations::fmi3::check::<$mechanism>(2_000);
             assert_eq!(work.steps, 2_000);
         }
     };

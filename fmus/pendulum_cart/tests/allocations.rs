@@ -1,3 +1,3 @@
 //! `fmi2SetReal`, `fmi2DoStep` and `fmi2GetReal` (and FMI 3.0's) of PendulumCart allocate nothing.
 
-mechfmu_alloc::allocation_tests!(pendulum_cart::PendulumCart);
+mechfmu_testkit::allocation_tests!(pendulum_cart::PendulumCart);

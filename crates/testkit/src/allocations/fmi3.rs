@@ -3,10 +3,10 @@
 //! and the arrays among them) and of the outputs: no allocation once running.
 
 use super::{allocated, Work};
+use crate::fmi3::Fmi3Harness;
 use mechfmu::fmi3::ffi::*;
 use mechfmu::fmi3::functions;
 use mechfmu::model::{Causality, Mechanism, Shapes};
-use mechfmu_testkit::fmi3::Fmi3Harness;
 
 /// Runs `M` as [`check`](super::check) does, through its FMI 3.0 Co-Simulation functions.
 pub fn check<M: Mechanism>(n: u64) -> Work {
