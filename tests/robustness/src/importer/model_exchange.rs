@@ -66,8 +66,8 @@ impl ModelExchangeInstance for Instance<'_> {
         let (s, info) = self.new_discrete_states();
         (
             s,
-            info.new_discrete_states_needed != 0,
-            info.terminate_simulation != 0,
+            info.newDiscreteStatesNeeded != 0,
+            info.terminateSimulation != 0,
         )
     }
 }
