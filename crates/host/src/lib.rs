@@ -12,6 +12,8 @@
 //!   declares them (over `mechfmu::fmi2::ffi` and `mechfmu::fmi3::ffi`): every function in
 //!   one table (`api`) for an importer that calls them as it likes, and an instance whose
 //!   calls are safe to make; [`log`]: the importer's logger both instantiate with;
+//! - [`model_exchange`]: the importers' one Model Exchange driver (fixed-step RK4, state
+//!   events located by bisection, the event iteration), over an instance of either version;
 //! - [`platform`]: where each platform's binary is in an FMU of each version;
 //! - [`cpu_clock`]: the thread's CPU time the tools time calls with.
 //!
@@ -30,4 +32,5 @@ pub mod fmi2;
 pub mod fmi3;
 pub mod library;
 pub mod log;
+pub mod model_exchange;
 pub mod platform;

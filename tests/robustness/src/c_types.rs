@@ -30,6 +30,19 @@ pub mod ffi {
         fmi2Terminated as TERMINATED, fmi2Warning as WARNING,
     };
 
+    /// An `fmi2EventInfo` holding what no FMU writes (-1, NaN), so that a field the FMU
+    /// leaves unwritten shows.
+    pub fn unwritten_event_info() -> EventInfo {
+        EventInfo {
+            newDiscreteStatesNeeded: -1,
+            terminateSimulation: -1,
+            nominalsOfContinuousStatesChanged: -1,
+            valuesOfContinuousStatesChanged: -1,
+            nextEventTimeDefined: -1,
+            nextEventTime: f64::NAN,
+        }
+    }
+
     pub fn status_name(s: Status) -> String {
         match s {
             OK => "fmi2OK".into(),

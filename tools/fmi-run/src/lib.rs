@@ -339,23 +339,7 @@ impl Default for MeOptions {
 }
 
 /// What happened during a Model Exchange run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct MeStats {
-    /// Accepted RK4 steps (a step cut short at an event counts as one).
-    pub steps: usize,
-    /// `fmi2GetDerivatives` calls (4 per RK4 step, bisection trials included).
-    pub derivative_evaluations: usize,
-    /// State events: a sign change of an event indicator, located by bisection.
-    pub state_events: usize,
-    /// Step events: `fmi2CompletedIntegratorStep` returned `enterEventMode`.
-    pub step_events: usize,
-    /// Time events: the time an event iteration announced (`nextEventTime`) reached.
-    pub time_events: usize,
-    /// Input events: the inputs changed at a communication point.
-    pub input_events: usize,
-    /// Event iterations whose `fmi2NewDiscreteStates` set `valuesOfContinuousStatesChanged`.
-    pub state_changes: usize,
-}
+pub use mechfmu_host::model_exchange::Stats as MeStats;
 
 /// The width below which bisection stops locating a sign change of an event indicator (s).
 pub const EVENT_LOCATION_TOLERANCE: f64 = 1e-12;

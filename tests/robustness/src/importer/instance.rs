@@ -203,14 +203,7 @@ impl<'a> Instance<'a> {
     }
 
     pub fn new_discrete_states(&mut self) -> (Status, EventInfo) {
-        let mut info = EventInfo {
-            newDiscreteStatesNeeded: -1,
-            terminateSimulation: -1,
-            nominalsOfContinuousStatesChanged: -1,
-            valuesOfContinuousStatesChanged: -1,
-            nextEventTimeDefined: -1,
-            nextEventTime: f64::NAN,
-        };
+        let mut info = unwritten_event_info();
         // SAFETY: live instance, valid out pointer.
         let s = unsafe { (self.fmu.api.new_discrete_states)(self.c, &mut info) };
         (s, info)

@@ -97,14 +97,7 @@ impl Sequence<'_, Fmi2> {
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[f::NEW_DISCRETE_STATES];
         let null = !self.sane && self.rng.chance(0.05);
-        let mut info = EventInfo {
-            newDiscreteStatesNeeded: -1,
-            terminateSimulation: -1,
-            nominalsOfContinuousStatesChanged: -1,
-            valuesOfContinuousStatesChanged: -1,
-            nextEventTimeDefined: -1,
-            nextEventTime: f64::NAN,
-        };
+        let mut info = unwritten_event_info();
         self.note(|| {
             format!(
                 "{name}({target:?}{})",
