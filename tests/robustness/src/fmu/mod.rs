@@ -1,6 +1,6 @@
 //! Finding, unpacking and loading the built FMUs (`fmus/<Name>.fmu` of FMI 2.0,
-//! `fmus/fmi3/<Name>.fmu` of FMI 3.0), and reading what an importer needs from their
-//! modelDescription.xml ([`md2`], [`md3`]).
+//! `fmus/fmi3/<Name>.fmu` of FMI 3.0), and what this importer needs of their
+//! modelDescription.xml ([`md2`], [`md3`]: read by `mechfmu_host::description`'s parser).
 
 mod md2;
 mod md3;
