@@ -149,6 +149,14 @@ pub fn tour3(fmu: &Fmu3) -> Result<u64, String> {
     let mut x = vec![0.0; nx + ni + 2];
     let (mut a, mut b, mut c_, mut t) = (0u8, 0u8, 0u8, 0.0);
     let mut f = [0u8; 5];
+    // the bytes the FMU writes its booleans into, as the header's `fmi3Boolean*`
+    let (a, b, c_) = (
+        boolean_out(&mut a),
+        boolean_out(&mut b),
+        boolean_out(&mut c_),
+    );
+    let f = f.as_mut_ptr();
+    let f: [*mut bool; 5] = std::array::from_fn(|k| f.wrapping_add(k).cast());
     // SAFETY: valid arguments, then calls on the live instances; freed at the end.
     unsafe {
         let bad = (api.instantiate_co_simulation)(
@@ -200,72 +208,28 @@ pub fn tour3(fmu: &Fmu3) -> Result<u64, String> {
         if c.is_null() {
             return Err("fmi3InstantiateCoSimulation without a logger failed".into());
         }
-        let _ = (api.do_step)(
-            c,
-            0.0,
-            0.1,
-            true,
-            boolean_out(&mut a),
-            boolean_out(&mut b),
-            boolean_out(&mut c_),
-            &mut t,
-        ); // illegal
+        let _ = (api.do_step)(c, 0.0, 0.1, true, a, b, c_, &mut t); // illegal
         let _ = (api.get_float64)(c, vr.as_ptr(), 1, x.as_mut_ptr(), 1);
         let _ = (api.enter_initialization_mode)(c, true, -1.0, e.start, false, 0.0);
         let _ = (api.enter_initialization_mode)(c, true, e.tolerance, e.start, false, 0.0);
         let _ = (api.set_float64)(c, vr.as_ptr(), 1, x.as_ptr(), 1);
         let _ = (api.exit_initialization_mode)(c);
-        let _ = (api.do_step)(
-            c,
-            e.start,
-            e.step,
-            true,
-            boolean_out(&mut a),
-            boolean_out(&mut b),
-            boolean_out(&mut c_),
-            &mut t,
-        ); // event mode
-        let _ = (api.update_discrete_states)(
-            c,
-            f.as_mut_ptr().cast(),
-            f.as_mut_ptr().add(1).cast(),
-            f.as_mut_ptr().add(2).cast(),
-            f.as_mut_ptr().add(3).cast(),
-            f.as_mut_ptr().add(4).cast(),
-            &mut t,
-        );
+        let _ = (api.do_step)(c, e.start, e.step, true, a, b, c_, &mut t); // event mode
+        let _ = (api.update_discrete_states)(c, f[0], f[1], f[2], f[3], f[4], &mut t);
         let _ = (api.enter_step_mode)(c);
-        let _ = (api.do_step)(
-            c,
-            e.start,
-            -1.0,
-            true,
-            boolean_out(&mut a),
-            boolean_out(&mut b),
-            boolean_out(&mut c_),
-            &mut t,
-        );
+        let _ = (api.do_step)(c, e.start, -1.0, true, a, b, c_, &mut t);
         let _ = (api.do_step)(
             c,
             e.start,
             e.step,
             true,
             std::ptr::null_mut(),
-            boolean_out(&mut b),
-            boolean_out(&mut c_),
+            b,
+            c_,
             &mut t,
         );
-        let _ = (api.do_step)(
-            c,
-            e.start,
-            e.step,
-            true,
-            boolean_out(&mut a),
-            boolean_out(&mut b),
-            boolean_out(&mut c_),
-            &mut t,
-        );
-        let _ = (api.get_clock)(c, vr.as_ptr(), 1, boolean_out(&mut a));
+        let _ = (api.do_step)(c, e.start, e.step, true, a, b, c_, &mut t);
+        let _ = (api.get_clock)(c, vr.as_ptr(), 1, a);
         let _ = (api.enter_configuration_mode)(c);
         let _ = (api.get_int32)(c, vr.as_ptr(), 1, x.as_mut_ptr().cast(), 1);
         let _ = (api.get_continuous_states)(c, x.as_mut_ptr(), nx); // a Model Exchange function
@@ -292,15 +256,7 @@ pub fn tour3(fmu: &Fmu3) -> Result<u64, String> {
         let _ = (api.enter_initialization_mode)(c, true, e.tolerance, e.start, false, 0.0);
         let _ = (api.get_event_indicators)(c, x.as_mut_ptr(), ni);
         let _ = (api.exit_initialization_mode)(c);
-        let _ = (api.update_discrete_states)(
-            c,
-            f.as_mut_ptr().cast(),
-            f.as_mut_ptr().add(1).cast(),
-            f.as_mut_ptr().add(2).cast(),
-            f.as_mut_ptr().add(3).cast(),
-            f.as_mut_ptr().add(4).cast(),
-            &mut t,
-        );
+        let _ = (api.update_discrete_states)(c, f[0], f[1], f[2], f[3], f[4], &mut t);
         let _ = (api.enter_continuous_time_mode)(c);
         let _ = (api.get_continuous_states)(c, x.as_mut_ptr(), nx + 1); // wrong nx
         let _ = (api.set_time)(c, f64::NAN);
@@ -308,18 +264,9 @@ pub fn tour3(fmu: &Fmu3) -> Result<u64, String> {
         x[0] = f64::INFINITY;
         let _ = (api.set_continuous_states)(c, x.as_ptr(), nx);
         let _ = (api.get_continuous_state_derivatives)(c, x.as_mut_ptr(), nx);
-        let _ = (api.completed_integrator_step)(c, true, std::ptr::null_mut(), boolean_out(&mut b));
-        let _ = (api.completed_integrator_step)(c, true, boolean_out(&mut a), boolean_out(&mut b));
-        let _ = (api.do_step)(
-            c,
-            e.start,
-            e.step,
-            true,
-            boolean_out(&mut a),
-            boolean_out(&mut b),
-            boolean_out(&mut c_),
-            &mut t,
-        ); // Co-Simulation's
+        let _ = (api.completed_integrator_step)(c, true, std::ptr::null_mut(), b);
+        let _ = (api.completed_integrator_step)(c, true, a, b);
+        let _ = (api.do_step)(c, e.start, e.step, true, a, b, c_, &mut t); // Co-Simulation's
         let _ = (api.enter_event_mode)(c);
         let _ = (api.terminate)(c);
         (api.free_instance)(c);
