@@ -41,8 +41,9 @@
 //!
 //! # Model Exchange (`--interface me`)
 //!
-//! The same experiment, the same CSV, with the FMU's `<ModelExchange>` interface and this
-//! crate's own integrator, a fixed-step classical Runge-Kutta (RK4):
+//! The same experiment, the same CSV, with the FMU's `<ModelExchange>` interface and the
+//! importers' one Model Exchange driver (`mechfmu_host::model_exchange`, with this crate's
+//! options), a fixed-step classical Runge-Kutta (RK4):
 //!
 //! 1. to 3. as above, with two differences: `fmi2Instantiate` as Model Exchange, and
 //!    `fmi2SetupExperiment` without a tolerance (a fixed-step integrator controls no error;
@@ -256,7 +257,7 @@ pub enum Interface {
     /// communication step ([`run`]).
     #[default]
     CoSimulation,
-    /// Model Exchange (`me`): this crate's fixed-step RK4 with event handling ([`run_me`]).
+    /// Model Exchange (`me`): a fixed-step RK4 with event handling ([`run_me`]).
     ModelExchange,
 }
 
