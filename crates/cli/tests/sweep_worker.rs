@@ -1,6 +1,7 @@
 //! `mechfmu sweep-worker` as the Python side drives it: the built command, the Oscillator
 //! FMU `mechfmu build` wrote to `fmus/`, frames over stdin and stdout.
 
+use mechfmu_host::platform::{Platform, Version};
 use serde_json::{json, Value};
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
@@ -12,11 +13,8 @@ fn root() -> PathBuf {
 
 /// The FMI 2.0 folder of this machine's binaries.
 fn platform_folder() -> &'static str {
-    if cfg!(target_arch = "aarch64") {
-        "aarch64-linux"
-    } else {
-        "linux64"
-    }
+    let host = Platform::host().expect("a platform FMUs are built for");
+    host.folder(Version::Fmi2)
 }
 
 /// `fmus/Oscillator.fmu` unzipped into a folder of its own; the setup's paths and GUID.

@@ -44,6 +44,17 @@ fn read(zip: &mut ZipArchive<File>, fmu: &Path, name: &str) -> Result<Vec<u8>, S
     Ok(bytes)
 }
 
+/// The bytes of the entry `name` (a path in the archive) of the FMU at `fmu`.
+pub fn entry(fmu: &Path, name: &str) -> Result<Vec<u8>, String> {
+    read(&mut open(fmu)?, fmu, name)
+}
+
+/// The model description of the FMU at `fmu`, as its archive holds it.
+pub fn model_description(fmu: &Path) -> Result<String, String> {
+    String::from_utf8(entry(fmu, "modelDescription.xml")?)
+        .map_err(|e| format!("{}: modelDescription.xml is not UTF-8: {e}", fmu.display()))
+}
+
 /// Writes the model description and this machine's binary of the FMU at `fmu` into `dir`
 /// (the binary from the folder of this machine's platform in the FMU's version).
 pub fn extract(fmu: &Path, dir: &Path) -> Result<Extracted, String> {

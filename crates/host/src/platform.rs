@@ -7,7 +7,8 @@
 //! universal binary of both Mac platforms where both are built: FMPy on Apple silicon loads
 //! FMI 2.0 binaries from `darwin64`.)
 
-use mechfmu::contract::Version;
+/// The FMI version whose folder [`Platform::folder`] names.
+pub use mechfmu::contract::Version;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Platform {

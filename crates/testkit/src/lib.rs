@@ -4,8 +4,9 @@
 //!
 //! - [`harness`]: an in-process importer that drives a mechanism through the very C
 //!   functions its FMU exports, recording every logged message;
-//! - [`model_exchange`]: the same importer instantiating Model Exchange, with a fixed-step
-//!   Runge–Kutta integrator that locates events;
+//! - [`model_exchange`]: the same importer instantiating Model Exchange, integrated by the
+//!   importers' one driver (`mechfmu_host::model_exchange`: fixed-step Runge–Kutta that
+//!   locates events);
 //! - [`fmi3`]: the same importer through FMI 3.0's functions (Co-Simulation, Model
 //!   Exchange, arrays, the independent `time`);
 //! - [`conformance`]: the checks every mechanism passes whatever its physics (reset, FMU

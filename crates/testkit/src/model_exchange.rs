@@ -1,8 +1,9 @@
 //! An in-process Model Exchange importer for tests: an instance instantiated as
-//! `fmi2ModelExchange`, driven through the very functions the FMU exports, and a
-//! fixed-step classical Runge–Kutta integrator of its own that locates the crossings of the
-//! event indicators (by bisection, stopping just past each, as CVODE does) and runs the
-//! event iteration there, as an importer's solver would.
+//! `fmi2ModelExchange`, driven through the very functions the FMU exports, and integrated
+//! by the importers' one Model Exchange driver (`mechfmu_host::model_exchange`: fixed-step
+//! classical Runge–Kutta that locates the crossings of the event indicators by bisection,
+//! stopping just past each, as CVODE does, and runs the event iteration there), as an
+//! importer's solver would.
 
 #![allow(non_upper_case_globals)]
 
@@ -10,6 +11,9 @@ use crate::harness::{Harness, Message};
 use mechfmu::fmi2::ffi::*;
 use mechfmu::fmi2::functions;
 use mechfmu::model::Mechanism;
+use mechfmu_host::model_exchange::{
+    CallNames, Crossing, Event, Instance, Integration, Location, Options, Status, Where,
+};
 
 /// One Model Exchange instance of mechanism `M`.
 pub struct ModelExchange<M: Mechanism> {
@@ -27,11 +31,6 @@ pub struct Run {
     pub state_events: usize,
     /// Step events (`enterEventMode` from `fmi2CompletedIntegratorStep`).
     pub step_events: usize,
-}
-
-/// Whether an indicator went from `before` to `after` across zero (FMPy's rule).
-fn crossed(before: f64, after: f64) -> bool {
-    (before > 0.0 && after <= 0.0) || (before < 0.0 && after >= 0.0)
 }
 
 impl<M: Mechanism> Default for ModelExchange<M> {
@@ -174,141 +173,94 @@ impl<M: Mechanism> ModelExchange<M> {
         (status, enter != 0, terminate != 0)
     }
 
-    /// The derivatives at (t, x).
-    fn rhs(&mut self, t: f64, x: &[f64]) -> Result<Vec<f64>, String> {
-        let statuses = [self.set_time(t), self.set_states(x)];
-        if let Some(s) = statuses.iter().find(|&&s| s != fmi2OK) {
-            return Err(format!(
-                "setting the point ({t}, {x:?}) returned {s}: {:?}",
-                self.messages()
-            ));
-        }
-        self.derivatives().map_err(|s| {
-            format!(
-                "fmi2GetDerivatives at t = {t} returned {s}: {:?}",
-                self.messages()
-            )
-        })
-    }
-
-    /// One classical Runge–Kutta step from (t, x) of size h.
-    pub fn rk4(&mut self, t: f64, x: &[f64], h: f64) -> Result<Vec<f64>, String> {
-        let along = |x: &[f64], k: &[f64], a: f64| -> Vec<f64> {
-            x.iter().zip(k).map(|(x, k)| x + a * k).collect()
-        };
-        let k1 = self.rhs(t, x)?;
-        let k2 = self.rhs(t + h / 2.0, &along(x, &k1, h / 2.0))?;
-        let k3 = self.rhs(t + h / 2.0, &along(x, &k2, h / 2.0))?;
-        let k4 = self.rhs(t + h, &along(x, &k3, h))?;
-        Ok((0..x.len())
-            .map(|i| x[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]))
-            .collect())
-    }
-
-    /// The indicators at (t, x).
-    fn indicators_at(&mut self, t: f64, x: &[f64]) -> Result<Vec<f64>, String> {
-        self.set_time(t);
-        self.set_states(x);
-        self.event_indicators().map_err(|s| {
-            format!(
-                "fmi2GetEventIndicators at t = {t} returned {s}: {:?}",
-                self.messages()
-            )
-        })
-    }
-
-    /// The event iteration at the current point; `Some(time)` if the FMU asks to stop.
-    fn handle_event(&mut self) -> Result<Option<f64>, String> {
-        let status = self.enter_event_mode();
-        if status != fmi2OK {
-            return Err(format!("fmi2EnterEventMode returned {status}"));
-        }
-        loop {
-            let (status, info) = self.new_discrete_states();
-            if status > fmi2Warning {
-                return Err(format!(
-                    "fmi2NewDiscreteStates returned {status}: {:?}",
-                    self.messages()
-                ));
-            }
-            if info.terminateSimulation != 0 {
-                return Ok(Some(self.time));
-            }
-            if info.newDiscreteStatesNeeded == 0 {
-                break;
-            }
-        }
-        match self.enter_continuous_time_mode() {
-            fmi2OK => Ok(None),
-            s => Err(format!("fmi2EnterContinuousTimeMode returned {s}")),
-        }
-    }
-
-    /// Integrates from the current time to `t_end` with RK4 steps of `h` (the last one
-    /// shortened to land on `t_end`), handling state and step events.
+    /// Integrates from the current time to `t_end` with RK4 steps of `h` on the grid from
+    /// there (the last one shortened to land on `t_end`), under the importers' one Model
+    /// Exchange driver (`mechfmu_host::model_exchange`): the crossings of the event
+    /// indicators located by bisection (FMPy's rule of a crossing, stopping just past each,
+    /// as CVODE does), the event iteration there, step events handled.
     pub fn integrate(&mut self, t_end: f64, h: f64) -> Result<Run, String> {
-        let mut run = Run::default();
-        let mut t = self.time;
-        let mut x = self
-            .states()
-            .map_err(|s| format!("fmi2GetContinuousStates returned {s}"))?;
-        let mut z = self.indicators_at(t, &x)?;
-        let t0 = t;
-        let mut n = 0u64;
-        while t < t_end - 1e-12 * t_end.abs().max(1.0) {
-            let t_next = (t0 + (n + 1) as f64 * h).min(t_end);
-            let mut x_next = self.rk4(t, &x, t_next - t)?;
-            let mut z_next = self.indicators_at(t_next, &x_next)?;
-            let mut t_reached = t_next;
-            let state_event = z.iter().zip(&z_next).any(|(&a, &b)| crossed(a, b));
-            if state_event {
-                // Bisection on the step's length, keeping the end past the crossing.
-                let (mut lo, mut hi) = (0.0, t_next - t);
-                while hi - lo > 1e-13 * t.abs().max(1.0) {
-                    let mid = 0.5 * (lo + hi);
-                    let x_mid = self.rk4(t, &x, mid)?;
-                    let z_mid = self.indicators_at(t + mid, &x_mid)?;
-                    if z.iter().zip(&z_mid).any(|(&a, &b)| crossed(a, b)) {
-                        (hi, x_next, z_next) = (mid, x_mid, z_mid);
-                    } else {
-                        lo = mid;
-                    }
-                }
-                t_reached = t + hi;
-                self.set_time(t_reached);
-                self.set_states(&x_next);
-            } else {
-                n += 1;
-            }
-            run.state_events += state_event as usize;
-            let (status, step_event, terminate) = self.completed_integrator_step();
-            if status > fmi2Warning {
-                return Err(format!(
-                    "fmi2CompletedIntegratorStep returned {status}: {:?}",
-                    self.messages()
-                ));
-            }
-            if terminate {
-                run.terminated_at = Some(t_reached);
-                return Ok(run);
-            }
-            (t, x, z) = (t_reached, x_next, z_next);
-            if state_event || step_event {
-                run.step_events += step_event as usize;
-                if let Some(time) = self.handle_event()? {
-                    run.terminated_at = Some(time);
-                    return Ok(run);
-                }
-                x = self
-                    .states()
-                    .map_err(|s| format!("fmi2GetContinuousStates returned {s}"))?;
-                z = self.indicators_at(t, &x)?;
-                if state_event {
-                    // Go on from the event with the remainder of the regular step.
-                    n = ((t - t0) / h).floor() as u64;
-                }
-            }
-        }
-        Ok(run)
+        let t = self.time;
+        let options = Options {
+            crossing: Crossing::Strict,
+            location: Location::Length { relative: 1e-13 },
+            completed_integrator_step: true,
+            warnings_pass: true,
+        };
+        let sizes = (M::STATES.len(), M::EVENT_INDICATORS.len());
+        let mut me = Integration::new(&mut *self, sizes, options);
+        me.at = Where::Free;
+        let run = me.resume(t).and_then(|()| me.integrate_on_grid(t_end, h));
+        let stats = me.stats;
+        let stop = run.map_err(|e| format!("{e}: {:?}", self.messages()))?;
+        Ok(Run {
+            terminated_at: stop.map(|s| s.at),
+            state_events: stats.state_events,
+            step_events: stats.step_events,
+        })
+    }
+}
+
+/// An `fmi2Status` as the driver's.
+fn status(s: fmi2Status) -> Status {
+    match s {
+        fmi2OK => Status::Ok,
+        fmi2Warning => Status::Warning("fmi2Warning"),
+        fmi2Discard => Status::Fail("fmi2Discard".into()),
+        fmi2Error => Status::Fail("fmi2Error".into()),
+        fmi2Fatal => Status::Fail("fmi2Fatal".into()),
+        fmi2Pending => Status::Fail("fmi2Pending".into()),
+        s => Status::Fail(format!("status {s}")),
+    }
+}
+
+impl<M: Mechanism> Instance for &mut ModelExchange<M> {
+    const NAMES: CallNames = CallNames::FMI2;
+
+    fn set_time(&mut self, t: f64) -> Status {
+        status(ModelExchange::set_time(self, t))
+    }
+
+    fn set_continuous_states(&mut self, x: &[f64]) -> Status {
+        status(self.set_states(x))
+    }
+
+    fn get_derivatives(&mut self, dx: &mut [f64]) -> Status {
+        status(self.derivatives_into(dx))
+    }
+
+    fn get_event_indicators(&mut self, z: &mut [f64]) -> Status {
+        // SAFETY: live component, an array of the given length.
+        status(unsafe { functions::fmi2GetEventIndicators::<M>(self.c(), z.as_mut_ptr(), z.len()) })
+    }
+
+    fn completed_integrator_step(&mut self, enter: &mut bool, terminate: &mut bool) -> Status {
+        let (s, e, t) = ModelExchange::completed_integrator_step(self);
+        (*enter, *terminate) = (e, t);
+        status(s)
+    }
+
+    fn enter_event_mode(&mut self) -> Status {
+        status(ModelExchange::enter_event_mode(self))
+    }
+
+    fn update_discrete_states(&mut self, event: &mut Event) -> Status {
+        let (s, info) = self.new_discrete_states();
+        *event = Event::from(&info);
+        status(s)
+    }
+
+    fn enter_continuous_time_mode(&mut self) -> Status {
+        status(ModelExchange::enter_continuous_time_mode(self))
+    }
+
+    fn get_continuous_states(&mut self, x: &mut [f64]) -> Status {
+        // SAFETY: live component, an array of the given length.
+        status(unsafe {
+            functions::fmi2GetContinuousStates::<M>(self.c(), x.as_mut_ptr(), x.len())
+        })
+    }
+
+    fn terminate(&mut self) -> Status {
+        status(self.fmu.terminate())
     }
 }

@@ -3,9 +3,12 @@
 //! (`fmi3Functions.h`: one binary serves the FMU of either version) and the documented
 //! extras docs/architecture.md lists, nothing else (no benchmark entry points, no Rust symbols).
 
+use mechfmu_host::archive;
+use mechfmu_host::platform::{Platform, Version};
 use mechfmu_robustness::ffi::FUNCTION_NAMES;
 use mechfmu_robustness::fmu::{required_fmu_paths, Fmu};
 use std::collections::BTreeSet;
+use std::path::Path;
 use std::process::Command;
 
 /// The `#define fmi2X fmi2FullName(fmi2X)` lines of the official `fmi2Functions.h`
@@ -198,19 +201,6 @@ fn a_shipped_binary_exports_the_fmi_functions_and_the_documented_extras_only() {
     }
 }
 
-/// The bytes of `name` in the zip archive at `path`.
-fn archived(path: &std::path::Path, name: &str) -> Vec<u8> {
-    use std::io::Read;
-    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut zip = zip::ZipArchive::new(file).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut entry = zip
-        .by_name(name)
-        .unwrap_or_else(|e| panic!("{}: no {name}: {e}", path.display()));
-    let mut bytes = Vec::new();
-    entry.read_to_end(&mut bytes).unwrap();
-    bytes
-}
-
 #[test]
 fn the_fmi3_fmu_carries_the_same_binary_under_its_platform_tuple() {
     for path in required_fmu_paths() {
@@ -221,10 +211,15 @@ fn the_fmi3_fmu_carries_the_same_binary_under_its_platform_tuple() {
             .expect("in a folder")
             .join("fmi3")
             .join(path.file_name().expect("a file"));
-        let binary2 = archived(&path, &format!("binaries/linux64/{id}.so"));
-        let binary3 = archived(&fmi3, &format!("binaries/x86_64-linux/{id}.so"));
+        let binary = |fmu: &Path, version: Version| {
+            let folder = Platform::X86_64Linux.folder(version);
+            archive::entry(fmu, &format!("binaries/{folder}/{id}.so"))
+                .unwrap_or_else(|e| panic!("{e}"))
+        };
+        let binary2 = binary(&path, Version::Fmi2);
+        let binary3 = binary(&fmi3, Version::Fmi3);
         assert!(binary2 == binary3, "{id}: the FMI 3.0 FMU's binary differs");
-        let xml = String::from_utf8(archived(&fmi3, "modelDescription.xml")).unwrap();
+        let xml = archive::model_description(&fmi3).unwrap_or_else(|e| panic!("{e}"));
         assert!(
             xml.contains("fmiVersion=\"3.0\""),
             "{id}: the FMI 3.0 FMU's model description is not FMI 3.0"

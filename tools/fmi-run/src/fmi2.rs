@@ -1,13 +1,13 @@
 //! The experiment on an FMI 2.0 FMU: Co-Simulation ([`run`]) and Model Exchange
 //! ([`run_me`], through [`crate::me`]).
 
-use crate::me::{self, ok, CallNames, MeInstance, Status};
+use crate::me::{self, ok, CallNames, Event, MeInstance, Outcome, Status};
 use crate::{column_names, Experiment, MeOptions, MeStats, Table};
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common, InstanceME, ModelExchange};
 use fmi::fmi2::schema::{Causality, Initial, ScalarVariable, ScalarVariableElement, Variability};
 use fmi::traits::FmiImport;
-use fmi::EventFlags;
+use mechfmu_host::model_exchange::Instance;
 
 /// FMI 2.0's default `initial` (the table FMPy applies too); `None` where there is none.
 fn initial(v: &ScalarVariable) -> Option<Initial> {
@@ -247,25 +247,19 @@ struct Fmi2Me<'e> {
     prep: Prepared<'e>,
 }
 
-impl MeInstance for Fmi2Me<'_> {
-    const NAMES: CallNames = CallNames {
-        prefix: "fmi2",
-        get_derivatives: "fmi2GetDerivatives",
-        update_discrete_states: "fmi2NewDiscreteStates",
-        discrete_states_need_update: "newDiscreteStatesNeeded",
-        set_inputs: "fmi2SetReal",
-    };
+impl Instance for Fmi2Me<'_> {
+    const NAMES: CallNames = CallNames::FMI2;
 
     fn set_time(&mut self, t: f64) -> Status {
-        self.fmu.set_time(t).into()
+        self.fmu.set_time(t).status()
     }
 
     fn set_continuous_states(&mut self, x: &[f64]) -> Status {
-        self.fmu.set_continuous_states(x).into()
+        self.fmu.set_continuous_states(x).status()
     }
 
     fn get_derivatives(&mut self, dx: &mut [f64]) -> Status {
-        self.fmu.get_derivatives(dx).into()
+        self.fmu.get_derivatives(dx).status()
     }
 
     fn get_event_indicators(&mut self, z: &mut [f64]) -> Status {
@@ -273,38 +267,45 @@ impl MeInstance for Fmi2Me<'_> {
             Ok(true) => Status::Ok,
             // the fmi crate reports fmi2Discard as `false`
             Ok(false) => Status::Fail("fmi2Discard".into()),
-            Err(e) => Err(e).into(),
+            Err(e) => Err(e).status(),
         }
     }
 
     fn completed_integrator_step(&mut self, enter: &mut bool, terminate: &mut bool) -> Status {
         self.fmu
             .completed_integrator_step(true, enter, terminate)
-            .into()
+            .status()
     }
 
     fn enter_event_mode(&mut self) -> Status {
-        self.fmu.enter_event_mode().into()
+        self.fmu.enter_event_mode().status()
     }
 
-    fn update_discrete_states(&mut self, flags: &mut EventFlags) -> Status {
-        self.fmu.new_discrete_states(flags).into()
+    fn update_discrete_states(&mut self, event: &mut Event) -> Status {
+        let mut flags = fmi::EventFlags::default();
+        let r = self.fmu.new_discrete_states(&mut flags).status();
+        *event = me::event(&flags);
+        r
     }
 
     fn enter_continuous_time_mode(&mut self) -> Status {
-        self.fmu.enter_continuous_time_mode().into()
+        self.fmu.enter_continuous_time_mode().status()
     }
 
     fn get_continuous_states(&mut self, x: &mut [f64]) -> Status {
-        self.fmu.get_continuous_states(x).into()
+        self.fmu.get_continuous_states(x).status()
     }
 
     fn terminate(&mut self) -> Status {
-        self.fmu.terminate().into()
+        self.fmu.terminate().status()
     }
+}
+
+impl MeInstance for Fmi2Me<'_> {
+    const SET_INPUTS: &'static str = "fmi2SetReal";
 
     fn set_inputs(&mut self, row: &[f64]) -> Status {
-        self.fmu.set_real(&self.prep.input_vrs, row).into()
+        self.fmu.set_real(&self.prep.input_vrs, row).status()
     }
 
     fn input_list(&self) -> &str {

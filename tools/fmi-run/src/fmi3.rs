@@ -7,7 +7,7 @@
 //! are the model description's start values with the elements the experiment names
 //! replaced. Recorded elements are read with their array.
 
-use crate::me::{self, ok, CallNames, MeInstance, Status};
+use crate::me::{self, ok, CallNames, Event, MeInstance, Outcome, Status};
 use crate::{column_names, Experiment, MeOptions, MeStats, Table};
 use fmi::fmi3::import::Fmi3Import;
 use fmi::fmi3::instance::{InstanceCS, InstanceME};
@@ -16,7 +16,7 @@ use fmi::fmi3::schema::{
 };
 use fmi::fmi3::{CoSimulation, Common, Fmi3Model, GetSet, ModelExchange};
 use fmi::traits::FmiImport;
-use fmi::EventFlags;
+use mechfmu_host::model_exchange::Instance;
 use std::collections::BTreeMap;
 
 /// FMI 3.0's default `initial` where the model description gives none.
@@ -395,7 +395,7 @@ pub(crate) fn run(exp: &Experiment) -> Result<Table, String> {
             ];
             let raised: Vec<&str> = flags.iter().filter(|f| f.0).map(|f| f.1).collect();
             if !raised.is_empty() {
-                let status = match Status::from(r) {
+                let status = match r.status() {
                     Status::Ok => "fmi3OK".to_string(),
                     Status::Warning(name) => name.to_string(),
                     Status::Fail(name) => name,
@@ -423,25 +423,19 @@ struct Fmi3Me {
     prep: Prepared,
 }
 
-impl MeInstance for Fmi3Me {
-    const NAMES: CallNames = CallNames {
-        prefix: "fmi3",
-        get_derivatives: "fmi3GetContinuousStateDerivatives",
-        update_discrete_states: "fmi3UpdateDiscreteStates",
-        discrete_states_need_update: "discreteStatesNeedUpdate",
-        set_inputs: "fmi3SetFloat64",
-    };
+impl Instance for Fmi3Me {
+    const NAMES: CallNames = CallNames::FMI3;
 
     fn set_time(&mut self, t: f64) -> Status {
-        self.fmu.set_time(t).into()
+        self.fmu.set_time(t).status()
     }
 
     fn set_continuous_states(&mut self, x: &[f64]) -> Status {
-        self.fmu.set_continuous_states(x).into()
+        self.fmu.set_continuous_states(x).status()
     }
 
     fn get_derivatives(&mut self, dx: &mut [f64]) -> Status {
-        self.fmu.get_continuous_state_derivatives(dx).into()
+        self.fmu.get_continuous_state_derivatives(dx).status()
     }
 
     fn get_event_indicators(&mut self, z: &mut [f64]) -> Status {
@@ -449,39 +443,46 @@ impl MeInstance for Fmi3Me {
             Ok(true) => Status::Ok,
             // the fmi crate reports fmi3Discard as `false`
             Ok(false) => Status::Fail("fmi3Discard".into()),
-            Err(e) => Err(e).into(),
+            Err(e) => Err(e).status(),
         }
     }
 
     fn completed_integrator_step(&mut self, enter: &mut bool, terminate: &mut bool) -> Status {
         self.fmu
             .completed_integrator_step(true, enter, terminate)
-            .into()
+            .status()
     }
 
     fn enter_event_mode(&mut self) -> Status {
-        Common::enter_event_mode(&mut self.fmu).into()
+        Common::enter_event_mode(&mut self.fmu).status()
     }
 
-    fn update_discrete_states(&mut self, flags: &mut EventFlags) -> Status {
-        Common::update_discrete_states(&mut self.fmu, flags).into()
+    fn update_discrete_states(&mut self, event: &mut Event) -> Status {
+        let mut flags = fmi::EventFlags::default();
+        let r = Common::update_discrete_states(&mut self.fmu, &mut flags).status();
+        *event = me::event(&flags);
+        r
     }
 
     fn enter_continuous_time_mode(&mut self) -> Status {
-        self.fmu.enter_continuous_time_mode().into()
+        self.fmu.enter_continuous_time_mode().status()
     }
 
     fn get_continuous_states(&mut self, x: &mut [f64]) -> Status {
-        self.fmu.get_continuous_states(x).into()
+        self.fmu.get_continuous_states(x).status()
     }
 
     fn terminate(&mut self) -> Status {
-        Common::terminate(&mut self.fmu).into()
+        Common::terminate(&mut self.fmu).status()
     }
+}
+
+impl MeInstance for Fmi3Me {
+    const SET_INPUTS: &'static str = "fmi3SetFloat64";
 
     fn set_inputs(&mut self, row: &[f64]) -> Status {
         let values = self.prep.inputs(row);
-        self.fmu.set_float64(&self.prep.input_vrs, &values).into()
+        self.fmu.set_float64(&self.prep.input_vrs, &values).status()
     }
 
     fn input_list(&self) -> &str {

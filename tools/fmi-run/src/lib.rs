@@ -41,8 +41,9 @@
 //!
 //! # Model Exchange (`--interface me`)
 //!
-//! The same experiment, the same CSV, with the FMU's `<ModelExchange>` interface and this
-//! crate's own integrator, a fixed-step classical Runge-Kutta (RK4):
+//! The same experiment, the same CSV, with the FMU's `<ModelExchange>` interface and the
+//! importers' one Model Exchange driver (`mechfmu_host::model_exchange`, with this crate's
+//! options), a fixed-step classical Runge-Kutta (RK4):
 //!
 //! 1. to 3. as above, with two differences: `fmi2Instantiate` as Model Exchange, and
 //!    `fmi2SetupExperiment` without a tolerance (a fixed-step integrator controls no error;
@@ -256,7 +257,7 @@ pub enum Interface {
     /// communication step ([`run`]).
     #[default]
     CoSimulation,
-    /// Model Exchange (`me`): this crate's fixed-step RK4 with event handling ([`run_me`]).
+    /// Model Exchange (`me`): a fixed-step RK4 with event handling ([`run_me`]).
     ModelExchange,
 }
 
@@ -339,23 +340,7 @@ impl Default for MeOptions {
 }
 
 /// What happened during a Model Exchange run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct MeStats {
-    /// Accepted RK4 steps (a step cut short at an event counts as one).
-    pub steps: usize,
-    /// `fmi2GetDerivatives` calls (4 per RK4 step, bisection trials included).
-    pub derivative_evaluations: usize,
-    /// State events: a sign change of an event indicator, located by bisection.
-    pub state_events: usize,
-    /// Step events: `fmi2CompletedIntegratorStep` returned `enterEventMode`.
-    pub step_events: usize,
-    /// Time events: the time an event iteration announced (`nextEventTime`) reached.
-    pub time_events: usize,
-    /// Input events: the inputs changed at a communication point.
-    pub input_events: usize,
-    /// Event iterations whose `fmi2NewDiscreteStates` set `valuesOfContinuousStatesChanged`.
-    pub state_changes: usize,
-}
+pub use mechfmu_host::model_exchange::Stats as MeStats;
 
 /// The width below which bisection stops locating a sign change of an event indicator (s).
 pub const EVENT_LOCATION_TOLERANCE: f64 = 1e-12;

@@ -1,63 +1,12 @@
-//! The FMI 2.0 functions an importer calls, by their C names, typed as the standard's header
-//! declares them (`mechfmu::fmi2::ffi`'s C types), and the benchmark entry points of a binary
-//! built with the runtime's `bench` feature.
+//! The FMI 2.0 functions a well-behaved importer calls, by their C names, typed as the
+//! standard's header declares them ([`super::api`]'s types), and the benchmark entry points
+//! of a binary built with the runtime's `bench` feature.
 
+use super::api::*;
 use crate::library::Library;
 use mechfmu::fmi2::ffi::*;
 use std::sync::Arc;
 
-/// `fmi2Instantiate`.
-pub(crate) type Instantiate = unsafe extern "C" fn(
-    fmi2String,
-    fmi2Type,
-    fmi2String,
-    fmi2String,
-    *const fmi2CallbackFunctions,
-    fmi2Boolean,
-    fmi2Boolean,
-) -> fmi2Component;
-/// `fmi2FreeInstance`.
-pub(crate) type FreeInstance = unsafe extern "C" fn(fmi2Component);
-/// `fmi2SetupExperiment`.
-pub(crate) type SetupExperiment = unsafe extern "C" fn(
-    fmi2Component,
-    fmi2Boolean,
-    fmi2Real,
-    fmi2Real,
-    fmi2Boolean,
-    fmi2Real,
-) -> fmi2Status;
-/// The calls with the instance as their only argument (`fmi2Reset`, `fmi2Terminate`, ...).
-pub(crate) type Component = unsafe extern "C" fn(fmi2Component) -> fmi2Status;
-/// `fmi2GetReal`.
-pub(crate) type GetReal = unsafe extern "C" fn(
-    fmi2Component,
-    *const fmi2ValueReference,
-    usize,
-    *mut fmi2Real,
-) -> fmi2Status;
-/// `fmi2SetReal`, `fmi2SetInteger`, `fmi2SetBoolean`.
-pub(crate) type Set<T> =
-    unsafe extern "C" fn(fmi2Component, *const fmi2ValueReference, usize, *const T) -> fmi2Status;
-/// `fmi2DoStep`.
-pub(crate) type DoStep =
-    unsafe extern "C" fn(fmi2Component, fmi2Real, fmi2Real, fmi2Boolean) -> fmi2Status;
-/// `fmi2GetRealStatus`.
-pub(crate) type GetRealStatus =
-    unsafe extern "C" fn(fmi2Component, fmi2StatusKind, *mut fmi2Real) -> fmi2Status;
-/// `fmi2GetBooleanStatus`.
-pub(crate) type GetBooleanStatus =
-    unsafe extern "C" fn(fmi2Component, fmi2StatusKind, *mut fmi2Boolean) -> fmi2Status;
-/// `fmi2SetTime`.
-pub(crate) type SetTime = unsafe extern "C" fn(fmi2Component, fmi2Real) -> fmi2Status;
-/// `fmi2SetContinuousStates`.
-pub(crate) type SetStates =
-    unsafe extern "C" fn(fmi2Component, *const fmi2Real, usize) -> fmi2Status;
-/// `fmi2GetContinuousStates`, `fmi2GetDerivatives`.
-pub(crate) type GetStates = unsafe extern "C" fn(fmi2Component, *mut fmi2Real, usize) -> fmi2Status;
-/// `fmi2NewDiscreteStates`.
-pub(crate) type NewDiscreteStates =
-    unsafe extern "C" fn(fmi2Component, *mut fmi2EventInfo) -> fmi2Status;
 /// `mechfmu_counters`: cumulative (communication steps, accepted, rejected, model
 /// evaluations) into a buffer of the given length; the number of counters.
 pub(crate) type Counters = unsafe extern "C" fn(fmi2Component, *mut u64, usize) -> usize;
@@ -70,21 +19,21 @@ pub(crate) type Bench = unsafe extern "C" fn(fmi2Component, u32, u64, fmi2Real) 
 /// so the pointers stay valid as long as the table lives.
 #[derive(Clone)]
 pub struct Functions {
-    pub(crate) instantiate: Instantiate,
-    pub(crate) free_instance: FreeInstance,
-    pub(crate) setup_experiment: SetupExperiment,
-    pub(crate) enter_initialization_mode: Component,
-    pub(crate) exit_initialization_mode: Component,
-    pub(crate) reset: Component,
-    pub(crate) terminate: Component,
-    pub(crate) set_real: Set<fmi2Real>,
-    pub(crate) set_integer: Set<fmi2Integer>,
-    pub(crate) set_boolean: Set<fmi2Boolean>,
-    pub(crate) get_real: GetReal,
-    pub(crate) do_step: DoStep,
+    pub(crate) instantiate: fmi2InstantiateTYPE,
+    pub(crate) free_instance: fmi2FreeInstanceTYPE,
+    pub(crate) setup_experiment: fmi2SetupExperimentTYPE,
+    pub(crate) enter_initialization_mode: fmi2EnterInitializationModeTYPE,
+    pub(crate) exit_initialization_mode: fmi2ExitInitializationModeTYPE,
+    pub(crate) reset: fmi2ResetTYPE,
+    pub(crate) terminate: fmi2TerminateTYPE,
+    pub(crate) set_real: fmi2SetRealTYPE,
+    pub(crate) set_integer: fmi2SetIntegerTYPE,
+    pub(crate) set_boolean: fmi2SetBooleanTYPE,
+    pub(crate) get_real: fmi2GetRealTYPE,
+    pub(crate) do_step: fmi2DoStepTYPE,
     /// Optional: only needed after a discarded step, and some exporters leave them out.
-    pub(crate) get_boolean_status: Option<GetBooleanStatus>,
-    pub(crate) get_real_status: Option<GetRealStatus>,
+    pub(crate) get_boolean_status: Option<fmi2GetBooleanStatusTYPE>,
+    pub(crate) get_real_status: Option<fmi2GetRealStatusTYPE>,
     pub(crate) model_exchange: Option<ModelExchangeFunctions>,
     pub(crate) bench: Option<BenchFunctions>,
     _library: Arc<libloading::Library>,
@@ -93,12 +42,12 @@ pub struct Functions {
 /// The Model Exchange functions of [`Functions`].
 #[derive(Clone, Copy)]
 pub(crate) struct ModelExchangeFunctions {
-    pub(crate) new_discrete_states: NewDiscreteStates,
-    pub(crate) enter_continuous_time_mode: Component,
-    pub(crate) set_time: SetTime,
-    pub(crate) set_continuous_states: SetStates,
-    pub(crate) get_continuous_states: GetStates,
-    pub(crate) get_derivatives: GetStates,
+    pub(crate) new_discrete_states: fmi2NewDiscreteStatesTYPE,
+    pub(crate) enter_continuous_time_mode: fmi2EnterContinuousTimeModeTYPE,
+    pub(crate) set_time: fmi2SetTimeTYPE,
+    pub(crate) set_continuous_states: fmi2SetContinuousStatesTYPE,
+    pub(crate) get_continuous_states: fmi2GetContinuousStatesTYPE,
+    pub(crate) get_derivatives: fmi2GetDerivativesTYPE,
 }
 
 /// mechfmu's own entry points of a binary built with the runtime's `bench` feature (not

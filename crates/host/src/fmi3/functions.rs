@@ -1,69 +1,21 @@
 //! The FMI 3.0 Co-Simulation functions an importer calls to step an FMU, by their C names,
-//! typed as the standard's headers declare them (`mechfmu::fmi3::ffi`'s C types).
+//! typed as the standard's headers declare them ([`super::api`]'s types).
 
+use super::api::*;
 use crate::library::Library;
-use mechfmu::fmi3::ffi::*;
 use std::sync::Arc;
-
-/// `fmi3InstantiateCoSimulation`.
-pub(crate) type Instantiate = unsafe extern "C" fn(
-    fmi3String,
-    fmi3String,
-    fmi3String,
-    fmi3Boolean,
-    fmi3Boolean,
-    fmi3Boolean,
-    fmi3Boolean,
-    *const fmi3ValueReference,
-    usize,
-    fmi3InstanceEnvironment,
-    fmi3LogMessageCallback,
-    fmi3IntermediateUpdateCallback,
-) -> fmi3Instance;
-/// `fmi3FreeInstance`.
-pub(crate) type FreeInstance = unsafe extern "C" fn(fmi3Instance);
-/// `fmi3EnterInitializationMode`.
-pub(crate) type EnterInitializationMode = unsafe extern "C" fn(
-    fmi3Instance,
-    fmi3Boolean,
-    fmi3Float64,
-    fmi3Float64,
-    fmi3Boolean,
-    fmi3Float64,
-) -> fmi3Status;
-/// The calls with the instance as their only argument (`fmi3Reset`, ...).
-pub(crate) type Call = unsafe extern "C" fn(fmi3Instance) -> fmi3Status;
-/// `fmi3GetFloat64`.
-pub(crate) type GetFloat64 = unsafe extern "C" fn(
-    fmi3Instance,
-    *const fmi3ValueReference,
-    usize,
-    *mut fmi3Float64,
-    usize,
-) -> fmi3Status;
-/// `fmi3DoStep`.
-pub(crate) type DoStep = unsafe extern "C" fn(
-    fmi3Instance,
-    fmi3Float64,
-    fmi3Float64,
-    fmi3Boolean,
-    *mut fmi3Boolean,
-    *mut fmi3Boolean,
-    *mut fmi3Boolean,
-    *mut fmi3Float64,
-) -> fmi3Status;
 
 /// The FMI 3.0 Co-Simulation functions of a loaded binary. It holds the library, so the
 /// pointers stay valid as long as the table lives.
 #[derive(Clone)]
 pub struct Functions {
-    pub(crate) instantiate: Instantiate,
-    pub(crate) free_instance: FreeInstance,
-    pub(crate) enter_initialization_mode: EnterInitializationMode,
-    pub(crate) exit_initialization_mode: Call,
-    pub(crate) reset: Call,
-    pub(crate) get_float64: GetFloat64,
-    pub(crate) do_step: DoStep,
+    pub(crate) instantiate: fmi3InstantiateCoSimulationTYPE,
+    pub(crate) free_instance: fmi3FreeInstanceTYPE,
+    pub(crate) enter_initialization_mode: fmi3EnterInitializationModeTYPE,
+    pub(crate) exit_initialization_mode: fmi3ExitInitializationModeTYPE,
+    pub(crate) reset: fmi3ResetTYPE,
+    pub(crate) get_float64: fmi3GetFloat64TYPE,
+    pub(crate) do_step: fmi3DoStepTYPE,
     _library: Arc<libloading::Library>,
 }
 

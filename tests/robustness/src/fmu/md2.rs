@@ -1,6 +1,8 @@
-//! What an importer reads from an FMI 2.0 modelDescription.xml.
+//! What this importer reads from an FMI 2.0 modelDescription.xml, through
+//! `mechfmu_host::description`'s parser, and checks of it.
 
-use std::collections::HashMap;
+use mechfmu_host::description;
+use mechfmu_host::platform::Version;
 
 /// One variable of the modelDescription.
 #[derive(Clone, Debug)]
@@ -46,6 +48,18 @@ pub struct Experiment {
     pub tolerance: f64,
 }
 
+impl Experiment {
+    /// The `DefaultExperiment` of a model description.
+    pub fn of(d: &description::ModelDescription) -> Experiment {
+        Experiment {
+            start: d.start,
+            stop: d.stop,
+            step: d.step,
+            tolerance: d.tolerance,
+        }
+    }
+}
+
 /// What the importer reads from modelDescription.xml.
 #[derive(Clone, Debug)]
 pub struct ModelDescription {
@@ -69,182 +83,57 @@ pub struct ModelDescription {
 }
 
 impl ModelDescription {
-    #[allow(deprecated)] // unescape_value: the XML is ours, plain XML 1.0
+    /// Reads an FMI 2.0 modelDescription.xml (`mechfmu_host::description`'s parser): the
+    /// Real variables with their declared types' units, the experiment, the interfaces.
     pub fn parse(xml: &str) -> Result<ModelDescription, String> {
-        use quick_xml::events::Event;
-        let mut reader = quick_xml::Reader::from_str(xml);
-        let mut md = ModelDescription {
-            model_name: String::new(),
-            guid: String::new(),
-            model_identifier: String::new(),
-            can_not_use_memory_management_functions: false,
-            max_output_derivative_order: 0,
-            log_categories: vec![],
-            experiment: Experiment {
-                start: 0.0,
-                stop: 1.0,
-                step: 1e-3,
-                tolerance: 1e-6,
-            },
-            variables: vec![],
-            model_exchange: None,
-            completed_integrator_step_not_needed: false,
-            number_of_event_indicators: 0,
-            derivatives: vec![],
+        let d = description::ModelDescription::parse(xml)?;
+        if d.version != Version::Fmi2 {
+            return Err("not an FMI 2.0 modelDescription".into());
+        }
+        let variables = (d.variables.iter())
+            .map(|v| {
+                if v.kind != "Real" {
+                    return Err(format!(
+                        "variable {:?} is not a Real: this importer knows Real variables only",
+                        v.name
+                    ));
+                }
+                Ok(Var {
+                    name: v.name.clone(),
+                    vr: v.vr,
+                    causality: v.causality.clone(),
+                    variability: v.variability.clone(),
+                    initial: v.initial.clone(),
+                    start: v.start,
+                    min: v.min,
+                    max: v.max,
+                    unit: v.unit.clone(),
+                    quantity: v.quantity.clone(),
+                    derivative: v.derivative.map(|i| i as usize),
+                })
+            })
+            .collect::<Result<_, String>>()?;
+        let i = &d.interfaces;
+        let derivatives = (d.derivative_indices.iter())
+            .map(|&i| i.checked_sub(1))
+            .collect::<Option<_>>()
+            .ok_or("a <Derivatives><Unknown> without a valid index")?;
+        let md = ModelDescription {
+            model_name: d.model_name.clone(),
+            guid: d.token.clone(),
+            model_identifier: d.model_identifier.clone(),
+            can_not_use_memory_management_functions: i.can_not_use_memory_management_functions,
+            max_output_derivative_order: i.max_output_derivative_order,
+            log_categories: d.log_categories.clone(),
+            experiment: Experiment::of(&d),
+            variables,
+            model_exchange: i.model_exchange_identifier.clone(),
+            completed_integrator_step_not_needed: i.completed_integrator_step_not_needed,
+            number_of_event_indicators: d.number_of_event_indicators,
+            derivatives,
         };
-        let mut in_derivatives = false;
-        let mut simple_types: HashMap<String, (Option<String>, Option<String>)> = HashMap::new();
-        let mut current_type: Option<String> = None;
-        let mut current_var: Option<(HashMap<String, String>, Option<String>)> = None;
-        let mut declared: Vec<(HashMap<String, String>, HashMap<String, String>)> = vec![];
-        loop {
-            let event = reader.read_event().map_err(|e| format!("XML: {e}"))?;
-            let (e, empty) = match &event {
-                Event::Start(e) => (e, false),
-                Event::Empty(e) => (e, true),
-                Event::End(e) => {
-                    match e.name().as_ref() {
-                        "SimpleType" => current_type = None,
-                        "Derivatives" => in_derivatives = false,
-                        "ScalarVariable" => {
-                            if let Some((attrs, _)) = current_var.take() {
-                                declared.push((attrs, HashMap::new()));
-                            }
-                        }
-                        _ => {}
-                    }
-                    continue;
-                }
-                Event::Eof => break,
-                _ => continue,
-            };
-            let mut attrs = HashMap::new();
-            for a in e.attributes() {
-                let a = a.map_err(|e| format!("XML attribute: {e}"))?;
-                let key = a.key.as_ref().to_string();
-                let value = a
-                    .unescape_value()
-                    .map_err(|e| format!("XML: {e}"))?
-                    .into_owned();
-                attrs.insert(key, value);
-            }
-            match e.name().as_ref() {
-                "fmiModelDescription" => {
-                    md.model_name = attrs.get("modelName").cloned().unwrap_or_default();
-                    md.guid = attrs.get("guid").cloned().unwrap_or_default();
-                    md.number_of_event_indicators = attrs
-                        .get("numberOfEventIndicators")
-                        .and_then(|v| v.parse().ok())
-                        .unwrap_or(0);
-                }
-                "ModelExchange" => {
-                    md.model_exchange = attrs.get("modelIdentifier").cloned();
-                    md.completed_integrator_step_not_needed = attrs
-                        .get("completedIntegratorStepNotNeeded")
-                        .is_some_and(|v| v == "true");
-                }
-                "Derivatives" => in_derivatives = !empty,
-                "Unknown" if in_derivatives => md.derivatives.push(
-                    attrs
-                        .get("index")
-                        .and_then(|i| i.parse::<usize>().ok())
-                        .and_then(|i| i.checked_sub(1))
-                        .ok_or("a <Derivatives><Unknown> without a valid index")?,
-                ),
-                "CoSimulation" => {
-                    md.model_identifier = attrs.get("modelIdentifier").cloned().unwrap_or_default();
-                    md.can_not_use_memory_management_functions = attrs
-                        .get("canNotUseMemoryManagementFunctions")
-                        .is_some_and(|v| v == "true");
-                    md.max_output_derivative_order = attrs
-                        .get("maxOutputDerivativeOrder")
-                        .and_then(|v| v.parse().ok())
-                        .unwrap_or(0);
-                }
-                "Category" => md
-                    .log_categories
-                    .push(attrs.get("name").cloned().unwrap_or_default()),
-                "DefaultExperiment" => {
-                    let f =
-                        |k: &str, d: f64| attrs.get(k).and_then(|v| v.parse().ok()).unwrap_or(d);
-                    md.experiment = Experiment {
-                        start: f("startTime", 0.0),
-                        stop: f("stopTime", 1.0),
-                        step: f("stepSize", 1e-3),
-                        tolerance: f("tolerance", 1e-6),
-                    };
-                }
-                "SimpleType" if !empty => current_type = attrs.get("name").cloned(),
-                "ScalarVariable" => {
-                    if empty {
-                        declared.push((attrs, HashMap::new()));
-                    } else {
-                        current_var = Some((attrs, None));
-                    }
-                }
-                "Real" | "Integer" | "Boolean" | "String" | "Enumeration" => {
-                    if let Some(t) = &current_type {
-                        simple_types.insert(
-                            t.clone(),
-                            (attrs.get("unit").cloned(), attrs.get("quantity").cloned()),
-                        );
-                    } else if let Some((var_attrs, _)) = current_var.take() {
-                        let mut real = attrs;
-                        real.insert("#type".into(), e.name().as_ref().to_string());
-                        declared.push((var_attrs, real));
-                    }
-                }
-                _ => {}
-            }
-        }
-        for (v, real) in declared {
-            md.variables.push(Self::variable(&v, &real, &simple_types)?);
-        }
         md.check()?;
         Ok(md)
-    }
-
-    /// The variable of a `<ScalarVariable>` (attributes `v`) and its type element (`real`,
-    /// the element's name under `#type`): a Real, with the unit and quantity of its declared
-    /// type in `types` unless it has its own.
-    fn variable(
-        v: &HashMap<String, String>,
-        real: &HashMap<String, String>,
-        types: &HashMap<String, (Option<String>, Option<String>)>,
-    ) -> Result<Var, String> {
-        let num = |k: &str| real.get(k).and_then(|x| x.parse::<f64>().ok());
-        let (type_unit, type_quantity) = real
-            .get("declaredType")
-            .and_then(|t| types.get(t).cloned())
-            .unwrap_or((None, None));
-        if real.get("#type").map(String::as_str) != Some("Real") {
-            return Err(format!(
-                "variable {:?} is not a Real: this importer knows Real variables only",
-                v.get("name")
-            ));
-        }
-        Ok(Var {
-            name: v.get("name").cloned().unwrap_or_default(),
-            vr: v
-                .get("valueReference")
-                .and_then(|x| x.parse().ok())
-                .ok_or("a variable without a valid valueReference")?,
-            causality: v
-                .get("causality")
-                .cloned()
-                .unwrap_or_else(|| "local".into()),
-            variability: v
-                .get("variability")
-                .cloned()
-                .unwrap_or_else(|| "continuous".into()),
-            initial: v.get("initial").cloned(),
-            start: num("start"),
-            min: num("min"),
-            max: num("max"),
-            unit: real.get("unit").cloned().or(type_unit),
-            quantity: real.get("quantity").cloned().or(type_quantity),
-            derivative: real.get("derivative").and_then(|x| x.parse().ok()),
-        })
     }
 
     /// What an importer relies on: a GUID, one binary, `<Derivatives>` listing derivatives.

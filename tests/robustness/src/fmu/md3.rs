@@ -1,11 +1,13 @@
-//! What an importer reads from an FMI 3.0 modelDescription.xml: the variables by value
-//! reference (an array is one variable of several elements, its `<Dimension>`s fixed by
-//! `start`), the independent `time`, the instantiation token, the interface types'
-//! capabilities and the `<ModelStructure>` (continuous state derivatives and event
-//! indicators, whose elements count the states and indicators).
+//! What this importer reads from an FMI 3.0 modelDescription.xml (through
+//! `mechfmu_host::description`'s parser): the variables by value reference (an array is one
+//! variable of several elements, its `<Dimension>`s fixed by `start`), the independent
+//! `time`, the instantiation token, the interface types' capabilities and the
+//! `<ModelStructure>` (continuous state derivatives and event indicators, whose elements
+//! count the states and indicators), and checks of it.
 
 use super::md2::Experiment;
-use std::collections::HashMap;
+use mechfmu_host::description;
+use mechfmu_host::platform::Version;
 
 /// One variable of the FMI 3.0 modelDescription (a scalar or an array).
 #[derive(Clone, Debug)]
@@ -71,216 +73,70 @@ pub struct ModelDescription3 {
     pub event_indicators: Vec<u32>,
 }
 
-fn flag(attrs: &HashMap<String, String>, key: &str) -> bool {
-    attrs.get(key).is_some_and(|v| v == "true")
-}
-
 impl ModelDescription3 {
-    #[allow(deprecated)] // unescape_value: the XML is ours, plain XML 1.0
+    /// Reads an FMI 3.0 modelDescription.xml (`mechfmu_host::description`'s parser): the
+    /// Float64 variables with their declared types' units, the experiment, the interfaces,
+    /// the `<ModelStructure>`.
     pub fn parse(xml: &str) -> Result<ModelDescription3, String> {
-        use quick_xml::events::Event;
-        let mut reader = quick_xml::Reader::from_str(xml);
-        let mut md = ModelDescription3 {
-            model_name: String::new(),
-            instantiation_token: String::new(),
-            model_identifier: String::new(),
-            model_exchange: None,
-            needs_completed_integrator_step: false,
-            max_output_derivative_order: 0,
-            might_return_early_from_do_step: false,
-            has_event_mode: false,
-            provides_intermediate_update: false,
-            log_categories: vec![],
-            experiment: Experiment {
-                start: 0.0,
-                stop: 1.0,
-                step: 1e-3,
-                tolerance: 1e-6,
-            },
-            variables: vec![],
-            derivatives: vec![],
-            event_indicators: vec![],
-        };
-        let mut types: HashMap<String, (Option<String>, Option<String>)> = HashMap::new();
-        let mut in_variables = false;
-        let mut in_structure = false;
-        // The variable being read (its attributes), its dimensions so far.
-        let mut current: Option<(HashMap<String, String>, Vec<usize>)> = None;
-        let mut declared: Vec<(HashMap<String, String>, Vec<usize>)> = vec![];
-        loop {
-            let event = reader.read_event().map_err(|e| format!("XML: {e}"))?;
-            let (e, empty) = match &event {
-                Event::Start(e) => (e, false),
-                Event::Empty(e) => (e, true),
-                Event::End(e) => {
-                    match e.name().as_ref() {
-                        "ModelVariables" => in_variables = false,
-                        "ModelStructure" => in_structure = false,
-                        "Float64" if in_variables => {
-                            if let Some(v) = current.take() {
-                                declared.push(v);
-                            }
-                        }
-                        _ => {}
-                    }
-                    continue;
-                }
-                Event::Eof => break,
-                _ => continue,
-            };
-            let mut attrs = HashMap::new();
-            for a in e.attributes() {
-                let a = a.map_err(|e| format!("XML attribute: {e}"))?;
-                let value = a
-                    .unescape_value()
-                    .map_err(|e| format!("XML: {e}"))?
-                    .into_owned();
-                attrs.insert(a.key.as_ref().to_string(), value);
-            }
-            let name = e.name().as_ref().to_string();
-            let vr = |attrs: &HashMap<String, String>| -> Result<u32, String> {
-                attrs
-                    .get("valueReference")
-                    .and_then(|v| v.parse().ok())
-                    .ok_or_else(|| format!("a <{name}> without a valid valueReference"))
-            };
-            match name.as_str() {
-                "fmiModelDescription" => {
-                    if attrs.get("fmiVersion").map(String::as_str) != Some("3.0") {
-                        return Err("not an FMI 3.0 modelDescription".into());
-                    }
-                    md.model_name = attrs.get("modelName").cloned().unwrap_or_default();
-                    md.instantiation_token =
-                        attrs.get("instantiationToken").cloned().unwrap_or_default();
-                }
-                "ModelExchange" => {
-                    md.model_exchange = attrs.get("modelIdentifier").cloned();
-                    md.needs_completed_integrator_step =
-                        flag(&attrs, "needsCompletedIntegratorStep");
-                }
-                "CoSimulation" => {
-                    md.model_identifier = attrs.get("modelIdentifier").cloned().unwrap_or_default();
-                    md.max_output_derivative_order = attrs
-                        .get("maxOutputDerivativeOrder")
-                        .and_then(|v| v.parse().ok())
-                        .unwrap_or(0);
-                    md.might_return_early_from_do_step = flag(&attrs, "mightReturnEarlyFromDoStep");
-                    md.has_event_mode = flag(&attrs, "hasEventMode");
-                    md.provides_intermediate_update = flag(&attrs, "providesIntermediateUpdate");
-                }
-                "ScheduledExecution" => {
-                    return Err("<ScheduledExecution>: this importer does not drive it".into())
-                }
-                "Float64Type" => {
-                    if let Some(t) = attrs.get("name") {
-                        types.insert(
-                            t.clone(),
-                            (attrs.get("unit").cloned(), attrs.get("quantity").cloned()),
-                        );
-                    }
-                }
-                "Category" => md
-                    .log_categories
-                    .push(attrs.get("name").cloned().unwrap_or_default()),
-                "DefaultExperiment" => {
-                    let f =
-                        |k: &str, d: f64| attrs.get(k).and_then(|v| v.parse().ok()).unwrap_or(d);
-                    md.experiment = Experiment {
-                        start: f("startTime", 0.0),
-                        stop: f("stopTime", 1.0),
-                        step: f("stepSize", 1e-3),
-                        tolerance: f("tolerance", 1e-6),
-                    };
-                }
-                "ModelVariables" => in_variables = !empty,
-                "ModelStructure" => in_structure = !empty,
-                "Dimension" if in_variables => {
-                    let Some((_, dims)) = current.as_mut() else {
-                        return Err("a <Dimension> outside a variable".into());
-                    };
-                    match attrs.get("start").and_then(|s| s.parse().ok()) {
-                        Some(n) => dims.push(n),
-                        None => {
-                            return Err(
-                                "a <Dimension> without a fixed start: this importer knows no structural parameters".into(),
-                            )
-                        }
-                    }
-                }
-                "Float64" if in_variables => {
-                    if empty {
-                        declared.push((attrs, vec![]));
-                    } else {
-                        current = Some((attrs, vec![]));
-                    }
-                }
-                "ContinuousStateDerivative" if in_structure => md.derivatives.push(vr(&attrs)?),
-                "EventIndicator" if in_structure => md.event_indicators.push(vr(&attrs)?),
-                "Output" | "InitialUnknown" | "ClockedState" if in_structure => {}
-                _ if in_variables && current.is_none() => {
+        let d = description::ModelDescription::parse(xml)?;
+        if d.version != Version::Fmi3 {
+            return Err("not an FMI 3.0 modelDescription".into());
+        }
+        let i = &d.interfaces;
+        if i.scheduled_execution {
+            return Err("<ScheduledExecution>: this importer does not drive it".into());
+        }
+        let variables = (d.variables.iter())
+            .map(|v| {
+                if v.kind != "Float64" {
                     return Err(format!(
-                        "variable type <{name}>: this importer knows Float64 variables only"
-                    ))
+                        "variable type <{}>: this importer knows Float64 variables only",
+                        v.kind
+                    ));
                 }
-                _ => {}
-            }
-        }
-        for (v, dimensions) in declared {
-            md.variables.push(Self::variable(&v, dimensions, &types)?);
-        }
+                let var = Var3 {
+                    name: v.name.clone(),
+                    vr: v.vr,
+                    causality: v.causality.clone(),
+                    variability: v.variability.clone(),
+                    initial: v.initial.clone(),
+                    start: v.start_values.clone(),
+                    min: v.min,
+                    max: v.max,
+                    unit: v.unit.clone(),
+                    quantity: v.quantity.clone(),
+                    derivative: v.derivative,
+                    dimensions: v.dimensions.clone(),
+                };
+                if !var.start.is_empty() && var.start.len() != var.len() {
+                    return Err(format!(
+                        "variable {}: {} start values for {} elements",
+                        var.name,
+                        var.start.len(),
+                        var.len()
+                    ));
+                }
+                Ok(var)
+            })
+            .collect::<Result<_, String>>()?;
+        let md = ModelDescription3 {
+            model_name: d.model_name.clone(),
+            instantiation_token: d.token.clone(),
+            model_identifier: d.model_identifier.clone(),
+            model_exchange: i.model_exchange_identifier.clone(),
+            needs_completed_integrator_step: i.needs_completed_integrator_step,
+            max_output_derivative_order: i.max_output_derivative_order,
+            might_return_early_from_do_step: i.might_return_early_from_do_step,
+            has_event_mode: i.has_event_mode,
+            provides_intermediate_update: i.provides_intermediate_update,
+            log_categories: d.log_categories.clone(),
+            experiment: Experiment::of(&d),
+            variables,
+            derivatives: d.state_derivatives.clone(),
+            event_indicators: d.event_indicators.clone(),
+        };
         md.check()?;
         Ok(md)
-    }
-
-    fn variable(
-        v: &HashMap<String, String>,
-        dimensions: Vec<usize>,
-        types: &HashMap<String, (Option<String>, Option<String>)>,
-    ) -> Result<Var3, String> {
-        let num = |k: &str| v.get(k).and_then(|x| x.parse::<f64>().ok());
-        let (type_unit, type_quantity) = v
-            .get("declaredType")
-            .and_then(|t| types.get(t).cloned())
-            .unwrap_or((None, None));
-        let start = match v.get("start") {
-            None => vec![],
-            Some(s) => s
-                .split_whitespace()
-                .map(|x| x.parse::<f64>().map_err(|e| format!("start {s:?}: {e}")))
-                .collect::<Result<_, _>>()?,
-        };
-        let var = Var3 {
-            name: v.get("name").cloned().unwrap_or_default(),
-            vr: v
-                .get("valueReference")
-                .and_then(|x| x.parse().ok())
-                .ok_or("a variable without a valid valueReference")?,
-            causality: v
-                .get("causality")
-                .cloned()
-                .unwrap_or_else(|| "local".into()),
-            variability: v
-                .get("variability")
-                .cloned()
-                .unwrap_or_else(|| "continuous".into()),
-            initial: v.get("initial").cloned(),
-            start,
-            min: num("min"),
-            max: num("max"),
-            unit: v.get("unit").cloned().or(type_unit),
-            quantity: v.get("quantity").cloned().or(type_quantity),
-            derivative: v.get("derivative").and_then(|x| x.parse().ok()),
-            dimensions,
-        };
-        if !var.start.is_empty() && var.start.len() != var.len() {
-            return Err(format!(
-                "variable {}: {} start values for {} elements",
-                var.name,
-                var.start.len(),
-                var.len()
-            ));
-        }
-        Ok(var)
     }
 
     /// What an importer relies on: one binary, distinct value references, one `time`,

@@ -1,6 +1,6 @@
 //! Finding, unpacking and loading the built FMUs (`fmus/<Name>.fmu` of FMI 2.0,
-//! `fmus/fmi3/<Name>.fmu` of FMI 3.0), and reading what an importer needs from their
-//! modelDescription.xml ([`md2`], [`md3`]).
+//! `fmus/fmi3/<Name>.fmu` of FMI 3.0), and what this importer needs of their
+//! modelDescription.xml ([`md2`], [`md3`]: read by `mechfmu_host::description`'s parser).
 
 mod md2;
 mod md3;
@@ -10,7 +10,8 @@ pub use md3::{ModelDescription3, Var3};
 
 use crate::ffi::Api;
 use crate::ffi3::Api3;
-use std::io::Read;
+use mechfmu_host::archive;
+use mechfmu_host::library::Library;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -78,7 +79,7 @@ pub fn required_fmu3_paths() -> Vec<PathBuf> {
 
 /// The FMI version a `.fmu`'s modelDescription.xml declares (`fmiVersion`).
 pub fn fmi_version(fmu: &Path) -> Result<String, String> {
-    let xml = Unpacked::model_description(fmu)?;
+    let xml = archive::model_description(fmu)?;
     let at = xml
         .find("fmiVersion=\"")
         .ok_or_else(|| format!("{}: no fmiVersion", fmu.display()))?;
@@ -88,62 +89,34 @@ pub fn fmi_version(fmu: &Path) -> Result<String, String> {
 
 static UNPACKED: AtomicUsize = AtomicUsize::new(0);
 
-/// An FMU's binary copied into a private temporary directory and loaded (removed again
-/// on drop).
+/// An FMU's model description and this machine's binary, written into a private temporary
+/// directory (removed again on drop), and the binary loaded.
 struct Unpacked {
-    lib: Option<libloading::Library>,
+    library: Library,
     dir: PathBuf,
     binary: PathBuf,
 }
 
 impl Unpacked {
-    fn model_description(fmu: &Path) -> Result<String, String> {
-        let file = std::fs::File::open(fmu).map_err(|e| format!("{}: {e}", fmu.display()))?;
-        let mut zip = zip::ZipArchive::new(file).map_err(|e| format!("{}: {e}", fmu.display()))?;
-        let mut xml = String::new();
-        zip.by_name("modelDescription.xml")
-            .map_err(|e| format!("{}: modelDescription.xml: {e}", fmu.display()))?
-            .read_to_string(&mut xml)
-            .map_err(|e| e.to_string())?;
-        Ok(xml)
-    }
-
-    /// dlopens the archive's `entry` (the binary), from a copy of its own.
-    fn binary(fmu: &Path, entry: &str) -> Result<Unpacked, String> {
-        let file = std::fs::File::open(fmu).map_err(|e| format!("{}: {e}", fmu.display()))?;
-        let mut zip = zip::ZipArchive::new(file).map_err(|e| format!("{}: {e}", fmu.display()))?;
-        let mut so = vec![];
-        zip.by_name(entry)
-            .map_err(|e| format!("{}: {entry}: {e}", fmu.display()))?
-            .read_to_end(&mut so)
-            .map_err(|e| e.to_string())?;
+    /// Writes out the model description and the binary of `fmu` (`mechfmu_host::archive`:
+    /// from this machine's platform folder of the FMU's version) and loads the binary.
+    fn new(fmu: &Path) -> Result<Unpacked, String> {
         let dir = std::env::temp_dir().join(format!(
             "mechfmu-robustness-{}-{}",
             std::process::id(),
             UNPACKED.fetch_add(1, Ordering::Relaxed)
         ));
-        std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        let name = Path::new(entry).file_name().expect("a file name");
-        let binary = dir.join(name);
-        std::fs::write(&binary, &so).map_err(|e| format!("{}: {e}", binary.display()))?;
-        // SAFETY: an FMU binary: loading it runs no initializers of consequence.
-        let lib = unsafe { libloading::Library::new(&binary) }
-            .map_err(|e| format!("{}: {e}", binary.display()))?;
+        let extracted = archive::extract(fmu, &dir)?;
         Ok(Unpacked {
-            lib: Some(lib),
+            library: Library::open(&extracted.binary)?,
             dir,
-            binary,
+            binary: extracted.binary,
         })
-    }
-
-    fn lib(&self) -> &libloading::Library {
-        self.lib.as_ref().expect("loaded until dropped")
     }
 }
 
 impl Drop for Unpacked {
     fn drop(&mut self) {
-        drop(self.lib.take());
         let _ = std::fs::remove_dir_all(&self.dir);
     }
 }
@@ -157,16 +130,13 @@ pub struct Fmu {
 }
 
 impl Fmu {
-    /// Unpacks `fmu` (modelDescription.xml and binaries/linux64/<id>.so) and dlopens the
+    /// Unpacks `fmu` (modelDescription.xml and this machine's binary) and loads the
     /// binary, resolving all 44 functions.
     pub fn load(fmu: &Path) -> Result<Fmu, String> {
-        let xml = Unpacked::model_description(fmu)?;
+        let xml = archive::model_description(fmu)?;
         let md = ModelDescription::parse(&xml).map_err(|e| format!("{}: {e}", fmu.display()))?;
-        let unpacked =
-            Unpacked::binary(fmu, &format!("binaries/linux64/{}.so", md.model_identifier))?;
-        // SAFETY: an FMI 2.0 binary.
-        let api =
-            unsafe { Api::load(unpacked.lib()) }.map_err(|e| format!("{}: {e}", fmu.display()))?;
+        let unpacked = Unpacked::new(fmu)?;
+        let api = Api::load(&unpacked.library).map_err(|e| format!("{}: {e}", fmu.display()))?;
         Ok(Fmu {
             md,
             api,
@@ -198,29 +168,24 @@ pub struct Fmu3 {
 }
 
 impl Fmu3 {
-    /// Unpacks `fmu` (modelDescription.xml and binaries/x86_64-linux/<id>.so) and dlopens
-    /// the binary, resolving all 75 functions.
+    /// Unpacks `fmu` (modelDescription.xml and this machine's binary) and loads the
+    /// binary, resolving all 75 functions.
     pub fn load(fmu: &Path) -> Result<Fmu3, String> {
-        let xml = Unpacked::model_description(fmu)?;
+        let xml = archive::model_description(fmu)?;
         let md = ModelDescription3::parse(&xml).map_err(|e| format!("{}: {e}", fmu.display()))?;
-        let unpacked = Unpacked::binary(
-            fmu,
-            &format!("binaries/x86_64-linux/{}.so", md.model_identifier),
-        )?;
-        // SAFETY: an FMI 3.0 binary.
-        let api =
-            unsafe { Api3::load(unpacked.lib()) }.map_err(|e| format!("{}: {e}", fmu.display()))?;
+        let unpacked = Unpacked::new(fmu)?;
+        let api = Api3::load(&unpacked.library).map_err(|e| format!("{}: {e}", fmu.display()))?;
         let sibling = fmu
             .parent()
             .and_then(Path::parent)
             .map(|d| d.join(fmu.file_name().unwrap_or_default()));
         let guid = sibling
-            .and_then(|p| Unpacked::model_description(&p).ok())
+            .and_then(|p| archive::model_description(&p).ok())
             .and_then(|xml| ModelDescription::parse(&xml).ok())
             .filter(|md2| md2.model_identifier == md.model_identifier)
             .map(|md2| md2.guid);
-        // SAFETY: the binary exports the FMI 2.0 functions too (tests/exports.rs).
-        let fmi2 = guid.and_then(|g| unsafe { Api::load(unpacked.lib()) }.ok().map(|a| (a, g)));
+        // the binary exports the FMI 2.0 functions too (tests/exports.rs)
+        let fmi2 = guid.and_then(|g| Api::load(&unpacked.library).ok().map(|a| (a, g)));
         Ok(Fmu3 {
             md,
             api,

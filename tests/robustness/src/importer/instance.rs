@@ -203,14 +203,7 @@ impl<'a> Instance<'a> {
     }
 
     pub fn new_discrete_states(&mut self) -> (Status, EventInfo) {
-        let mut info = EventInfo {
-            new_discrete_states_needed: -1,
-            terminate_simulation: -1,
-            nominals_of_continuous_states_changed: -1,
-            values_of_continuous_states_changed: -1,
-            next_event_time_defined: -1,
-            next_event_time: f64::NAN,
-        };
+        let mut info = unwritten_event_info();
         // SAFETY: live instance, valid out pointer.
         let s = unsafe { (self.fmu.api.new_discrete_states)(self.c, &mut info) };
         (s, info)
@@ -221,7 +214,7 @@ impl<'a> Instance<'a> {
     pub fn event_iteration(&mut self, limit: usize) -> (Status, EventInfo) {
         let mut last = self.new_discrete_states();
         for _ in 1..limit {
-            if last.0 > WARNING || last.1.new_discrete_states_needed == 0 {
+            if last.0 > WARNING || last.1.newDiscreteStatesNeeded == 0 {
                 break;
             }
             last = self.new_discrete_states();

@@ -192,9 +192,9 @@ impl<'a> Instance3<'a> {
                 t,
                 h,
                 true,
-                &mut event,
-                &mut terminate,
-                &mut early,
+                boolean_out(&mut event),
+                boolean_out(&mut terminate),
+                boolean_out(&mut early),
                 &mut last,
             )
         };
@@ -245,11 +245,11 @@ impl<'a> Instance3<'a> {
         let s = unsafe {
             (self.fmu.api.update_discrete_states)(
                 self.c,
-                &mut d.discrete_states_need_update,
-                &mut d.terminate_simulation,
-                &mut d.nominals_changed,
-                &mut d.values_changed,
-                &mut d.next_event_time_defined,
+                boolean_out(&mut d.discrete_states_need_update),
+                boolean_out(&mut d.terminate_simulation),
+                boolean_out(&mut d.nominals_changed),
+                boolean_out(&mut d.values_changed),
+                boolean_out(&mut d.next_event_time_defined),
                 &mut d.next_event_time,
             )
         };
@@ -264,8 +264,8 @@ impl<'a> Instance3<'a> {
             (self.fmu.api.completed_integrator_step)(
                 self.c,
                 no_set_prior,
-                &mut event,
-                &mut terminate,
+                boolean_out(&mut event),
+                boolean_out(&mut terminate),
             )
         };
         (s, event != 0, terminate != 0)

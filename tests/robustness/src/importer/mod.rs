@@ -191,13 +191,13 @@ fn text_or_empty(p: CStr) -> Vec<u8> {
 }
 
 /// The recording logger, as the header's variadic type.
-pub fn logger() -> LoggerFn {
+pub fn logger() -> Logger {
     // SAFETY: see `record`.
     unsafe {
         std::mem::transmute::<
-            unsafe extern "C" fn(Env, CStr, Status, CStr, CStr, *const c_char),
-            LoggerFn,
-        >(record)
+            Option<unsafe extern "C" fn(Env, CStr, Status, CStr, CStr, *const c_char)>,
+            Logger,
+        >(Some(record))
     }
 }
 
@@ -243,11 +243,11 @@ pub unsafe extern "C" fn forbidden_intermediate_update(
 /// Callbacks with the recording logger and the forbidden memory functions.
 pub fn callbacks(sink: &Sink) -> CallbackFunctions {
     CallbackFunctions {
-        logger: Some(logger()),
-        allocate_memory: Some(forbidden_allocate),
-        free_memory: Some(forbidden_free),
-        step_finished: Some(forbidden_step_finished),
-        component_environment: sink as *const Sink as Env,
+        logger: logger(),
+        allocateMemory: Some(forbidden_allocate),
+        freeMemory: Some(forbidden_free),
+        stepFinished: Some(forbidden_step_finished),
+        componentEnvironment: sink as *const Sink as Env,
     }
 }
 

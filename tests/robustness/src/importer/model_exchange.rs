@@ -1,13 +1,16 @@
-//! What an importer's Model Exchange integrator calls, alike in both standards: one
-//! trait over [`Instance`] (FMI 2.0) and [`Instance3`] (FMI 3.0), so the same integrator
-//! drives either.
+//! What the importers' Model Exchange driver (`mechfmu_host::model_exchange`) calls,
+//! alike in both standards: one trait over [`Instance`] (FMI 2.0) and [`Instance3`] (FMI
+//! 3.0), so the same driver integrates either.
 
 use super::{Instance, Instance3};
 use crate::ffi::Status;
+use mechfmu_host::model_exchange::{CallNames, Event};
 
 /// A Model Exchange instance as an importer's integrator sees it (statuses are the same
 /// numbers in both standards).
 pub trait ModelExchangeInstance {
+    /// The standard's names of the calls, for messages.
+    const NAMES: CallNames;
     /// The continuous states and event indicators the modelDescription declares.
     fn counts(&self) -> (usize, usize);
     /// The default experiment's start time.
@@ -24,11 +27,12 @@ pub trait ModelExchangeInstance {
     fn enter_event_mode(&mut self) -> Status;
     fn enter_continuous_time_mode(&mut self) -> Status;
     /// One step of the event iteration (fmi2NewDiscreteStates, fmi3UpdateDiscreteStates):
-    /// the status, whether another is needed, terminateSimulation.
-    fn update_discrete_states(&mut self) -> (Status, bool, bool);
+    /// the status and what it reported.
+    fn update_discrete_states(&mut self) -> (Status, Event);
 }
 
 impl ModelExchangeInstance for Instance<'_> {
+    const NAMES: CallNames = CallNames::FMI2;
     fn counts(&self) -> (usize, usize) {
         (self.fmu.md.nx(), self.fmu.md.number_of_event_indicators)
     }
@@ -62,17 +66,14 @@ impl ModelExchangeInstance for Instance<'_> {
     fn enter_continuous_time_mode(&mut self) -> Status {
         Instance::enter_continuous_time_mode(self)
     }
-    fn update_discrete_states(&mut self) -> (Status, bool, bool) {
+    fn update_discrete_states(&mut self) -> (Status, Event) {
         let (s, info) = self.new_discrete_states();
-        (
-            s,
-            info.new_discrete_states_needed != 0,
-            info.terminate_simulation != 0,
-        )
+        (s, Event::from(&info))
     }
 }
 
 impl ModelExchangeInstance for Instance3<'_> {
+    const NAMES: CallNames = CallNames::FMI3;
     fn counts(&self) -> (usize, usize) {
         (self.fmu.md.nx(), self.fmu.md.ni())
     }
@@ -106,12 +107,14 @@ impl ModelExchangeInstance for Instance3<'_> {
     fn enter_continuous_time_mode(&mut self) -> Status {
         Instance3::enter_continuous_time_mode(self)
     }
-    fn update_discrete_states(&mut self) -> (Status, bool, bool) {
+    fn update_discrete_states(&mut self) -> (Status, Event) {
         let (s, d) = Instance3::update_discrete_states(self);
-        (
-            s,
-            d.discrete_states_need_update != 0,
-            d.terminate_simulation != 0,
-        )
+        let event = Event {
+            discrete_states_need_update: d.discrete_states_need_update != 0,
+            terminate_simulation: d.terminate_simulation != 0,
+            values_of_continuous_states_changed: d.values_changed != 0,
+            next_event_time: (d.next_event_time_defined != 0).then_some(d.next_event_time),
+        };
+        (s, event)
     }
 }

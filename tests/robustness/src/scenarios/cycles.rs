@@ -43,7 +43,7 @@ pub fn cycles(fmu: &Fmu, count: usize) -> Result<u64, String> {
             return Err(fail("fmi2GetReal", &inst));
         }
         // An FMU state, through its bytes and back.
-        let api = fmu.api;
+        let api = *fmu.api;
         let mut state: FmuState = std::ptr::null_mut();
         let mut size = 0usize;
         // SAFETY: valid pointers; the states made here are freed below.
@@ -139,7 +139,7 @@ pub fn me_cycle(fmu: &Fmu, cycle: usize, cs_state: &[u8]) -> Result<u64, String>
     for _ in 0..10 {
         me.step(&mut inst).map_err(|m| fail(&m, &inst))?;
     }
-    let api = fmu.api;
+    let api = *fmu.api;
     // SAFETY: valid pointers; the states made here are freed below.
     unsafe {
         let mut state: FmuState = std::ptr::null_mut();

@@ -116,7 +116,7 @@ pub fn cycles3(fmu: &Fmu3, count: usize) -> Result<u64, String> {
             cycle,
         )?;
         let mut dx = vec![0.0; fmu.md.nx()];
-        let api = fmu.api;
+        let api = *fmu.api;
         let vr = [vrs[0]];
         let mut x = [0.0f64; 2];
         let mut clock = [0u8; 1];
@@ -130,7 +130,7 @@ pub fn cycles3(fmu: &Fmu3, count: usize) -> Result<u64, String> {
             )?;
             refused(
                 "fmi3GetClock",
-                (api.get_clock)(inst.c, vr.as_ptr(), 1, clock.as_mut_ptr()),
+                (api.get_clock)(inst.c, vr.as_ptr(), 1, clock.as_mut_ptr().cast()),
                 &inst,
                 cycle,
             )?;

@@ -52,7 +52,7 @@ pub fn serialized_state(fmu: &Fmu, steps: usize, how: Dump) -> Result<Vec<u8>, S
             return Err(inst.log_tail());
         }
     }
-    let api = fmu.api;
+    let api = *fmu.api;
     let mut state: FmuState = std::ptr::null_mut();
     let mut size = 0;
     // SAFETY: valid pointers; the state is freed before returning.

@@ -1,16 +1,20 @@
 //! An importer's fixed-step Model Exchange integrator, over an instance of either
-//! standard ([`ModelExchangeInstance`]).
+//! standard ([`ModelExchangeInstance`]): the importers' one driver
+//! (`mechfmu_host::model_exchange`), one step of the grid t0 + n·h at a time.
 
-use crate::ffi::*;
+use crate::ffi::{Status, OK, WARNING};
 use crate::importer::ModelExchangeInstance;
+use mechfmu_host::model_exchange::{self as driver, CallNames, Crossing, Event, Integration};
+use mechfmu_host::model_exchange::{Location, Options, Where};
 
 /// An importer's Model Exchange integrator, of either standard: fixed-step classical
 /// Runge-Kutta (RK4) through SetTime, SetContinuousStates and GetDerivatives
 /// (fmi3GetContinuousStateDerivatives), the time of step n computed as t0 + n·h; after each
-/// step CompletedIntegratorStep and GetEventIndicators, and an event (EnterEventMode, the
-/// event iteration of fmi2NewDiscreteStates or fmi3UpdateDiscreteStates,
-/// EnterContinuousTimeMode) where an indicator changes sign or the FMU asks for one (no
-/// event location: the event is taken at the end of the step).
+/// step its event indicators, a change of domain of one located by bisection (the step
+/// cut short there, the rest of it following the event), CompletedIntegratorStep, and an
+/// event (EnterEventMode, the event iteration of fmi2NewDiscreteStates or
+/// fmi3UpdateDiscreteStates, EnterContinuousTimeMode) at a state event or where the FMU
+/// asks for one.
 pub struct MeIntegrator {
     pub t0: f64,
     pub h: f64,
@@ -26,26 +30,105 @@ pub struct MeIntegrator {
     pub terminated: bool,
     /// FMI calls made.
     pub calls: u64,
-    k: [Vec<f64>; 4],
-    tmp: Vec<f64>,
 }
 
-fn ok(what: &str, s: Status, inst: &impl ModelExchangeInstance) -> Result<(), String> {
-    if matches!(s, OK | WARNING) {
-        Ok(())
-    } else {
-        Err(format!(
-            "{what} returned {}\n{}",
-            status_name(s),
-            inst.log_tail()
-        ))
+/// How this importer drives Model Exchange: a state event is a change of domain (the
+/// standard's definition), located to 1e-12 s; a Warning lets the run go on.
+const OPTIONS: Options = Options {
+    crossing: Crossing::Domain,
+    location: Location::Time { tolerance: 1e-12 },
+    completed_integrator_step: true,
+    warnings_pass: true,
+};
+
+/// An instance as the driver sees it, counting the calls made and the events entered.
+struct Counted<'a, T> {
+    inst: &'a mut T,
+    calls: u64,
+    events: u64,
+}
+
+/// A status (the same numbers in both standards) as the driver's, named in the instance's
+/// standard.
+fn status<T: ModelExchangeInstance>(s: Status) -> driver::Status {
+    let fmi2 = T::NAMES.prefix == "fmi2";
+    match s {
+        OK => driver::Status::Ok,
+        WARNING if fmi2 => driver::Status::Warning("fmi2Warning"),
+        WARNING => driver::Status::Warning("fmi3Warning"),
+        s if fmi2 => driver::Status::Fail(crate::ffi::status_name(s)),
+        s => driver::Status::Fail(crate::ffi3::status_name(s)),
+    }
+}
+
+impl<T: ModelExchangeInstance> driver::Instance for Counted<'_, T> {
+    const NAMES: CallNames = T::NAMES;
+
+    fn set_time(&mut self, t: f64) -> driver::Status {
+        self.calls += 1;
+        status::<T>(self.inst.set_time(t))
+    }
+
+    fn set_continuous_states(&mut self, x: &[f64]) -> driver::Status {
+        self.calls += 1;
+        status::<T>(self.inst.set_continuous_states(x))
+    }
+
+    fn get_derivatives(&mut self, dx: &mut [f64]) -> driver::Status {
+        self.calls += 1;
+        status::<T>(self.inst.get_derivatives(dx))
+    }
+
+    fn get_event_indicators(&mut self, z: &mut [f64]) -> driver::Status {
+        self.calls += 1;
+        status::<T>(self.inst.get_event_indicators(z))
+    }
+
+    fn completed_integrator_step(
+        &mut self,
+        enter: &mut bool,
+        terminate: &mut bool,
+    ) -> driver::Status {
+        self.calls += 1;
+        let (s, e, t) = self.inst.completed_integrator_step(true);
+        (*enter, *terminate) = (e, t);
+        status::<T>(s)
+    }
+
+    fn enter_event_mode(&mut self) -> driver::Status {
+        self.calls += 1;
+        self.events += 1;
+        status::<T>(self.inst.enter_event_mode())
+    }
+
+    fn update_discrete_states(&mut self, event: &mut Event) -> driver::Status {
+        self.calls += 1;
+        let (s, e) = self.inst.update_discrete_states();
+        *event = e;
+        status::<T>(s)
+    }
+
+    fn enter_continuous_time_mode(&mut self) -> driver::Status {
+        self.calls += 1;
+        status::<T>(self.inst.enter_continuous_time_mode())
+    }
+
+    fn get_continuous_states(&mut self, x: &mut [f64]) -> driver::Status {
+        self.calls += 1;
+        status::<T>(self.inst.get_continuous_states(x))
+    }
+
+    /// Not called: the scenarios end their instances themselves, and the driver
+    /// terminates only when asked to after a stop.
+    fn terminate(&mut self) -> driver::Status {
+        driver::Status::Ok
     }
 }
 
 impl MeIntegrator {
     /// Takes over an initialized Model Exchange instance (in event mode): the event
     /// iteration at the start, continuous-time mode, the states and indicators.
-    pub fn start(inst: &mut impl ModelExchangeInstance, h: f64) -> Result<MeIntegrator, String> {
+    pub fn start<T: ModelExchangeInstance>(inst: &mut T, h: f64) -> Result<MeIntegrator, String> {
         let (nx, ni) = inst.counts();
         let mut me = MeIntegrator {
             t0: inst.start_time(),
@@ -56,10 +139,22 @@ impl MeIntegrator {
             events: 0,
             terminated: false,
             calls: 0,
-            k: std::array::from_fn(|_| vec![0.0; nx]),
-            tmp: vec![0.0; nx],
         };
-        me.event(inst)?;
+        let mut driven = me.driven(inst);
+        let r = driven
+            .finish_event("the initial event iteration")
+            .and_then(|stop| {
+                if stop.is_some() {
+                    return Ok(true);
+                }
+                // the states, whether or not the event iteration changed them
+                driven.fmu.calls += 1;
+                let s = driven.fmu.inst.get_continuous_states(&mut driven.x);
+                driver::ok(|| "GetContinuousStates".into(), status::<T>(s)).map(|()| false)
+            });
+        let r = r.map_err(|e| format!("{e}\n{}", driven.fmu.inst.log_tail()));
+        me.absorb(driven);
+        me.terminated = r?;
         me.events = 0;
         Ok(me)
     }
@@ -69,104 +164,41 @@ impl MeIntegrator {
         self.t0 + self.n as f64 * self.h
     }
 
-    /// From event mode: the event iteration, then continuous-time mode; reads the states
-    /// (the FMU may have changed them) and the indicators.
-    fn event(&mut self, inst: &mut impl ModelExchangeInstance) -> Result<(), String> {
-        let mut iterations = 0;
-        loop {
-            let (s, needed, terminate) = inst.update_discrete_states();
-            self.calls += 1;
-            ok("the event iteration", s, inst)?;
-            iterations += 1;
-            if terminate {
-                self.terminated = true;
-                return Ok(());
-            }
-            if !needed {
-                break;
-            }
-            if iterations == 100 {
-                return Err("the event iteration did not end in 100 iterations".into());
-            }
-        }
-        ok(
-            "EnterContinuousTimeMode",
-            inst.enter_continuous_time_mode(),
+    /// The driver at this integrator's accepted point.
+    fn driven<'a, T: ModelExchangeInstance>(&self, inst: &'a mut T) -> Integration<Counted<'a, T>> {
+        let counted = Counted {
             inst,
-        )?;
-        let s = inst.get_continuous_states(&mut self.x);
-        ok("GetContinuousStates", s, inst)?;
-        let s = inst.get_event_indicators(&mut self.z);
-        ok("GetEventIndicators", s, inst)?;
-        self.calls += 3;
-        self.events += 1;
-        Ok(())
+            calls: 0,
+            events: 0,
+        };
+        let mut driven = Integration::new(counted, (self.x.len(), self.z.len()), OPTIONS);
+        driven.at = Where::Free;
+        driven.t = self.time();
+        driven.x.copy_from_slice(&self.x);
+        driven.z.copy_from_slice(&self.z);
+        driven
     }
 
-    /// `dx` = f(t, x).
-    fn f(
-        inst: &mut impl ModelExchangeInstance,
-        t: f64,
-        x: &[f64],
-        dx: &mut [f64],
-    ) -> Result<(), String> {
-        ok("SetTime", inst.set_time(t), inst)?;
-        ok("SetContinuousStates", inst.set_continuous_states(x), inst)?;
-        let s = inst.get_derivatives(dx);
-        ok("GetDerivatives", s, inst)
+    /// The driver's point, calls and events, taken back.
+    fn absorb<T: ModelExchangeInstance>(&mut self, driven: Integration<Counted<'_, T>>) {
+        self.calls += driven.fmu.calls;
+        self.events += driven.fmu.events;
+        self.x = driven.x;
+        self.z = driven.z;
     }
 
-    /// One RK4 step (nothing once the FMU said terminateSimulation).
+    /// One step of the grid (nothing once the FMU said terminateSimulation).
     pub fn step(&mut self, inst: &mut impl ModelExchangeInstance) -> Result<(), String> {
         if self.terminated {
             return Ok(());
         }
-        let (t, h) = (self.time(), self.h);
-        let t1 = self.t0 + (self.n + 1) as f64 * h;
-        let tm = t + 0.5 * h;
-        let [k1, k2, k3, k4] = &mut self.k;
-        let tmp = &mut self.tmp;
-        Self::f(inst, t, &self.x, k1)?;
-        for ((y, x), k) in tmp.iter_mut().zip(&self.x).zip(k1.iter()) {
-            *y = x + 0.5 * h * k;
-        }
-        Self::f(inst, tm, tmp, k2)?;
-        for ((y, x), k) in tmp.iter_mut().zip(&self.x).zip(k2.iter()) {
-            *y = x + 0.5 * h * k;
-        }
-        Self::f(inst, tm, tmp, k3)?;
-        for ((y, x), k) in tmp.iter_mut().zip(&self.x).zip(k3.iter()) {
-            *y = x + h * k;
-        }
-        Self::f(inst, t1, tmp, k4)?;
-        for (i, x) in self.x.iter_mut().enumerate() {
-            *x += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-        }
-        ok("SetTime", inst.set_time(t1), inst)?;
-        ok(
-            "SetContinuousStates",
-            inst.set_continuous_states(&self.x),
-            inst,
-        )?;
-        self.calls += 14;
+        let t1 = self.t0 + (self.n + 1) as f64 * self.h;
+        let mut driven = self.driven(inst);
+        let r = driven.integrate_to(t1);
+        let r = r.map_err(|e| format!("{e}\n{}", driven.fmu.inst.log_tail()));
+        self.absorb(driven);
         self.n += 1;
-        let (s, enter, terminate) = inst.completed_integrator_step(true);
-        ok("CompletedIntegratorStep", s, inst)?;
-        let mut z = vec![0.0; self.z.len()];
-        let s = inst.get_event_indicators(&mut z);
-        ok("GetEventIndicators", s, inst)?;
-        self.calls += 2;
-        if terminate {
-            self.terminated = true;
-            return Ok(());
-        }
-        let crossed = self.z.iter().zip(&z).any(|(a, b)| (*a > 0.0) != (*b > 0.0));
-        self.z = z;
-        if enter || crossed {
-            ok("EnterEventMode", inst.enter_event_mode(), inst)?;
-            self.calls += 1;
-            self.event(inst)?;
-        }
+        self.terminated = r?.is_some();
         Ok(())
     }
 }

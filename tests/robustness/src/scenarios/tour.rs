@@ -2,6 +2,7 @@
 //! that an FMU prints nothing.
 
 use crate::ffi::*;
+use crate::ffi3::boolean_out;
 use crate::fmu::{Fmu, Fmu3};
 
 /// Every function, called right and wrong, with and without a logger: for the check that
@@ -20,12 +21,12 @@ pub fn tour(fmu: &Fmu) -> Result<u64, String> {
     let guid = std::ffi::CString::new(fmu.md.guid.as_str()).unwrap();
     let cb = CallbackFunctions {
         logger: None,
-        allocate_memory: None,
-        free_memory: None,
-        step_finished: None,
-        component_environment: std::ptr::null_mut(),
+        allocateMemory: None,
+        freeMemory: None,
+        stepFinished: None,
+        componentEnvironment: std::ptr::null_mut(),
     };
-    let api = fmu.api;
+    let api = *fmu.api;
     // SAFETY: valid arguments, then calls on the live instance; freed at the end.
     unsafe {
         let bad = (api.instantiate)(
@@ -92,12 +93,12 @@ pub fn tour(fmu: &Fmu) -> Result<u64, String> {
         let mut xs = vec![0.0; nx + 1];
         let mut z = vec![0.0; ni + 1];
         let mut info = EventInfo {
-            new_discrete_states_needed: 0,
-            terminate_simulation: 0,
-            nominals_of_continuous_states_changed: 0,
-            values_of_continuous_states_changed: 0,
-            next_event_time_defined: 0,
-            next_event_time: 0.0,
+            newDiscreteStatesNeeded: 0,
+            terminateSimulation: 0,
+            nominalsOfContinuousStatesChanged: 0,
+            valuesOfContinuousStatesChanged: 0,
+            nextEventTimeDefined: 0,
+            nextEventTime: 0.0,
         };
         let (mut enter, mut terminate) = (0, 0);
         let _ = (api.get_nominals_of_continuous_states)(c, xs.as_mut_ptr(), nx);
@@ -141,13 +142,21 @@ pub fn tour3(fmu: &Fmu3) -> Result<u64, String> {
     let mut calls = stats.calls;
     let name = c"silent";
     let token = std::ffi::CString::new(fmu.md.instantiation_token.as_str()).unwrap();
-    let api = fmu.api;
+    let api = *fmu.api;
     let e = fmu.md.experiment.clone();
     let vr = [fmu.md.vr_end() + 5];
     let (nx, ni) = (fmu.md.nx(), fmu.md.ni());
     let mut x = vec![0.0; nx + ni + 2];
     let (mut a, mut b, mut c_, mut t) = (0u8, 0u8, 0u8, 0.0);
     let mut f = [0u8; 5];
+    // the bytes the FMU writes its booleans into, as the header's `fmi3Boolean*`
+    let (a, b, c_) = (
+        boolean_out(&mut a),
+        boolean_out(&mut b),
+        boolean_out(&mut c_),
+    );
+    let f = f.as_mut_ptr();
+    let f: [*mut bool; 5] = std::array::from_fn(|k| f.wrapping_add(k).cast());
     // SAFETY: valid arguments, then calls on the live instances; freed at the end.
     unsafe {
         let bad = (api.instantiate_co_simulation)(
@@ -199,36 +208,28 @@ pub fn tour3(fmu: &Fmu3) -> Result<u64, String> {
         if c.is_null() {
             return Err("fmi3InstantiateCoSimulation without a logger failed".into());
         }
-        let _ = (api.do_step)(c, 0.0, 0.1, true, &mut a, &mut b, &mut c_, &mut t); // illegal
+        let _ = (api.do_step)(c, 0.0, 0.1, true, a, b, c_, &mut t); // illegal
         let _ = (api.get_float64)(c, vr.as_ptr(), 1, x.as_mut_ptr(), 1);
         let _ = (api.enter_initialization_mode)(c, true, -1.0, e.start, false, 0.0);
         let _ = (api.enter_initialization_mode)(c, true, e.tolerance, e.start, false, 0.0);
         let _ = (api.set_float64)(c, vr.as_ptr(), 1, x.as_ptr(), 1);
         let _ = (api.exit_initialization_mode)(c);
-        let _ = (api.do_step)(c, e.start, e.step, true, &mut a, &mut b, &mut c_, &mut t); // event mode
-        let _ = (api.update_discrete_states)(
-            c,
-            f.as_mut_ptr(),
-            f.as_mut_ptr().add(1),
-            f.as_mut_ptr().add(2),
-            f.as_mut_ptr().add(3),
-            f.as_mut_ptr().add(4),
-            &mut t,
-        );
+        let _ = (api.do_step)(c, e.start, e.step, true, a, b, c_, &mut t); // event mode
+        let _ = (api.update_discrete_states)(c, f[0], f[1], f[2], f[3], f[4], &mut t);
         let _ = (api.enter_step_mode)(c);
-        let _ = (api.do_step)(c, e.start, -1.0, true, &mut a, &mut b, &mut c_, &mut t);
+        let _ = (api.do_step)(c, e.start, -1.0, true, a, b, c_, &mut t);
         let _ = (api.do_step)(
             c,
             e.start,
             e.step,
             true,
             std::ptr::null_mut(),
-            &mut b,
-            &mut c_,
+            b,
+            c_,
             &mut t,
         );
-        let _ = (api.do_step)(c, e.start, e.step, true, &mut a, &mut b, &mut c_, &mut t);
-        let _ = (api.get_clock)(c, vr.as_ptr(), 1, &mut a);
+        let _ = (api.do_step)(c, e.start, e.step, true, a, b, c_, &mut t);
+        let _ = (api.get_clock)(c, vr.as_ptr(), 1, a);
         let _ = (api.enter_configuration_mode)(c);
         let _ = (api.get_int32)(c, vr.as_ptr(), 1, x.as_mut_ptr().cast(), 1);
         let _ = (api.get_continuous_states)(c, x.as_mut_ptr(), nx); // a Model Exchange function
@@ -255,15 +256,7 @@ pub fn tour3(fmu: &Fmu3) -> Result<u64, String> {
         let _ = (api.enter_initialization_mode)(c, true, e.tolerance, e.start, false, 0.0);
         let _ = (api.get_event_indicators)(c, x.as_mut_ptr(), ni);
         let _ = (api.exit_initialization_mode)(c);
-        let _ = (api.update_discrete_states)(
-            c,
-            f.as_mut_ptr(),
-            f.as_mut_ptr().add(1),
-            f.as_mut_ptr().add(2),
-            f.as_mut_ptr().add(3),
-            f.as_mut_ptr().add(4),
-            &mut t,
-        );
+        let _ = (api.update_discrete_states)(c, f[0], f[1], f[2], f[3], f[4], &mut t);
         let _ = (api.enter_continuous_time_mode)(c);
         let _ = (api.get_continuous_states)(c, x.as_mut_ptr(), nx + 1); // wrong nx
         let _ = (api.set_time)(c, f64::NAN);
@@ -271,9 +264,9 @@ pub fn tour3(fmu: &Fmu3) -> Result<u64, String> {
         x[0] = f64::INFINITY;
         let _ = (api.set_continuous_states)(c, x.as_ptr(), nx);
         let _ = (api.get_continuous_state_derivatives)(c, x.as_mut_ptr(), nx);
-        let _ = (api.completed_integrator_step)(c, true, std::ptr::null_mut(), &mut b);
-        let _ = (api.completed_integrator_step)(c, true, &mut a, &mut b);
-        let _ = (api.do_step)(c, e.start, e.step, true, &mut a, &mut b, &mut c_, &mut t); // Co-Simulation's
+        let _ = (api.completed_integrator_step)(c, true, std::ptr::null_mut(), b);
+        let _ = (api.completed_integrator_step)(c, true, a, b);
+        let _ = (api.do_step)(c, e.start, e.step, true, a, b, c_, &mut t); // Co-Simulation's
         let _ = (api.enter_event_mode)(c);
         let _ = (api.terminate)(c);
         (api.free_instance)(c);

@@ -87,7 +87,7 @@ impl Sequence<'_, Fmi2> {
         c: Component,
         legal: bool,
     ) -> Status {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let on: Boolean = *self.rng.pick(&[0, 1, 2, -1]);
         let (names, null_array, nc) = self.logging_categories();
@@ -115,7 +115,7 @@ impl Sequence<'_, Fmi2> {
     /// FreeInstance; a live instance freed legally leaves the sequence, its logger checked a
     /// last time.
     fn free_instance_call(&mut self, function: usize, target: Target, c: Component, legal: bool) {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         self.note(|| format!("{name}({target:?})"));
         // SAFETY: NULL, foreign memory, or a live instance.
@@ -139,7 +139,7 @@ impl Sequence<'_, Fmi2> {
         c: Component,
         legal: bool,
     ) -> Status {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let e = self.fmu.md.experiment.clone();
         let tol_defined: Boolean = *self.rng.pick(&[0, 1, 1, 1, 7]);
@@ -185,7 +185,7 @@ impl Sequence<'_, Fmi2> {
         c: Component,
         legal: bool,
     ) -> Status {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         self.note(|| format!("{name}({target:?})"));
         let g = match function {
@@ -227,7 +227,7 @@ impl Sequence<'_, Fmi2> {
 
     /// GetReal: nothing written past the values asked, no NaN with OK or Warning.
     fn get_real_call(&mut self, function: usize, target: Target, c: Component) -> Status {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let vrs = self.vrs();
         let n = vrs.len();
@@ -269,7 +269,7 @@ impl Sequence<'_, Fmi2> {
         c: Component,
         legal: bool,
     ) -> Status {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let vrs = self.vrs();
         let n = vrs.len();
@@ -332,7 +332,7 @@ impl Sequence<'_, Fmi2> {
         c: Component,
         legal: bool,
     ) -> Status {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let vrs = self.vrs();
         let values: Vec<f64> = vrs.iter().map(|&v| self.value_for(v, 0)).collect();
@@ -369,7 +369,7 @@ impl Sequence<'_, Fmi2> {
         c: Component,
         legal: bool,
     ) -> Status {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let vrs = self.vrs();
         let n = vrs.len();

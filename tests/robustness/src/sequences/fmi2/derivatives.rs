@@ -12,7 +12,7 @@ impl Sequence<'_, Fmi2> {
     /// fmi2GetDirectionalDerivative: never NaN with fmi2OK, nothing written past the
     /// unknowns.
     pub(crate) fn directional_derivative(&mut self, target: Target, c: Component) -> Status {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES[f::DIRECTIONAL_DERIVATIVE];
         let unknowns = self.vrs();
         let knowns = self.vrs();
@@ -58,7 +58,7 @@ impl Sequence<'_, Fmi2> {
         target: Target,
         c: Component,
     ) -> Status {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let mut vrs = self.vrs();
         if self.rng.chance(0.5) {

@@ -24,13 +24,13 @@ impl Sequence<'_, Fmi2> {
             cb.logger = None;
             logs = false;
         } else if self.rng.chance(0.03) {
-            cb.component_environment = std::ptr::null_mut();
+            cb.componentEnvironment = std::ptr::null_mut();
             logs = false;
         }
         if self.rng.chance(0.5) {
-            cb.allocate_memory = None;
-            cb.free_memory = None;
-            cb.step_finished = None;
+            cb.allocateMemory = None;
+            cb.freeMemory = None;
+            cb.stepFinished = None;
         }
         let mut name_bytes: Vec<u8> = self.rng.pick(&SANE_NAMES).as_bytes().to_vec();
         if self.rng.chance(0.02) {

@@ -15,7 +15,7 @@ impl Sequence<'_, Fmi2> {
         target: Target,
         c: Component,
     ) -> Status {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let kind: StatusKind = *self.rng.pick(&[0, 1, 2, 3, 3, 2, 4, u32::MAX]);
         let null = self.rng.chance(0.05);
@@ -94,17 +94,10 @@ impl Sequence<'_, Fmi2> {
         c: Component,
         legal: bool,
     ) -> Status {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES[f::NEW_DISCRETE_STATES];
         let null = !self.sane && self.rng.chance(0.05);
-        let mut info = EventInfo {
-            new_discrete_states_needed: -1,
-            terminate_simulation: -1,
-            nominals_of_continuous_states_changed: -1,
-            values_of_continuous_states_changed: -1,
-            next_event_time_defined: -1,
-            next_event_time: f64::NAN,
-        };
+        let mut info = unwritten_event_info();
         self.note(|| {
             format!(
                 "{name}({target:?}{})",
@@ -132,14 +125,14 @@ impl Sequence<'_, Fmi2> {
         }
         if matches!(s, OK | WARNING) && !null {
             let flags = [
-                info.new_discrete_states_needed,
-                info.terminate_simulation,
-                info.nominals_of_continuous_states_changed,
-                info.values_of_continuous_states_changed,
-                info.next_event_time_defined,
+                info.newDiscreteStatesNeeded,
+                info.terminateSimulation,
+                info.nominalsOfContinuousStatesChanged,
+                info.valuesOfContinuousStatesChanged,
+                info.nextEventTimeDefined,
             ];
             if flags.iter().any(|&b| b != 0 && b != 1)
-                || (info.next_event_time_defined == 1 && !info.next_event_time.is_finite())
+                || (info.nextEventTimeDefined == 1 && !info.nextEventTime.is_finite())
             {
                 self.fail(format!("{name} returned {} with {info:?}", status_name(s)));
             }
@@ -161,7 +154,7 @@ impl Sequence<'_, Fmi2> {
         c: Component,
         legal: bool,
     ) -> Status {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES[f::COMPLETED_INTEGRATOR_STEP];
         let no_prior: Boolean = if self.sane {
             1

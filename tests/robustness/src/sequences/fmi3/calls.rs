@@ -20,7 +20,7 @@ impl Sequence<'_, Fmi3> {
         c: Instance,
         legal: bool,
     ) -> Option<Status> {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES_FMI3[function];
         let live = matches!(target, Target::Live(_)) && legal;
         let s = match function {
@@ -172,7 +172,7 @@ impl Sequence<'_, Fmi3> {
 
     /// A call of the instance alone that moves its state machine: the oracle moves with it.
     fn mode_change(&mut self, function: usize, target: Target, c: Instance, legal: bool) -> Status {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES_FMI3[function];
         self.note(|| format!("{name}({target:?})"));
         let g = match function {
@@ -233,7 +233,7 @@ impl Sequence<'_, Fmi3> {
     /// partitions: called with NULL arguments (the FMU must refuse before reading them),
     /// always fmi3Error.
     fn unsupported(&mut self, function: usize, target: Target, c: Instance) -> Status {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES_FMI3[function];
         self.note(|| format!("{name}({target:?}, NULL arguments)"));
         let vr = self.vr();

@@ -123,7 +123,7 @@ impl Sequence<'_, Fmi3> {
             token_c.as_ptr()
         };
         let res_p = resources.as_ref().map_or(std::ptr::null(), |r| r.as_ptr());
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         // SAFETY: every pointer is NULL or valid for the call (the required variables'
         // array holds 3); the sink outlives the instance (it moves into `Inst`).
         let c = unsafe {

@@ -19,7 +19,7 @@ impl Sequence<'_, Fmi3> {
         c: Instance,
         legal: bool,
     ) -> Status {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES_FMI3[function];
         let mut vrs = if self.rng.chance(0.2) {
             vec![]
@@ -83,7 +83,7 @@ impl Sequence<'_, Fmi3> {
         c: Instance,
         legal: bool,
     ) -> Status {
-        let api = self.fmu.api;
+        let api = *self.fmu.api;
         let name = FUNCTION_NAMES_FMI3[function];
         let mut vrs = if self.rng.chance(0.2) {
             vec![]

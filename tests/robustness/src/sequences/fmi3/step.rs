@@ -67,9 +67,9 @@ impl Sequence<'_, Fmi3> {
                 t,
                 h,
                 no_prior,
-                b(nulls[0], event),
-                b(nulls[1], terminate),
-                b(nulls[2], early),
+                b(nulls[0], event).cast(),
+                b(nulls[1], terminate).cast(),
+                b(nulls[2], early).cast(),
                 time_ptr.of_mut(last.as_mut_ptr()),
             )
         };
@@ -180,7 +180,17 @@ impl Sequence<'_, Fmi3> {
             &mut next as *mut f64
         };
         // SAFETY: valid out pointers or NULL.
-        let s = unsafe { (self.fmu.api.update_discrete_states)(c, a, b, cc, d, e, next_p) };
+        let s = unsafe {
+            (self.fmu.api.update_discrete_states)(
+                c,
+                a.cast(),
+                b.cast(),
+                cc.cast(),
+                d.cast(),
+                e.cast(),
+                next_p,
+            )
+        };
         if matches!(s, OK | WARNING) {
             let given: Vec<u8> = (0..5).filter(|&k| !nulls[k]).map(|k| flags[k]).collect();
             if !given.iter().all(|&b| boolean(b))
@@ -226,7 +236,8 @@ impl Sequence<'_, Fmi3> {
             &mut terminate as *mut u8
         };
         // SAFETY: valid out pointers (or NULL).
-        let s = unsafe { (self.fmu.api.completed_integrator_step)(c, no_prior, ep, tp) };
+        let s =
+            unsafe { (self.fmu.api.completed_integrator_step)(c, no_prior, ep.cast(), tp.cast()) };
         let Target::Live(i) = target else { return s };
         if !legal {
             return s;

@@ -1,33 +1,26 @@
 //! A model description of either FMI version (`modelDescription.xml`), read by one parser:
-//! what the tools that run an FMU need of it.
+//! what the tools that run an FMU need of it, and what the robustness suite's importer
+//! learns the model from (the variables' types, bounds and units, the interfaces'
+//! capabilities, the model structure).
 //!
 //! FMI 2.0 declares a variable as a `ScalarVariable` with its type as a child (`<Real
 //! start=...>`); FMI 3.0 as an element named by its type (`<Float64 start=...>`), an array
 //! with `<Dimension>` children and, in mechfmu's FMUs, the FMI 2.0 scalars it is made of in
 //! an annotation (`org.mechfmu.scalars`, row-major). The continuous states are counted from
 //! `ModelStructure`: FMI 2.0's `Derivatives/Unknown`, FMI 3.0's `ContinuousStateDerivative`.
+//! A variable's unit and quantity are its own, else its declared type's (FMI 2.0's
+//! `SimpleType`, FMI 3.0's `Float64Type`).
 
+mod elements;
+
+pub use elements::Variable;
+
+use elements::{attribute, declared_type, flag, typed, variable};
 use mechfmu::contract::Version;
 use mechfmu::model::element_name;
 use mechfmu::xml::fmi3::SCALARS_ANNOTATION;
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::{Reader, XmlVersion};
-
-/// A variable of the model description.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Variable {
-    pub name: String,
-    pub vr: u32,
-    pub causality: String,
-    pub variability: String,
-    /// The start value of a real scalar (FMI 2.0's `Real`, FMI 3.0's scalar `Float64`).
-    pub start: Option<f64>,
-    /// An FMI 3.0 array's dimensions (empty: a scalar).
-    pub dimensions: Vec<usize>,
-    /// The FMI 2.0 scalars an FMI 3.0 array is made of, row-major (its annotation
-    /// `org.mechfmu.scalars`; empty without one).
-    pub scalars: Vec<String>,
-}
 
 /// What the tools that run an FMU read of its model description.
 #[derive(Clone, Debug, PartialEq)]
@@ -49,6 +42,37 @@ pub struct ModelDescription {
     pub model_exchange: bool,
     /// The number of continuous states (scalars).
     pub states: usize,
+    pub model_name: String,
+    /// The `LogCategories`' names.
+    pub log_categories: Vec<String>,
+    /// What the interface types' elements declare.
+    pub interfaces: Interfaces,
+    /// FMI 2.0's `numberOfEventIndicators`.
+    pub number_of_event_indicators: usize,
+    /// FMI 2.0's `Derivatives/Unknown` indices (1-based), in the order of the state vector.
+    pub derivative_indices: Vec<usize>,
+    /// FMI 3.0's `ContinuousStateDerivative` value references, in the order of the states.
+    pub state_derivatives: Vec<u32>,
+    /// FMI 3.0's `EventIndicator` value references.
+    pub event_indicators: Vec<u32>,
+}
+
+/// What the `ModelExchange`, `CoSimulation` and `ScheduledExecution` elements declare.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Interfaces {
+    /// `ModelExchange`'s `modelIdentifier`.
+    pub model_exchange_identifier: Option<String>,
+    /// FMI 2.0's `completedIntegratorStepNotNeeded`.
+    pub completed_integrator_step_not_needed: bool,
+    /// FMI 3.0's `needsCompletedIntegratorStep`.
+    pub needs_completed_integrator_step: bool,
+    pub can_not_use_memory_management_functions: bool,
+    pub max_output_derivative_order: i32,
+    pub might_return_early_from_do_step: bool,
+    pub has_event_mode: bool,
+    pub provides_intermediate_update: bool,
+    /// A `ScheduledExecution` element.
+    pub scheduled_execution: bool,
 }
 
 impl ModelDescription {
@@ -65,7 +89,17 @@ impl ModelDescription {
             tolerance: 1e-6,
             model_exchange: false,
             states: 0,
+            model_name: String::new(),
+            log_categories: Vec::new(),
+            interfaces: Interfaces::default(),
+            number_of_event_indicators: 0,
+            derivative_indices: Vec::new(),
+            state_derivatives: Vec::new(),
+            event_indicators: Vec::new(),
         };
+        // FMI 2.0's `SimpleType` being read; the declared types' units and quantities.
+        let mut simple_type: Option<String> = None;
+        let mut types: Vec<(String, Option<String>, Option<String>)> = Vec::new();
         // The elements open around the one being read, outermost first.
         let mut open: Vec<String> = Vec::new();
         let mut in_scalars = false;
@@ -76,6 +110,16 @@ impl ModelDescription {
                 .map_err(|e| format!("the model description does not parse: {e}"))?;
             match &event {
                 Event::Start(e) | Event::Empty(e) => {
+                    let name = e.name().into_inner();
+                    let parent = open.last().map_or("", String::as_str);
+                    match name {
+                        "SimpleType" => simple_type = attribute(e, "name"),
+                        "Float64Type" => types.extend(declared_type(e, attribute(e, "name"))),
+                        _ if parent == "SimpleType" => {
+                            types.extend(declared_type(e, simple_type.clone()))
+                        }
+                        _ => {}
+                    }
                     let scalars = d.element(e, &open, &mut derivatives)?;
                     if let Event::Start(_) = event {
                         in_scalars = scalars;
@@ -97,6 +141,14 @@ impl ModelDescription {
                 _ => {}
             }
         }
+        for v in d.variables.iter_mut() {
+            let declared = (types.iter()).find(|t| Some(&t.0) == v.declared_type.as_ref());
+            if let Some((_, unit, quantity)) = declared {
+                v.unit = v.unit.take().or(unit.clone());
+                v.quantity = v.quantity.take().or(quantity.clone());
+            }
+        }
+        d.state_derivatives = derivatives.clone();
         // FMI 3.0 declares an array's derivatives by one element
         for vr in derivatives {
             let variable = d.variables.iter().find(|v| v.vr == vr);
@@ -128,6 +180,9 @@ impl ModelDescription {
             .is_some_and(|at| at + 1 < open.len());
         match e.name().into_inner() {
             "fmiModelDescription" => {
+                self.model_name = attribute(e, "modelName").unwrap_or_default();
+                self.number_of_event_indicators =
+                    number("numberOfEventIndicators").map_or(0, |n| n as usize);
                 let version = attribute(e, "fmiVersion").unwrap_or_default();
                 self.version = if version.starts_with('3') {
                     Version::Fmi3
@@ -138,8 +193,28 @@ impl ModelDescription {
             }
             "CoSimulation" => {
                 self.model_identifier = attribute(e, "modelIdentifier").unwrap_or_default();
+                let i = &mut self.interfaces;
+                i.can_not_use_memory_management_functions =
+                    flag(e, "canNotUseMemoryManagementFunctions");
+                i.max_output_derivative_order =
+                    number("maxOutputDerivativeOrder").map_or(0, |n| n as i32);
+                i.might_return_early_from_do_step = flag(e, "mightReturnEarlyFromDoStep");
+                i.has_event_mode = flag(e, "hasEventMode");
+                i.provides_intermediate_update = flag(e, "providesIntermediateUpdate");
             }
-            "ModelExchange" => self.model_exchange = true,
+            "ModelExchange" => {
+                self.model_exchange = true;
+                let i = &mut self.interfaces;
+                i.model_exchange_identifier = attribute(e, "modelIdentifier");
+                i.completed_integrator_step_not_needed =
+                    flag(e, "completedIntegratorStepNotNeeded");
+                i.needs_completed_integrator_step = flag(e, "needsCompletedIntegratorStep");
+            }
+            "ScheduledExecution" => self.interfaces.scheduled_execution = true,
+            "Category" if parent == "LogCategories" => {
+                self.log_categories
+                    .push(attribute(e, "name").unwrap_or_default());
+            }
             "DefaultExperiment" => {
                 self.start = number("startTime").unwrap_or(self.start);
                 self.stop = number("stopTime").unwrap_or(self.stop);
@@ -147,9 +222,16 @@ impl ModelDescription {
                 self.tolerance = number("tolerance").unwrap_or(self.tolerance);
             }
             _ if parent == "ModelVariables" => self.variables.push(variable(e, self.version)?),
-            "Real" if in_variable => {
+            // FMI 2.0's type element
+            "Real" | "Integer" | "Boolean" | "String" | "Enumeration"
+                if parent == "ScalarVariable" =>
+            {
                 if let Some(v) = self.variables.last_mut() {
-                    v.start = number("start");
+                    if e.name().into_inner() == "Real" {
+                        v.start = number("start");
+                    }
+                    v.kind = e.name().into_inner().to_string();
+                    typed(v, e);
                 }
             }
             "Dimension" if in_variable => {
@@ -164,7 +246,15 @@ impl ModelDescription {
             "Annotation" if in_variable => {
                 return Ok(attribute(e, "type").as_deref() == Some(SCALARS_ANNOTATION));
             }
-            "Unknown" if parent == "Derivatives" => self.states += 1,
+            "Unknown" if parent == "Derivatives" => {
+                self.states += 1;
+                self.derivative_indices
+                    .extend(number("index").map(|i| i as usize));
+            }
+            "EventIndicator" if parent == "ModelStructure" => {
+                let vr = attribute(e, "valueReference").and_then(|v| v.parse::<u32>().ok());
+                self.event_indicators.extend(vr);
+            }
             // counted in elements once the variables are known (see `parse`)
             "ContinuousStateDerivative" => {
                 let vr = attribute(e, "valueReference").and_then(|v| v.parse::<u32>().ok());
@@ -210,43 +300,6 @@ fn token_attribute(version: Version) -> &'static str {
     }
 }
 
-/// A variable's element: FMI 2.0's `ScalarVariable` (its start in its type's child), or
-/// FMI 3.0's element named by its type (a scalar `Float64`'s start an attribute).
-fn variable(e: &BytesStart, version: Version) -> Result<Variable, String> {
-    let name = attribute(e, "name").unwrap_or_default();
-    let vr = attribute(e, "valueReference")
-        .and_then(|v| v.parse().ok())
-        .ok_or_else(|| format!("the variable `{name}` has no valueReference"))?;
-    let float = e.name().into_inner().starts_with("Float");
-    let default_variability = if version == Version::Fmi2 || float {
-        "continuous"
-    } else {
-        "discrete"
-    };
-    let start = match version {
-        Version::Fmi3 if float => attribute(e, "start").and_then(|v| v.parse().ok()),
-        _ => None,
-    };
-    Ok(Variable {
-        name,
-        vr,
-        causality: attribute(e, "causality").unwrap_or_else(|| "local".into()),
-        variability: attribute(e, "variability").unwrap_or_else(|| default_variability.into()),
-        start,
-        dimensions: Vec::new(),
-        scalars: Vec::new(),
-    })
-}
-
-/// An attribute's value, unescaped and normalized (None: absent or unreadable).
-fn attribute(e: &BytesStart, key: &str) -> Option<String> {
-    e.attributes()
-        .flatten()
-        .find(|a| a.key.into_inner() == key)
-        .and_then(|a| a.normalized_value(XmlVersion::Explicit1_0).ok())
-        .map(|v| v.into_owned())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -278,6 +331,41 @@ mod tests {
         );
         assert_eq!(d.with_causality("input").len(), 1);
         assert_eq!(d.variable("x_ddot").unwrap().start, None);
+    }
+
+    #[test]
+    fn reads_the_types_the_structure_and_the_interfaces() {
+        let d = committed("Oscillator.xml");
+        let m = d.variable("m").unwrap();
+        assert_eq!(
+            (
+                m.kind.as_str(),
+                m.initial.as_deref(),
+                m.min,
+                m.unit.as_deref()
+            ),
+            ("Real", Some("exact"), Some(0.0), Some("kg"))
+        );
+        assert_eq!(
+            m.quantity.as_deref(),
+            Some("Mass"),
+            "from its declared type"
+        );
+        assert_eq!(d.variable("x_dot").unwrap().derivative, Some(7));
+        assert_eq!(d.derivative_indices.len(), d.states);
+        assert_eq!(d.log_categories.len(), 6);
+        let i = &d.interfaces;
+        assert_eq!(i.model_exchange_identifier.as_deref(), Some("Oscillator"));
+        assert!(i.completed_integrator_step_not_needed);
+        assert!(i.can_not_use_memory_management_functions);
+        assert_eq!(i.max_output_derivative_order, 1);
+        let three = committed("fmi3/RigidBody.xml");
+        assert_eq!(three.state_derivatives.len(), 2);
+        let inertia = three.variable("I_C").unwrap();
+        assert_eq!(
+            (inertia.kind.as_str(), inertia.start_values.len()),
+            ("Float64", 9)
+        );
     }
 
     #[test]
