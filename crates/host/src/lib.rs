@@ -33,4 +33,5 @@ pub mod fmi3;
 pub mod library;
 pub mod log;
 pub mod model_exchange;
-pub mod platform;
+/// The platforms and their folders in an FMU of each version: the runtime's one map.
+pub use mechfmu::contract::platform;

@@ -1,13 +1,15 @@
 //! What the model description and the binary of an FMU must agree on, and the one place
 //! each is defined: the capabilities the FMU declares (and the runtime implements), the log
-//! categories, and the GUID that ties a `modelDescription.xml` to its binary (FMI 3.0: the
-//! instantiation token). The XML writers, the GUID and the FMI layers all read them from
-//! here.
+//! categories, the GUID that ties a `modelDescription.xml` to its binary (FMI 3.0: the
+//! instantiation token), and where each platform's binary is in the archive ([`platform`]).
+//! The XML writers, the GUID, the FMI layers, the documentation page and every importer and
+//! packager of mechfmu read them from here.
 //!
 //! The GUID is derived from the declaration: the same declaration always gives the same
 //! GUID, and any change an importer could see gives another.
 
 mod capabilities;
+pub mod platform;
 mod token;
 
 pub use capabilities::{Capabilities, Fmi3Capabilities, CAPABILITIES, FMI3_CAPABILITIES};

@@ -28,6 +28,7 @@ pub use events::{events, events_for};
 pub use experiment::{default_experiment, moving_case, Trajectory};
 pub use interface::interface;
 
+use crate::contract::platform::Platform;
 use crate::contract::{Version, CAPABILITIES};
 use crate::model::Mechanism;
 use std::fmt::Write as _;
@@ -108,14 +109,8 @@ fn page<M: Mechanism>(version: Version) -> Result<String, String> {
          (<code>{name}_ref.csv</code>, with <code>{name}_in.csv</code> and <code>{name}_ref.opt</code> in the FMI \
          cross-check conventions) over the default experiment's time from the start values, driven by the inputs \
          of <code>{name}_in.csv</code>, computed by an independent high-accuracy solution, not by this FMU</li>",
-        linux = match version {
-            Version::Fmi2 => "linux64",
-            Version::Fmi3 => "x86_64-linux",
-        },
-        windows = match version {
-            Version::Fmi2 => "win64",
-            Version::Fmi3 => "x86_64-windows",
-        },
+        linux = Platform::X86_64Linux.folder(version),
+        windows = Platform::X86_64Windows.folder(version),
         arm_note = match version {
             Version::Fmi2 => ", FMI 3.0's platform name, as FMI 2.0.5 directs for platforms FMI 2.0 does not name",
             Version::Fmi3 => "",

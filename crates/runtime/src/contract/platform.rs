@@ -8,7 +8,7 @@
 //! FMI 2.0 binaries from `darwin64`.)
 
 /// The FMI version whose folder [`Platform::folder`] names.
-pub use mechfmu::contract::Version;
+pub use super::Version;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Platform {
