@@ -10,6 +10,33 @@
 
 pub mod fmi3;
 
+/// `allocation_tests!(crate::Model)`: the tests each mechanism's file runs, in a test binary
+/// of its own (two mechanism crates in one would export the same `fmi2*` symbols twice):
+/// 2000 communication steps through [`check`], [`check_with_tunables`] and [`fmi3::check`],
+/// each of which asserts that the steps allocated nothing.
+#[macro_export]
+macro_rules! allocation_tests {
+    ($model:ty) => {
+        #[test]
+        fn the_importer_loop_allocates_nothing() {
+            let work = $crate::check::<$model>(2_000);
+            assert_eq!(work.steps, 2_000);
+        }
+
+        #[test]
+        fn setting_tunable_parameters_allocates_nothing() {
+            let work = $crate::check_with_tunables::<$model>(2_000);
+            assert_eq!(work.steps, 2_000);
+        }
+
+        #[test]
+        fn the_importer_loop_through_fmi3_allocates_nothing() {
+            let work = $crate::fmi3::check::<$model>(2_000);
+            assert_eq!(work.steps, 2_000);
+        }
+    };
+}
+
 use mechfmu::fmi2::ffi::*;
 use mechfmu::fmi2::functions;
 use mechfmu::model::{Causality, Mechanism, Variability};

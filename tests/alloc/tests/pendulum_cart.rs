@@ -1,19 +1,3 @@
 //! `fmi2SetReal`, `fmi2DoStep` and `fmi2GetReal` (and FMI 3.0's) of PendulumCart allocate nothing.
 
-#[test]
-fn the_importer_loop_allocates_nothing() {
-    let work = mechfmu_alloc::check::<pendulum_cart::PendulumCart>(2_000);
-    assert_eq!(work.steps, 2_000);
-}
-
-#[test]
-fn setting_tunable_parameters_allocates_nothing() {
-    let work = mechfmu_alloc::check_with_tunables::<pendulum_cart::PendulumCart>(2_000);
-    assert_eq!(work.steps, 2_000);
-}
-
-#[test]
-fn the_importer_loop_through_fmi3_allocates_nothing() {
-    let work = mechfmu_alloc::fmi3::check::<pendulum_cart::PendulumCart>(2_000);
-    assert_eq!(work.steps, 2_000);
-}
+mechfmu_alloc::allocation_tests!(pendulum_cart::PendulumCart);
