@@ -16,6 +16,7 @@
 //! - [`rng`]: a deterministic generator for checks at random points.
 
 pub mod conformance;
+pub mod documented;
 pub mod fmi3;
 pub mod golden;
 pub mod harness;
