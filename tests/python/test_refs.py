@@ -321,10 +321,15 @@ def test_pendulum_cart_small_oscillations_follow_linear_modes():
 
 # ============================================================================ Crane
 
+def random_crane_state():
+    """Either crane's state (x, x_dot, theta, theta_dot, phi, phi_dot) at random."""
+    return np.array([RNG.uniform(1.0, 20.0), RNG.normal(0, 2), RNG.uniform(-1.5, 1.5), RNG.normal(0, 0.5),
+                     RNG.uniform(-2.5, 2.5), RNG.normal(0, 1.5)])
+
+
 def random_crane_states(n):
     for _ in range(n):
-        y = np.array([RNG.uniform(1.0, 20.0), RNG.normal(0, 2), RNG.uniform(-1.5, 1.5), RNG.normal(0, 0.5),
-                      RNG.uniform(-2.5, 2.5), RNG.normal(0, 1.5)])
+        y = random_crane_state()
         yield y, {"x_ddot": float(RNG.normal(0, 2)), "theta_ddot": float(RNG.normal(0, 0.3))}
 
 
@@ -426,8 +431,7 @@ def test_crane_trolley_reaching_pivot_stops_the_reference():
 
 def random_cd_states(n):
     for _ in range(n):
-        y = np.array([RNG.uniform(1.0, 20.0), RNG.normal(0, 2), RNG.uniform(-1.5, 1.5), RNG.normal(0, 0.5),
-                      RNG.uniform(-2.5, 2.5), RNG.normal(0, 1.5)])
+        y = random_crane_state()
         yield y, {"F": float(RNG.normal(0, 5e3)), "tau": float(RNG.normal(0, 5e4))}
 
 
