@@ -147,6 +147,16 @@ def simulate(
     return SimResult(result=result, log=mark.records)
 
 
+def simulate_refused(path: Path, start_values: dict[str, float]) -> LogMark:
+    """``fmpy.simulate_fmu`` from ``start_values`` the FMU refuses: it raises with fmi2Error.
+    The mark of what was logged, for the test to find its message in."""
+    mark = LogMark()
+    with pytest.raises(FMICallException) as info:
+        simulate(path, start_values=start_values, stop_time=1.0)
+    assert info.value.status == fmi2Error
+    return mark
+
+
 # ---------------------------------------------------------------------------------------
 # Low-level API
 
@@ -285,6 +295,29 @@ class Slave:
     def set(self, **values: float) -> None:
         self.expect_ok(f"fmi2SetReal({values})", self.set_real_status(values))
 
+    def expect_refused_on_leaving_initialization(self, name: str, value: float) -> None:
+        """Parameter ``name`` set to ``value`` is accepted until fmi2ExitInitializationMode,
+        which fails with fmi2Error and an error message ``<name> = ...``."""
+        self.setup()
+        self.set(**{name: value})
+        self.enter()
+        status = self.call("fmi2ExitInitializationMode")
+        assert status == fmi2Error, status_name(status)
+        assert [r for r in self.log.records if r.status == fmi2Error
+                and re.search(rf"(?<![\w.]){name} = ", r.message)], self.log.text()
+
+    def expect_steps_without_error(self, start_values: dict[str, float],
+                                   inputs: dict[str, float] | None = None) -> None:
+        """A legal sequence logs no error: initialization from ``start_values``, ``inputs``
+        set, 100 steps of 0.01 s and fmi2Terminate."""
+        self.initialize(start_values)
+        if inputs:
+            self.set(**inputs)
+        for i in range(100):
+            self.step(i * 0.01, 0.01)
+        assert self.call("fmi2Terminate") == fmi2OK
+        assert not [r for r in self.log.records if r.status >= fmi2Error], self.log.text()
+
 
 # ---------------------------------------------------------------------------------------
 # Errors and figures
@@ -346,6 +379,30 @@ def record_figures(name: str, case: str, entry: dict[str, Any]) -> None:
         data["fmpy"] = fmpy.__version__
         path.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n")
         _render_markdown(name, data)
+
+
+def figure_row(var: str, err: float, rng: float, rel: float, limit: float, at_t: float | None = None,
+               interval: float | None = None) -> dict[str, Any]:
+    """One row of a figures table (plain Python types, for JSON)."""
+    return dict(variable=var, output_interval=interval, max_error=float(err), range=float(rng), relative=float(rel),
+                limit=limit, at_t=None if at_t is None else float(at_t), **{"pass": bool(rel <= limit)})
+
+
+def compare_to_reference(figure: str, res: Any, ref: Any, names: list[str], interval: float, case: str,
+                         limit: float) -> list[str]:
+    """The worst error of each of ``names`` in the FMU's result ``res`` against the reference
+    ``ref``, relative to the reference's range: a row per variable recorded under ``case`` in
+    the figure file ``figure``, and a line per variable past ``limit`` (none: the case passes)."""
+    rows, failures = [], []
+    for name in names:
+        err, rng, i = max_error(res[name], ref[name])
+        rel = err / rng if rng > 0 else err
+        rows.append(dict(variable=name, output_interval=interval, max_error=err, range=rng, relative=rel,
+                         limit=limit, at_t=float(res.time[i]), **{"pass": bool(rel <= limit)}))
+        if not rel <= limit:
+            failures.append(f"{name}: max error {err:.3e} = {rel:.3e} of range {rng:.4g} at t = {res.time[i]:.4g}")
+    record_figures(figure, case, {"case": case, "variables": rows})
+    return failures
 
 
 def _fmt(v: Any) -> str:

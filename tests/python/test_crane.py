@@ -29,9 +29,9 @@ import pytest
 from scipy.integrate import simpson
 from scipy.special import ellipk
 
-from fmpy.fmi2 import fmi2Discard, fmi2Error, fmi2OK, fmi2Warning
+from fmpy.fmi2 import fmi2Discard, fmi2OK, fmi2Warning
 
-from fmutest import LogMark, max_error, record_figures, simulate, status_name
+from fmutest import LogMark, compare_to_reference, record_figures, simulate, status_name
 from refs import crane as ref_crane
 from refs import derive, step_input
 from refs._common import run as run_reference
@@ -124,16 +124,7 @@ def hermite_zero_crossings(t, y, dy, direction=-1):
 
 
 def compare(res, ref, names, interval, case, limit=REL_LIMIT):
-    rows, failures = [], []
-    for name in names:
-        err, rng, i = max_error(res[name], ref[name])
-        rel = err / rng if rng > 0 else err
-        rows.append(dict(variable=name, output_interval=interval, max_error=err, range=rng, relative=rel,
-                         limit=limit, at_t=float(res.time[i]), **{"pass": bool(rel <= limit)}))
-        if not rel <= limit:
-            failures.append(f"{name}: max error {err:.3e} = {rel:.3e} of range {rng:.4g} at t = {res.time[i]:.4g}")
-    record_figures(FIG, case, {"case": case, "variables": rows})
-    return failures
+    return compare_to_reference(FIG, res, ref, names, interval, case, limit)
 
 
 # Drives moving: piecewise-constant accelerations (switch times on the 0.01 grid).
@@ -469,14 +460,7 @@ def test_trolley_reaching_the_pivot_stops_at_the_last_valid_time(fmu):
 @pytest.mark.parametrize("name,value", [("m", 0.0), ("m", -1.0), ("l", 0.0), ("l", -5.0), ("x", 0.0),
                                         ("x", -2.0), ("g", -9.81)])
 def test_invalid_values_fail_initialization_with_a_message(slave, name, value):
-    s = slave(NAME)
-    s.setup()
-    s.set(**{name: value})
-    s.enter()
-    status = s.call("fmi2ExitInitializationMode")
-    assert status == fmi2Error, status_name(status)
-    assert [r for r in s.log.records if r.status == fmi2Error
-            and re.search(rf"(?<![\w.]){name} = ", r.message)], s.log.text()
+    slave(NAME).expect_refused_on_leaving_initialization(name, value)
 
 
 def test_default_experiment_runs_without_arguments(fmu):

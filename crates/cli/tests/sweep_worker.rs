@@ -118,20 +118,8 @@ impl Worker {
 /// A case of a request: its index, start values (m, c, k) and input rows (time, F).
 type Request<'a> = (u64, [f64; 3], &'a [[f64; 2]]);
 
-/// A chunk request.
 fn chunk(cases: &[Request]) -> Vec<u8> {
-    let mut bytes = (cases.len() as u32).to_le_bytes().to_vec();
-    for (index, starts, rows) in cases {
-        bytes.extend_from_slice(&index.to_le_bytes());
-        starts
-            .iter()
-            .for_each(|v| bytes.extend_from_slice(&v.to_le_bytes()));
-        bytes.extend_from_slice(&(rows.len() as u32).to_le_bytes());
-        rows.iter()
-            .flatten()
-            .for_each(|v| bytes.extend_from_slice(&v.to_le_bytes()));
-    }
-    bytes
+    mechfmu_sweep_worker::encode_chunk(cases)
 }
 
 #[derive(Debug)]

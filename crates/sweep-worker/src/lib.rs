@@ -30,6 +30,8 @@ mod summary;
 use driver::{Driver, Timing};
 use instance::Failure;
 use mechfmu_host::log::Message;
+/// The chunk requests the tests of the worker send, written as the Python side writes them.
+pub use protocol::encode_chunk;
 use protocol::{frame, parse_chunk, read_frame, CaseReport, Reply};
 use serde_json::json;
 use setup::Setup;

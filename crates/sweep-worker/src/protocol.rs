@@ -112,6 +112,30 @@ impl<'a> Cursor<'a> {
     }
 }
 
+/// A chunk request as the Python side writes it, from each case's index, start values and
+/// input rows (each row its time, then the inputs): what [`parse_chunk`] reads, for the
+/// tests that feed a worker.
+pub fn encode_chunk<S, T, R>(cases: &[(u64, S, T)]) -> Vec<u8>
+where
+    S: AsRef<[f64]>,
+    T: AsRef<[R]>,
+    R: AsRef<[f64]>,
+{
+    let mut bytes = (cases.len() as u32).to_le_bytes().to_vec();
+    for (index, starts, rows) in cases {
+        bytes.extend_from_slice(&index.to_le_bytes());
+        for v in starts.as_ref() {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+        let rows = rows.as_ref();
+        bytes.extend_from_slice(&(rows.len() as u32).to_le_bytes());
+        for v in rows.iter().flat_map(|row| row.as_ref()) {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    bytes
+}
+
 /// The cases of a chunk request, for a setup with `starts` start values and `inputs`
 /// inputs; the whole chunk is checked before any case runs.
 pub fn parse_chunk(payload: &[u8], starts: usize, inputs: usize) -> Result<Vec<Case<'_>>, String> {
@@ -234,20 +258,8 @@ mod tests {
     /// A case of a request: index, start values, input rows.
     type Request = (u64, Vec<f64>, Vec<Vec<f64>>);
 
-    /// A chunk request as the Python side writes it.
     fn chunk(cases: &[Request]) -> Vec<u8> {
-        let mut bytes = (cases.len() as u32).to_le_bytes().to_vec();
-        for (index, starts, rows) in cases {
-            bytes.extend_from_slice(&index.to_le_bytes());
-            starts
-                .iter()
-                .for_each(|v| bytes.extend_from_slice(&v.to_le_bytes()));
-            bytes.extend_from_slice(&(rows.len() as u32).to_le_bytes());
-            rows.iter()
-                .flatten()
-                .for_each(|v| bytes.extend_from_slice(&v.to_le_bytes()));
-        }
-        bytes
+        encode_chunk(cases)
     }
 
     #[test]

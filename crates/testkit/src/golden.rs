@@ -4,21 +4,35 @@
 use mechfmu::model::Mechanism;
 use std::path::Path;
 
+/// `golden_tests!(Model)`: the two tests of a mechanism crate's committed generated files,
+/// `model_description_is_current` ([`model_description`]) and `interface_is_current`
+/// ([`interface`]), for the crate the macro is called in.
+#[macro_export]
+macro_rules! golden_tests {
+    ($model:ty) => {
+        #[test]
+        fn model_description_is_current() {
+            $crate::golden::model_description::<$model>(
+                env!("CARGO_MANIFEST_DIR"),
+                env!("CARGO_PKG_NAME"),
+            );
+        }
+
+        #[test]
+        fn interface_is_current() {
+            $crate::golden::interface::<$model>(env!("CARGO_MANIFEST_DIR"), env!("CARGO_PKG_NAME"));
+        }
+    };
+}
+
 /// Asserts the model descriptions `M`'s declaration generates are those committed in the
 /// repository holding the mechanism crate at `crate_dir` (two folders up, as
 /// `fmus/<name>/`): FMI 2.0's at `modelDescription/<Name>.xml`, FMI 3.0's at
 /// `modelDescription/fmi3/<Name>.xml`. `package` names the crate in the regeneration
 /// command, which writes both.
 ///
-/// ```ignore
-/// #[test]
-/// fn model_description_is_current() {
-///     mechfmu_testkit::golden::model_description::<Oscillator>(
-///         env!("CARGO_MANIFEST_DIR"),
-///         env!("CARGO_PKG_NAME"),
-///     );
-/// }
-/// ```
+///
+/// A mechanism crate's tests check it with [`golden_tests!`](crate::golden_tests).
 pub fn model_description<M: Mechanism>(crate_dir: &str, package: &str) {
     let hint = format!("MECHFMU_BLESS=1 cargo test -p {package} model_description");
     let folder = Path::new(crate_dir).join("../../modelDescription");

@@ -20,6 +20,7 @@
 
 pub mod allocations;
 pub mod conformance;
+pub mod documented;
 pub mod fmi3;
 pub mod golden;
 pub mod harness;

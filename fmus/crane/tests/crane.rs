@@ -66,31 +66,13 @@ fn downward_zero_crossings(fmu: &mut Fmu, t_end: f64, h: f64) -> Vec<f64> {
     crossings
 }
 
-#[test]
-fn model_description_is_current() {
-    mechfmu_testkit::golden::model_description::<Crane>(
-        env!("CARGO_MANIFEST_DIR"),
-        env!("CARGO_PKG_NAME"),
-    );
-}
-
-#[test]
-fn interface_is_current() {
-    mechfmu_testkit::golden::interface::<Crane>(env!("CARGO_MANIFEST_DIR"), env!("CARGO_PKG_NAME"));
-}
+mechfmu_testkit::golden_tests!(Crane);
 
 /// The documentation says the default experiment stands still and plots the moving case
 /// instead: both must stay true of the declaration.
 #[test]
 fn the_default_experiment_stands_still_and_the_documented_case_moves() {
-    use mechfmu::model::Mechanism;
-    assert!(mechfmu::docs::default_experiment::<Crane>()
-        .unwrap()
-        .stands_still());
-    let case = Crane::MOVING_CASE.expect("a moving case");
-    let run = mechfmu::docs::moving_case::<Crane>(&case).unwrap();
-    assert!(!run.stands_still());
-    assert_eq!(run.stopped, None);
+    mechfmu_testkit::documented::default_experiment_stands_still_and_moving_case_moves::<Crane>();
 }
 
 #[test]

@@ -18,34 +18,15 @@ fn static_loads(x: f64, theta: f64) -> (f64, f64) {
     ((M + MT) * G * theta.sin(), x * (M + MT) * G * theta.cos())
 }
 
-#[test]
-fn model_description_is_current() {
-    mechfmu_testkit::golden::model_description::<CraneDynamics>(
-        env!("CARGO_MANIFEST_DIR"),
-        env!("CARGO_PKG_NAME"),
-    );
-}
-
-#[test]
-fn interface_is_current() {
-    mechfmu_testkit::golden::interface::<CraneDynamics>(
-        env!("CARGO_MANIFEST_DIR"),
-        env!("CARGO_PKG_NAME"),
-    );
-}
+mechfmu_testkit::golden_tests!(CraneDynamics);
 
 /// The documentation says the default experiment stands still and plots the moving case
 /// instead: both must stay true of the declaration.
 #[test]
 fn the_default_experiment_stands_still_and_the_documented_case_moves() {
-    use mechfmu::model::Mechanism;
-    assert!(mechfmu::docs::default_experiment::<CraneDynamics>()
-        .unwrap()
-        .stands_still());
-    let case = CraneDynamics::MOVING_CASE.expect("a moving case");
-    let run = mechfmu::docs::moving_case::<CraneDynamics>(&case).unwrap();
-    assert!(!run.stands_still());
-    assert_eq!(run.stopped, None);
+    mechfmu_testkit::documented::default_experiment_stands_still_and_moving_case_moves::<
+        CraneDynamics,
+    >();
 }
 
 #[test]

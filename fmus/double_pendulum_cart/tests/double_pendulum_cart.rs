@@ -9,21 +9,7 @@ use mechfmu_testkit::rng::Rng;
 
 type Fmu = Harness<DoublePendulumCart>;
 
-#[test]
-fn model_description_is_current() {
-    mechfmu_testkit::golden::model_description::<DoublePendulumCart>(
-        env!("CARGO_MANIFEST_DIR"),
-        env!("CARGO_PKG_NAME"),
-    );
-}
-
-#[test]
-fn interface_is_current() {
-    mechfmu_testkit::golden::interface::<DoublePendulumCart>(
-        env!("CARGO_MANIFEST_DIR"),
-        env!("CARGO_PKG_NAME"),
-    );
-}
+mechfmu_testkit::golden_tests!(DoublePendulumCart);
 
 const NAMES: [&str; 14] = [
     "M", "m1", "m2", "l1", "l2", "g", "c", "F", "x", "x_dot", "phi1", "phi1_dot", "phi2",

@@ -162,21 +162,7 @@ fn tunable_damping_takes_effect_at_the_next_step() {
     assert!((a.get("x") - b.get("x")).abs() > 1e-3);
 }
 
-#[test]
-fn model_description_is_current() {
-    mechfmu_testkit::golden::model_description::<Oscillator>(
-        env!("CARGO_MANIFEST_DIR"),
-        env!("CARGO_PKG_NAME"),
-    );
-}
-
-#[test]
-fn interface_is_current() {
-    mechfmu_testkit::golden::interface::<Oscillator>(
-        env!("CARGO_MANIFEST_DIR"),
-        env!("CARGO_PKG_NAME"),
-    );
-}
+mechfmu_testkit::golden_tests!(Oscillator);
 
 #[test]
 fn conforms() {

@@ -8,21 +8,7 @@ use pendulum_cart::PendulumCart;
 
 type Fmu = Harness<PendulumCart>;
 
-#[test]
-fn model_description_is_current() {
-    mechfmu_testkit::golden::model_description::<PendulumCart>(
-        env!("CARGO_MANIFEST_DIR"),
-        env!("CARGO_PKG_NAME"),
-    );
-}
-
-#[test]
-fn interface_is_current() {
-    mechfmu_testkit::golden::interface::<PendulumCart>(
-        env!("CARGO_MANIFEST_DIR"),
-        env!("CARGO_PKG_NAME"),
-    );
-}
+mechfmu_testkit::golden_tests!(PendulumCart);
 
 const NAMES: [&str; 12] = [
     "M",

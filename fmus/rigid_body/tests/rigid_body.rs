@@ -9,21 +9,7 @@ use rigid_body::RigidBody;
 
 type Fmu = Harness<RigidBody>;
 
-#[test]
-fn model_description_is_current() {
-    mechfmu_testkit::golden::model_description::<RigidBody>(
-        env!("CARGO_MANIFEST_DIR"),
-        env!("CARGO_PKG_NAME"),
-    );
-}
-
-#[test]
-fn interface_is_current() {
-    mechfmu_testkit::golden::interface::<RigidBody>(
-        env!("CARGO_MANIFEST_DIR"),
-        env!("CARGO_PKG_NAME"),
-    );
-}
+mechfmu_testkit::golden_tests!(RigidBody);
 
 fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol * b.abs().max(1e-300)

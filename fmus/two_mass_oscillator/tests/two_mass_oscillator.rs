@@ -6,21 +6,7 @@ use two_mass_oscillator::TwoMassOscillator;
 
 type Fmu = Harness<TwoMassOscillator>;
 
-#[test]
-fn model_description_is_current() {
-    mechfmu_testkit::golden::model_description::<TwoMassOscillator>(
-        env!("CARGO_MANIFEST_DIR"),
-        env!("CARGO_PKG_NAME"),
-    );
-}
-
-#[test]
-fn interface_is_current() {
-    mechfmu_testkit::golden::interface::<TwoMassOscillator>(
-        env!("CARGO_MANIFEST_DIR"),
-        env!("CARGO_PKG_NAME"),
-    );
-}
+mechfmu_testkit::golden_tests!(TwoMassOscillator);
 
 /// The notes' closed form: the roots of det(K - ω² M) = 0,
 /// `m1 m2 ω⁴ - B ω² + C = 0`, `B = m1 k2 + m2 k1 + (m1+m2) k3`, `C = k1 k2 + (k1+k2) k3`,

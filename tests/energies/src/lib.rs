@@ -87,6 +87,43 @@ macro_rules! twin {
     };
 }
 
+/// `twin_tests!(Twin of Hand in "folder", seed: s, trajectories: start, to: stop, by: step)`:
+/// the tests every twin runs against its hand-written mechanism (in `fmus/<folder>`):
+/// [`assert_agreement`] at 1000 random points from the seed, [`assert_reference_case`],
+/// [`assert_same_trajectories`] from the start values given (by name) to `stop` by `step`,
+/// and the ignored `probe` that `mechfmu bench --energies` runs (see [`probe`]).
+#[macro_export]
+macro_rules! twin_tests {
+    (
+        $twin:ident of $hand:ident in $folder:literal,
+        seed: $seed:expr,
+        trajectories: $start:expr,
+        to: $stop:expr, by: $step:expr $(,)?
+    ) => {
+        #[test]
+        fn equations_agree_at_random_points() {
+            $crate::assert_agreement::<$hand, $twin>(1000, $seed);
+        }
+
+        #[test]
+        fn reference_case_agrees() {
+            $crate::assert_reference_case::<$hand, $twin>($folder);
+        }
+
+        #[test]
+        fn trajectories_agree() {
+            $crate::assert_same_trajectories::<$hand, $twin>(&$start, $stop, $step);
+        }
+
+        /// What `mechfmu bench --energies` counts the instructions of.
+        #[test]
+        #[ignore]
+        fn probe() {
+            $crate::probe::<$hand, $twin>();
+        }
+    };
+}
+
 /// A random point: each parameter within a factor of two of its start value (inside its
 /// bounds), each state and input its start value moved by up to its own size (at least 1),
 /// angles and angular rates (units `rad...`) in (-3, 3), and the calculated parameters
@@ -381,6 +418,41 @@ pub fn reference_case<Hand: Mechanism, Twin: Mechanism>(crate_dir: &Path) -> (f6
         worst_relative_to_range(&reference, &pick(&hand), &columns),
         worst_relative_to_range(&reference, &pick(&twin), &columns),
     )
+}
+
+/// [`agreement`] at `points` random points from `seed`: every value and every derivative
+/// within 1e-12 of the hand-written mechanism's.
+pub fn assert_agreement<Hand, Twin>(points: usize, seed: u64)
+where
+    Hand: Mechanism,
+    Twin: Mechanism<Values<f64> = Hand::Values<f64>, Values<Dual64> = Hand::Values<Dual64>>,
+{
+    let found = agreement::<Hand, Twin>(points, seed);
+    println!("{found:?}");
+    assert!(found.worst_value <= 1e-12, "{found:?}");
+    assert!(found.worst_derivative <= 1e-12, "{found:?}");
+}
+
+/// [`reference_case`] of the mechanism in `fmus/<folder>`: the twin meets the packaged
+/// reference results as closely as the hand-written mechanism does (to 1e-9).
+pub fn assert_reference_case<Hand: Mechanism, Twin: Mechanism>(folder: &str) {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fmus")
+        .join(folder);
+    let (hand, twin) = reference_case::<Hand, Twin>(&dir);
+    println!("reference: hand {hand:e}, twin {twin:e}");
+    assert!(twin <= hand + 1e-9, "hand {hand:e}, twin {twin:e}");
+}
+
+/// [`same_trajectories`] from `start` to `stop` by `step`: within 1e-9 of each variable's range.
+pub fn assert_same_trajectories<Hand: Mechanism, Twin: Mechanism>(
+    start: &[(&str, f64)],
+    stop: f64,
+    step: f64,
+) {
+    let worst = same_trajectories::<Hand, Twin>(start, stop, step);
+    println!("trajectories: {worst:e}");
+    assert!(worst <= 1e-9, "{worst:e}");
 }
 
 /// What `mechfmu bench --energies` counts: a run of [`PROBE_STEPS`] `fmi2DoStep` of

@@ -8,7 +8,7 @@ mod crane_outputs;
 use crane::{Crane, CraneValues};
 use mechfmu::lagrange::{Coordinate, Lagrangian};
 use mechfmu::model::{lit, sin_cos, Scalar};
-use mechfmu_energies::{agreement, reference_case, same_trajectories, twin};
+use mechfmu_energies::{twin, twin_tests};
 
 twin!(EnergyCrane of Crane, evaluate(v) {
     Self::lagrange(v);
@@ -40,38 +40,9 @@ impl Lagrangian<3> for EnergyCrane {
     }
 }
 
-#[test]
-fn swing_and_drive_forces_agree_at_random_points() {
-    let found = agreement::<Crane, EnergyCrane>(1000, 0xc4ae);
-    println!("{found:?}");
-    assert!(found.worst_value <= 1e-12, "{found:?}");
-    assert!(found.worst_derivative <= 1e-12, "{found:?}");
-}
-
-#[test]
-fn reference_case_agrees() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fmus/crane");
-    let (hand, twin) = reference_case::<Crane, EnergyCrane>(&dir);
-    println!("reference: hand {hand:e}, twin {twin:e}");
-    assert!(twin <= hand + 1e-9, "hand {hand:e}, twin {twin:e}");
-}
-
-#[test]
-fn driven_trajectories_agree() {
-    let start = [
-        ("phi", 1.0),
-        ("x_ddot", 0.2),
-        ("theta_ddot", -0.01),
-        ("theta_dot", 0.1),
-    ];
-    let worst = same_trajectories::<Crane, EnergyCrane>(&start, 5.0, 0.01);
-    println!("trajectories: {worst:e}");
-    assert!(worst <= 1e-9, "{worst:e}");
-}
-
-/// What `mechfmu bench --energies` counts the instructions of (see `mechfmu_energies::probe`).
-#[test]
-#[ignore]
-fn probe() {
-    mechfmu_energies::probe::<Crane, EnergyCrane>();
-}
+// The swing with the trolley and the boom driven.
+twin_tests!(EnergyCrane of Crane in "crane",
+    seed: 0xc4ae,
+    trajectories: [("phi", 1.0), ("x_ddot", 0.2), ("theta_ddot", -0.01), ("theta_dot", 0.1)],
+    to: 5.0, by: 0.01,
+);

@@ -6,7 +6,7 @@ mod crane_outputs;
 use crane_dynamics::{CraneDynamics, CraneDynamicsValues};
 use mechfmu::lagrange::{Coordinate, Lagrangian};
 use mechfmu::model::{lit, sin_cos, Scalar};
-use mechfmu_energies::{agreement, reference_case, same_trajectories, twin};
+use mechfmu_energies::{twin, twin_tests};
 
 twin!(EnergyCraneDynamics of CraneDynamics, evaluate(v) {
     Self::lagrange(v);
@@ -50,38 +50,9 @@ impl Lagrangian<3> for EnergyCraneDynamics {
     }
 }
 
-#[test]
-fn accelerations_agree_at_random_points() {
-    let found = agreement::<CraneDynamics, EnergyCraneDynamics>(1000, 0xd1_ca);
-    println!("{found:?}");
-    assert!(found.worst_value <= 1e-12, "{found:?}");
-    assert!(found.worst_derivative <= 1e-12, "{found:?}");
-}
-
-#[test]
-fn reference_case_agrees() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fmus/crane_dynamics");
-    let (hand, twin) = reference_case::<CraneDynamics, EnergyCraneDynamics>(&dir);
-    println!("reference: hand {hand:e}, twin {twin:e}");
-    assert!(twin <= hand + 1e-9, "hand {hand:e}, twin {twin:e}");
-}
-
-#[test]
-fn driven_trajectories_agree() {
-    let start = [
-        ("phi", 0.8),
-        ("F", 9000.0),
-        ("tau", 90000.0),
-        ("x_dot", 0.3),
-    ];
-    let worst = same_trajectories::<CraneDynamics, EnergyCraneDynamics>(&start, 5.0, 0.01);
-    println!("trajectories: {worst:e}");
-    assert!(worst <= 1e-9, "{worst:e}");
-}
-
-/// What `mechfmu bench --energies` counts the instructions of (see `mechfmu_energies::probe`).
-#[test]
-#[ignore]
-fn probe() {
-    mechfmu_energies::probe::<CraneDynamics, EnergyCraneDynamics>();
-}
+// The swing with the drives' force and torque applied.
+twin_tests!(EnergyCraneDynamics of CraneDynamics in "crane_dynamics",
+    seed: 0xd1_ca,
+    trajectories: [("phi", 0.8), ("F", 9000.0), ("tau", 90000.0), ("x_dot", 0.3)],
+    to: 5.0, by: 0.01,
+);

@@ -3,7 +3,7 @@
 
 use mechfmu::lagrange::{Coordinate, Lagrangian};
 use mechfmu::model::{lit, sin, Scalar};
-use mechfmu_energies::{agreement, reference_case, same_trajectories, twin};
+use mechfmu_energies::{twin, twin_tests};
 use oscillator::{Oscillator, OscillatorValues};
 
 twin!(EnergyOscillator of Oscillator, evaluate(v) {
@@ -29,33 +29,9 @@ impl Lagrangian<1> for EnergyOscillator {
     }
 }
 
-#[test]
-fn accelerations_agree_at_random_points() {
-    let found = agreement::<Oscillator, EnergyOscillator>(1000, 0x05c1_11a7);
-    println!("{found:?}");
-    assert!(found.worst_value <= 1e-12, "{found:?}");
-    assert!(found.worst_derivative <= 1e-12, "{found:?}");
-}
-
-#[test]
-fn reference_case_agrees() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fmus/oscillator");
-    let (hand, twin) = reference_case::<Oscillator, EnergyOscillator>(&dir);
-    println!("reference: hand {hand:e}, twin {twin:e}");
-    assert!(twin <= hand + 1e-9, "hand {hand:e}, twin {twin:e}");
-}
-
-#[test]
-fn forced_trajectories_agree() {
-    let start = [("F0", 1.5), ("omega", 2.5), ("F", -0.3), ("c", 0.1)];
-    let worst = same_trajectories::<Oscillator, EnergyOscillator>(&start, 10.0, 0.01);
-    println!("trajectories: {worst:e}");
-    assert!(worst <= 1e-9, "{worst:e}");
-}
-
-/// What `mechfmu bench --energies` counts the instructions of (see `mechfmu_energies::probe`).
-#[test]
-#[ignore]
-fn probe() {
-    mechfmu_energies::probe::<Oscillator, EnergyOscillator>();
-}
+// A forced, damped oscillation.
+twin_tests!(EnergyOscillator of Oscillator in "oscillator",
+    seed: 0x05c1_11a7,
+    trajectories: [("F0", 1.5), ("omega", 2.5), ("F", -0.3), ("c", 0.1)],
+    to: 10.0, by: 0.01,
+);

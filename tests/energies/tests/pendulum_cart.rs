@@ -4,7 +4,7 @@
 
 use mechfmu::lagrange::{Coordinate, Lagrangian};
 use mechfmu::model::{lit, sin_cos, Scalar};
-use mechfmu_energies::{agreement, reference_case, same_trajectories, twin};
+use mechfmu_energies::{twin, twin_tests};
 use pendulum_cart::{PendulumCart, PendulumCartValues};
 
 twin!(EnergyCart of PendulumCart, evaluate(v) {
@@ -43,39 +43,9 @@ impl Lagrangian<2> for EnergyCart {
     }
 }
 
-#[test]
-fn accelerations_agree_at_random_points() {
-    let found = agreement::<PendulumCart, EnergyCart>(1000, 0x5eed_ca27);
-    println!("{found:?}");
-    assert!(found.worst_value <= 1e-12, "{found:?}");
-    assert!(found.worst_derivative <= 1e-12, "{found:?}");
-}
-
-#[test]
-fn reference_case_agrees() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fmus/pendulum_cart");
-    let (hand, twin) = reference_case::<PendulumCart, EnergyCart>(&dir);
-    println!("reference: hand {hand:e}, twin {twin:e}");
-    assert!(twin <= hand + 1e-9, "hand {hand:e}, twin {twin:e}");
-}
-
-#[test]
-fn forced_and_damped_trajectories_agree() {
-    let start = [
-        ("F", 2.0),
-        ("c1", 0.3),
-        ("c2", 0.05),
-        ("theta", 1.2),
-        ("x_dot", -0.4),
-    ];
-    let worst = same_trajectories::<PendulumCart, EnergyCart>(&start, 5.0, 0.01);
-    println!("trajectories: {worst:e}");
-    assert!(worst <= 1e-9, "{worst:e}");
-}
-
-/// What `mechfmu bench --energies` counts the instructions of (see `mechfmu_energies::probe`).
-#[test]
-#[ignore]
-fn probe() {
-    mechfmu_energies::probe::<PendulumCart, EnergyCart>();
-}
+// The cart and the rod forced and damped.
+twin_tests!(EnergyCart of PendulumCart in "pendulum_cart",
+    seed: 0x5eed_ca27,
+    trajectories: [("F", 2.0), ("c1", 0.3), ("c2", 0.05), ("theta", 1.2), ("x_dot", -0.4)],
+    to: 5.0, by: 0.01,
+);

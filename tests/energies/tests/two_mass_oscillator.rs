@@ -3,7 +3,7 @@
 
 use mechfmu::lagrange::{Coordinate, Lagrangian};
 use mechfmu::model::{lit, Scalar};
-use mechfmu_energies::{agreement, reference_case, same_trajectories, twin};
+use mechfmu_energies::{twin, twin_tests};
 use two_mass_oscillator::{TwoMassOscillator, TwoMassOscillatorValues};
 
 twin!(EnergyTwoMass of TwoMassOscillator, evaluate(v) {
@@ -35,40 +35,9 @@ impl Lagrangian<2> for EnergyTwoMass {
     }
 }
 
-#[test]
-fn accelerations_agree_at_random_points() {
-    let found = agreement::<TwoMassOscillator, EnergyTwoMass>(1000, 0x2_0a55);
-    println!("{found:?}");
-    assert!(found.worst_value <= 1e-12, "{found:?}");
-    assert!(found.worst_derivative <= 1e-12, "{found:?}");
-}
-
-#[test]
-fn reference_case_agrees() {
-    let dir =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fmus/two_mass_oscillator");
-    let (hand, twin) = reference_case::<TwoMassOscillator, EnergyTwoMass>(&dir);
-    println!("reference: hand {hand:e}, twin {twin:e}");
-    assert!(twin <= hand + 1e-9, "hand {hand:e}, twin {twin:e}");
-}
-
-#[test]
-fn forced_and_damped_trajectories_agree() {
-    let start = [
-        ("F1", 0.5),
-        ("F2", -1.0),
-        ("c1", 0.2),
-        ("c3", 0.4),
-        ("k3", 3.0),
-    ];
-    let worst = same_trajectories::<TwoMassOscillator, EnergyTwoMass>(&start, 10.0, 0.01);
-    println!("trajectories: {worst:e}");
-    assert!(worst <= 1e-9, "{worst:e}");
-}
-
-/// What `mechfmu bench --energies` counts the instructions of (see `mechfmu_energies::probe`).
-#[test]
-#[ignore]
-fn probe() {
-    mechfmu_energies::probe::<TwoMassOscillator, EnergyTwoMass>();
-}
+// Both masses forced and damped.
+twin_tests!(EnergyTwoMass of TwoMassOscillator in "two_mass_oscillator",
+    seed: 0x2_0a55,
+    trajectories: [("F1", 0.5), ("F2", -1.0), ("c1", 0.2), ("c3", 0.4), ("k3", 3.0)],
+    to: 10.0, by: 0.01,
+);

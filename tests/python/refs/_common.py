@@ -20,7 +20,7 @@ from typing import Callable, Mapping, Sequence
 import numpy as np
 from scipy.integrate import solve_ivp
 
-__all__ = ["merge", "step_input", "zoh_value", "run"]
+__all__ = ["merge", "case_settings", "step_input", "zoh_value", "run", "trolley_at_pivot", "with_constants"]
 
 
 def merge(defaults: Mapping[str, float], overrides: Mapping[str, float] | None, what: str) -> dict:
@@ -33,6 +33,35 @@ def merge(defaults: Mapping[str, float], overrides: Mapping[str, float] | None, 
         out.update({k: float(v) for k, v in overrides.items()})
     return out
 
+
+
+def case_settings(params: Mapping[str, float], start: Mapping[str, float], experiment: Mapping[str, float],
+                  p: Mapping[str, float] | None, y0: Mapping[str, float] | None,
+                  t_out) -> tuple[dict, dict, np.ndarray]:
+    """A reference run's parameters and start values (the defaults updated by ``p`` and
+    ``y0``, see ``merge``) and its output times (by default the experiment's grid)."""
+    if t_out is None:
+        t_out = np.arange(0.0, experiment["stop"] + 1e-12, experiment["step"])
+    return merge(params, p, "parameter"), merge(start, y0, "state"), t_out
+
+
+def with_constants(res: dict, values: Mapping[str, float]) -> dict:
+    """A run's result ``res`` with a column, constant over its times, per entry of ``values``
+    (the quantities calculated from the parameters)."""
+    for k, v in values.items():
+        res[k] = np.full_like(res["time"], v)
+    return res
+
+
+def trolley_at_pivot(t, y, p, u):
+    """A crane's terminal event: the trolley (the first state, its distance along the boom)
+    reaching the pivot."""
+    return y[0]
+
+
+trolley_at_pivot.terminal = True
+trolley_at_pivot.direction = -1
+trolley_at_pivot.message = "the trolley reached the pivot (x = 0)"
 
 def step_input(names: Sequence[str], times: Sequence[float], values: Sequence[Sequence[float]],
                t_end: float | None = None) -> np.ndarray:

@@ -16,7 +16,7 @@ import math
 import numpy as np
 from scipy.special import ellipj, ellipk
 
-from ._common import merge, run
+from ._common import case_settings, merge, run, trolley_at_pivot
 
 PARAMS = {"m": 1000.0, "l": 5.0, "g": 9.81}
 INPUTS = {"x_ddot": 0.0, "theta_ddot": 0.0}
@@ -77,15 +77,6 @@ def rhs(t, y, p, u):
     return out
 
 
-def _x_positive(t, y, p, u):
-    return y[0]
-
-
-_x_positive.terminal = True
-_x_positive.direction = -1
-_x_positive.message = "the trolley reached the pivot (x = 0)"
-
-
 def _outputs(t, y, p, u):
     xdd, thdd = u["x_ddot"], u["theta_ddot"]
     T, F, tau = drive_loads(y, p, xdd, thdd)
@@ -98,12 +89,9 @@ def _outputs(t, y, p, u):
 def simulate(p=None, y0=None, t_out=None, inputs=None, rtol=1e-12, atol=1e-12, switch_outputs="after"):
     """DOP853 solution: states, T, F, tau, payload_x/y, phi_ddot, E_payload, P_drives,
     W_drives (work of F and tau since t_out[0]), and the inputs."""
-    p = merge(PARAMS, p, "parameter")
-    s = merge(START, y0, "state")
-    if t_out is None:
-        t_out = np.arange(0.0, EXPERIMENT["stop"] + 1e-12, EXPERIMENT["step"])
+    p, s, t_out = case_settings(PARAMS, START, EXPERIMENT, p, y0, t_out)
     return run(rhs, _outputs, STATES + ("W_drives",), [s[n] for n in STATES] + [0.0], t_out, p,
-               INPUTS, inputs, rtol, atol, switch_outputs, events=[_x_positive])
+               INPUTS, inputs, rtol, atol, switch_outputs, events=[trolley_at_pivot])
 
 
 # ----------------------------------------------------------------------------- closed forms

@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from ._common import merge, run
+from ._common import case_settings, merge, run, trolley_at_pivot
 
 PARAMS = {"m": 1000.0, "l": 5.0, "g": 9.81, "J_boom": 5000.0, "m_trolley": 200.0}
 INPUTS = {"F": 0.0, "tau": 0.0}
@@ -119,15 +119,6 @@ def rhs(t, y, p, u):
     return out
 
 
-def _x_positive(t, y, p, u):
-    return y[0]
-
-
-_x_positive.terminal = True
-_x_positive.direction = -1
-_x_positive.message = "the trolley reached the pivot (x = 0)"
-
-
 def _outputs(t, y, p, u):
     xdd, thdd, phdd = accelerations(y, p, u["F"], u["tau"])
     T = tension(y, p, xdd, thdd)
@@ -143,9 +134,6 @@ def simulate(p=None, y0=None, t_out=None, inputs=None, rtol=1e-12, atol=1e-12, s
     """DOP853 solution: states, T, payload_x/y, x_ddot, theta_ddot, phi_ddot, N, E, P_drives,
     W_drives (work of F and tau since t_out[0]) and the inputs F, tau. Raises RuntimeError if
     the trolley reaches the pivot."""
-    p = merge(PARAMS, p, "parameter")
-    s = merge(START, y0, "state")
-    if t_out is None:
-        t_out = np.arange(0.0, EXPERIMENT["stop"] + 1e-12, EXPERIMENT["step"])
+    p, s, t_out = case_settings(PARAMS, START, EXPERIMENT, p, y0, t_out)
     return run(rhs, _outputs, STATES + ("W_drives",), [s[n] for n in STATES] + [0.0], t_out, p,
-               INPUTS, inputs, rtol, atol, switch_outputs, events=[_x_positive])
+               INPUTS, inputs, rtol, atol, switch_outputs, events=[trolley_at_pivot])

@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from ._common import merge, run
+from ._common import case_settings, merge, run
 
 PARAMS = {"M": 1.0, "m1": 0.5, "m2": 0.5, "l1": 0.5, "l2": 0.5, "g": 9.81, "c": 0.0}
 INPUTS = {"F": 0.0}
@@ -124,9 +124,6 @@ def simulate(p=None, y0=None, t_out=None, inputs=None, rtol=1e-12, atol=1e-12, s
     """DOP853 solution; returns the states, the accelerations, the tensions T1, T2, tip_x,
     tip_y, E, p_x, E_dot, p_x_dot, W_nc and J_nc (the work and the impulse of F and the drag
     since t_out[0], integrated with the states) and F."""
-    p = merge(PARAMS, p, "parameter")
-    s = merge(START, y0, "state")
-    if t_out is None:
-        t_out = np.arange(0.0, EXPERIMENT["stop"] + 1e-12, EXPERIMENT["step"])
+    p, s, t_out = case_settings(PARAMS, START, EXPERIMENT, p, y0, t_out)
     return run(rhs, _outputs, STATES + ("W_nc", "J_nc"), [s[n] for n in STATES] + [0.0, 0.0], t_out, p,
                INPUTS, inputs, rtol, atol, switch_outputs)

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from ._common import merge, run
+from ._common import case_settings, merge, run, with_constants
 
 PARAMS = {"m": 1.0, "c": 0.4, "k": 4.0, "F0": 0.0, "omega": 1.0}
 INPUTS = {"F": 0.0}
@@ -45,15 +45,10 @@ def _outputs(t, y, p, u):
 
 def simulate(p=None, y0=None, t_out=None, inputs=None, rtol=1e-12, atol=1e-12, switch_outputs="after"):
     """DOP853 solution at t_out; returns time, x, x_dot, x_ddot, F, omega_n, zeta."""
-    p = merge(PARAMS, p, "parameter")
-    s = merge(START, y0, "state")
-    if t_out is None:
-        t_out = np.arange(0.0, EXPERIMENT["stop"] + 1e-12, EXPERIMENT["step"])
+    p, s, t_out = case_settings(PARAMS, START, EXPERIMENT, p, y0, t_out)
     res = run(rhs, _outputs, STATES, [s[n] for n in STATES], t_out, p, INPUTS, inputs, rtol, atol,
               switch_outputs)
-    for k, v in calculated(p).items():
-        res[k] = np.full_like(res["time"], v)
-    return res
+    return with_constants(res, calculated(p))
 
 
 # ----------------------------------------------------------------------------- closed forms

@@ -14,7 +14,7 @@ import math
 import numpy as np
 from scipy.linalg import eigh
 
-from ._common import merge, run
+from ._common import case_settings, merge, run, with_constants
 
 PARAMS = {"M": 1.0, "m": 0.5, "l": 0.25, "k": 10.0, "c1": 0.0, "c2": 0.0, "g": 9.81}
 INPUTS = {"F": 0.0}
@@ -121,12 +121,7 @@ def calculated_closed_form(p=None) -> dict:
 def simulate(p=None, y0=None, t_out=None, inputs=None, rtol=1e-12, atol=1e-12, switch_outputs="after"):
     """DOP853 solution; returns states, F_N, E, x_ddot, theta_ddot, E_dot, W_nc (work of F and
     of the dampers since t_out[0], integrated with the states), F, omega_n1/2."""
-    p = merge(PARAMS, p, "parameter")
-    s = merge(START, y0, "state")
-    if t_out is None:
-        t_out = np.arange(0.0, EXPERIMENT["stop"] + 1e-12, EXPERIMENT["step"])
+    p, s, t_out = case_settings(PARAMS, START, EXPERIMENT, p, y0, t_out)
     res = run(rhs, _outputs, STATES + ("W_nc",), [s[n] for n in STATES] + [0.0], t_out, p, INPUTS,
               inputs, rtol, atol, switch_outputs)
-    for k, v in calculated(p).items():
-        res[k] = np.full_like(res["time"], v)
-    return res
+    return with_constants(res, calculated(p))

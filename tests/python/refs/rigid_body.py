@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from ._common import merge, run
+from ._common import case_settings, merge, run, with_constants
 
 
 def box_inertia(M: float, a: float, b: float, c: float):
@@ -156,15 +156,11 @@ def _outputs(t, y, p, u):
 def simulate(p=None, y0=None, t_out=None, inputs=None, rtol=1e-12, atol=1e-12, switch_outputs="after"):
     """DOP853 solution: w, q (integrated as is, not renormalized), H_X..H_Z, E_kin, E_pot,
     q_norm, the inputs and I_1..I_3."""
-    p = _prepare(merge(PARAMS, p, "parameter"))
-    s = merge(START, y0, "state")
-    if t_out is None:
-        t_out = np.arange(0.0, EXPERIMENT["stop"] + 1e-12, EXPERIMENT["step"])
+    p, s, t_out = case_settings(PARAMS, START, EXPERIMENT, p, y0, t_out)
+    p = _prepare(p)
     res = run(rhs, _outputs, STATES, [s[n] for n in STATES], t_out, p, INPUTS, inputs, rtol, atol,
               switch_outputs)
-    for k, v in calculated({k: v for k, v in p.items() if not k.startswith("_")}).items():
-        res[k] = np.full_like(res["time"], v)
-    return res
+    return with_constants(res, calculated({k: v for k, v in p.items() if not k.startswith("_")}))
 
 
 # ----------------------------------------------------------------------------- closed forms

@@ -11,7 +11,7 @@ import math
 import numpy as np
 from scipy.linalg import eigh
 
-from ._common import merge, run
+from ._common import case_settings, merge, run, with_constants
 
 PARAMS = {"m1": 1.0, "m2": 1.0, "k1": 1.0, "k2": 1.0, "k3": 1.0, "c1": 0.0, "c2": 0.0, "c3": 0.0}
 INPUTS = {"F1": 0.0, "F2": 0.0}
@@ -122,12 +122,7 @@ def modal_response(p, mode: int, amplitude: float, t):
 
 
 def simulate(p=None, y0=None, t_out=None, inputs=None, rtol=1e-12, atol=1e-12, switch_outputs="after"):
-    p = merge(PARAMS, p, "parameter")
-    s = merge(START, y0, "state")
-    if t_out is None:
-        t_out = np.arange(0.0, EXPERIMENT["stop"] + 1e-12, EXPERIMENT["step"])
+    p, s, t_out = case_settings(PARAMS, START, EXPERIMENT, p, y0, t_out)
     res = run(rhs, _outputs, STATES, [s[n] for n in STATES], t_out, p, INPUTS, inputs, rtol, atol,
               switch_outputs)
-    for k, v in modes(p).items():
-        res[k] = np.full_like(res["time"], v)
-    return res
+    return with_constants(res, modes(p))

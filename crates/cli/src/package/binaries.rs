@@ -362,8 +362,16 @@ mod tests {
         (bytes, facts.exports.clone())
     }
 
-    fn refusal(bytes: &[u8], exports: &[String]) -> String {
-        check(bytes, &[Platform::Aarch64Darwin], exports).unwrap_err()
+    /// Asserts `check` refuses `bytes` for Apple silicon, saying `why`.
+    fn assert_refused(bytes: &[u8], exports: &[String], why: &str) {
+        let err = check(bytes, &[Platform::Aarch64Darwin], exports).unwrap_err();
+        assert!(err.contains(why), "{err}");
+    }
+
+    /// Asserts `check_facts` refuses `facts` for Apple silicon, saying `why`.
+    fn assert_facts_refused(facts: &Facts, exports: &[String], why: &str) {
+        let err = check_facts(facts, Platform::Aarch64Darwin, exports).unwrap_err();
+        assert!(err.contains(why), "{err}");
     }
 
     #[test]
@@ -381,10 +389,10 @@ mod tests {
         ));
         assert_eq!(facts.dependencies, ["/usr/lib/libSystem.B.dylib"]);
         // as the linker wrote it, with the build path as its install name: refused
-        let err = refusal(macho::fixtures::ARM64, &exports);
-        assert!(
-            err.contains("its install name is Some(\"/tmp/tiny/"),
-            "{err}"
+        assert_refused(
+            macho::fixtures::ARM64,
+            &exports,
+            "its install name is Some(\"/tmp/tiny/",
         );
     }
 
@@ -396,8 +404,7 @@ mod tests {
             .filter(|e| *e != "tiny_alloc")
             .cloned()
             .collect();
-        let err = refusal(&bytes, &fewer);
-        assert!(err.contains("extra [\"tiny_alloc\"]"), "{err}");
+        assert_refused(&bytes, &fewer, "extra [\"tiny_alloc\"]");
     }
 
     #[test]
@@ -405,17 +412,17 @@ mod tests {
         let (bytes, exports) = packaged_tiny();
         let at = macho::fixtures::command_at(&bytes, 0x1d); // LC_CODE_SIGNATURE
         let unsigned = macho::fixtures::with(&bytes, at, &0x7fff_fff0u32.to_le_bytes());
-        let err = refusal(&unsigned, &exports);
-        assert!(
-            err.contains("no code signature, and Apple silicon refuses"),
-            "{err}"
+        assert_refused(
+            &unsigned,
+            &exports,
+            "no code signature, and Apple silicon refuses",
         );
         let mut tampered = bytes.clone();
         tampered[5000] ^= 1;
-        let err = refusal(&tampered, &exports);
-        assert!(
-            err.contains("its code signature is not valid: page 1"),
-            "{err}"
+        assert_refused(
+            &tampered,
+            &exports,
+            "its code signature is not valid: page 1",
         );
     }
 
@@ -424,10 +431,10 @@ mod tests {
         let (bytes, exports) = packaged_tiny();
         let at = macho::fixtures::command_at(&bytes, 0xc) + 24; // LC_LOAD_DYLIB's name
         let other = macho::fixtures::with(&bytes, at, b"/usr/lib/libz.1.2.11.dylib");
-        let err = refusal(&other, &exports);
-        assert!(
-            err.contains("it loads /usr/lib/libz.1.2.11.dylib (not part of every aarch64-darwin"),
-            "{err}"
+        assert_refused(
+            &other,
+            &exports,
+            "it loads /usr/lib/libz.1.2.11.dylib (not part of every aarch64-darwin",
         );
     }
 
@@ -439,24 +446,23 @@ mod tests {
         };
         let mut facts = facts.clone();
         facts.imports.push("_not_in_libsystem".into());
-        let err = check_facts(&facts, Platform::Aarch64Darwin, &exports).unwrap_err();
-        assert!(err.contains("it imports [\"_not_in_libsystem\"]"), "{err}");
+        assert_facts_refused(&facts, &exports, "it imports [\"_not_in_libsystem\"]");
         facts.imports.pop();
         let mac = facts.mac.as_mut().unwrap();
         assert_eq!(mac.rpaths, Vec::<String>::new());
         mac.rpaths.push("/tmp/tiny/target/release/deps".into());
-        let err = check_facts(&facts, Platform::Aarch64Darwin, &exports).unwrap_err();
-        assert!(
-            err.contains("it searches [\"/tmp/tiny/target/release/deps\"] for libraries"),
-            "{err}"
+        assert_facts_refused(
+            &facts,
+            &exports,
+            "it searches [\"/tmp/tiny/target/release/deps\"] for libraries",
         );
         let mac = facts.mac.as_mut().unwrap();
         mac.rpaths.clear();
         mac.minimum_macos = Some((12, 0, 0));
-        let err = check_facts(&facts, Platform::Aarch64Darwin, &exports).unwrap_err();
-        assert!(
-            err.contains("it asks for macOS 12.0.0, newer than 11.0.0"),
-            "{err}"
+        assert_facts_refused(
+            &facts,
+            &exports,
+            "it asks for macOS 12.0.0, newer than 11.0.0",
         );
     }
 
