@@ -14,6 +14,8 @@
 //!   Exchange, FMI 3.0 against FMI 2.0);
 //! - [`golden`]: committed files generated from the declaration (modelDescription,
 //!   interface page) checked to be current, or regenerated with `MECHFMU_BLESS=1`;
+//! - [`documented`]: what a mechanism's interface page says of its runs (a default
+//!   experiment that stands still, a moving case that moves), checked;
 //! - [`rng`]: a deterministic generator for checks at random points;
 //! - [`allocations`]: a counting allocator, and [`allocation_tests!`], the proof that the
 //!   calls of an importer's loop never allocate.
