@@ -47,8 +47,8 @@ from . import embedded_reference, fmpy_criterion, model_exchange
 from .arrays import fmi2_sibling
 from .case import Case, Result
 from .embedded_reference import EmbeddedReference, Files
-from .importers import ME_CVODE_RTOL, Fmu
-from .platforms import HOST_FOLDER
+from .fmu import Fmu
+from .host import HOST_FOLDER
 from .reference import csv_text
 
 __all__ = ["CASE_NAME", "IMPORTER", "NOT_COMPLIANT", "VERDICTS", "Place", "beside", "sources", "walk",
@@ -214,11 +214,11 @@ def _tree_result(row: dict[str, Any], ours: dict[str, Any], ref: EmbeddedReferen
 
 
 def criterion_rows(fmu: Fmu, ref: EmbeddedReference, ours: dict[str, Any], result: Result | None, importer: str,
-                   run_model_exchange: tuple[str, Callable[[Case], Result]] | None = None) -> Iterator[dict[str, Any]]:
+                   run_model_exchange: tuple[str, Callable[[Case], Result] | None]) -> Iterator[dict[str, Any]]:
     """FMPy's criterion on ``importer``'s Co-Simulation run of the reference (``ours`` its row,
     ``result`` its result); for the files beside an FMU in a tree's ``me`` folder, the
     reference's run under FMPy's CVode as well (``run_model_exchange``: its importer's name and
-    how it runs a case; None: Model Exchange left out), mechfmu's row and the criterion's. The
+    how it runs a case, None when Model Exchange is left out), mechfmu's row and the criterion's. The
     criterion's row of the run the folder names is the FMU's result in the tree. Each row is
     made when it is taken (the Model Exchange run's console output is its own row's)."""
     first = fmpy_criterion.criterion_row(fmu.model, ref, result, importer, ours.get("anchor", ""))
@@ -231,11 +231,11 @@ def criterion_rows(fmu: Fmu, ref: EmbeddedReference, ours: dict[str, Any], resul
     yield first
     if place is None or place.interface == "cs":
         return
-    if run_model_exchange is None:
-        yield dict(skip_row(fmu.path, "Model Exchange runs left out (--no-model-exchange)"), fmu=fmu.model,
-                   importer=model_exchange.CVODE)
-        return
     me_importer, run = run_model_exchange
+    if run is None:
+        yield dict(skip_row(fmu.path, "Model Exchange runs left out (--no-model-exchange)"), fmu=fmu.model,
+                   importer=me_importer)
+        return
     got: dict[str, Result] = {}
 
     def recorded(_fmu: Fmu, case: Case) -> Result:
@@ -247,7 +247,7 @@ def criterion_rows(fmu: Fmu, ref: EmbeddedReference, ours: dict[str, Any], resul
     me_criterion = fmpy_criterion.criterion_row(fmu.model, ref, got.get("result"), me_importer)
     _tree_result(me_criterion, me_row, ref, got.get("result"),
                  f"FMPy {fmpy.__version__}'s simulate_fmu in Model Exchange, CVode at relative tolerance "
-                 f"{ME_CVODE_RTOL:g}")
+                 f"{model_exchange.CVODE_RTOL:g}")
     yield me_criterion
 
 

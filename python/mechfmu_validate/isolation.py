@@ -10,11 +10,11 @@ call FMPy makes, the function and its numeric arguments, and counts the calls. T
 turns a death by a signal, an exit without a result, or :data:`TIME_LIMIT` seconds without
 progress (no row, no new run, no FMI call) into one FAIL row (:data:`STOPPED`) naming the
 signal or the time limit, the run, and the FMI call it was in (the last one written; a run
-whose importer calls the FMU from native code, libcosim or the fmi crate's runner, names
-the run only).
+whose importer calls the FMU from its own native code, not through FMPy, names the run
+only).
 
-Everything the importers and the FMU write to the child's standard output and error (the FMI
-Library's messages from libcosim's loader, FMPy's warnings, an FMU's ``printf``) goes to a
+Everything the importers and the FMU write to the child's standard output and error (an
+importer's loader's messages, FMPy's warnings, an FMU's ``printf``) goes to a
 file (its file descriptors 1 and 2), and each row takes what was written while it was made:
 ``row["output"]``, shown under the row's detail and in the JSON and the JUnit
 ``<system-out>``. The child's temporary files are in a directory of its own, removed after
@@ -37,9 +37,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from . import progress
-from .fmi_crate import signal_name
-from .importers import capture_fmu_log
+from . import fmulog, progress
+from .fmulog import signal_name
+from .importer import Selection
 from .platforms import WineSession, cleanup_copies
 from .validation import validate_fmu
 
@@ -81,10 +81,8 @@ class Job:
     name: str
     cases_file: Path | None
     only: tuple[str, ...]
-    use_libcosim: bool
-    use_fmi_crate: bool
-    use_model_exchange: bool
-    use_fmi3: bool
+    #: the importers, interfaces and versions it runs
+    selection: Selection
 
 
 @dataclass
@@ -219,7 +217,7 @@ def _child(conn, shared: _Shared, workdir: str, job: Job, wine_tmpdir: str | Non
     os.environ["TMPDIR"] = tempfile.tempdir = workdir
     output = _Output(os.path.join(workdir, OUTPUT))
     WineSession.tmpdir = wine_tmpdir
-    capture_fmu_log()
+    fmulog.install()
     _track_fmi_calls(shared)
 
     def said(message: str) -> None:
@@ -232,9 +230,7 @@ def _child(conn, shared: _Shared, workdir: str, job: Job, wine_tmpdir: str | Non
     progress.listen(said, alive)
     rows, plots, details = _Sink(conn, output), [], []
     try:
-        validate_fmu(job.path, job.cases_file, list(job.only), job.use_libcosim, rows, plots, details,
-                     use_fmi_crate=job.use_fmi_crate, use_model_exchange=job.use_model_exchange,
-                     use_fmi3=job.use_fmi3)
+        validate_fmu(job.path, job.cases_file, list(job.only), job.selection, rows, plots, details)
     except Exception as e:  # noqa: BLE001 (a bug of ours on this FMU: its row, and on to the next)
         where = traceback.extract_tb(e.__traceback__)[-1]
         rows.append(stopped_row(job, f"mechfmu validate failed on {job.path}: {type(e).__name__}: {e} "
@@ -265,7 +261,7 @@ def _where_stopped(running: str, call: str, calls: int) -> str:
         return f"in {call}, {run}"
     if calls == 0:
         return f"before any FMI call, {run}"
-    return f"{run} (in a call the FMI function of which is not known: libcosim's or a runner's)"
+    return f"{run} (in a call the FMI function of which is not known: an importer's native code)"
 
 
 def _read_output(workdir: str, offset: int) -> str:
