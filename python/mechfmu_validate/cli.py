@@ -53,6 +53,7 @@ from .loader import default_case, load_cases, reference_case
 from .reference import write_references
 from .platform_rows import session as platform_session
 from .report import limit_text, platform_lines, result_text
+from .rows import Row
 
 
 def _positive_seconds(text: str) -> float:
@@ -106,7 +107,7 @@ def _cases_map(items: list[str]) -> dict[str, Path]:
     return out
 
 
-def print_table(rows: list[dict]) -> None:
+def print_table(rows: list[Row]) -> None:
     def fmt(x):
         if x is None:
             return "-"
@@ -158,7 +159,7 @@ def print_table(rows: list[dict]) -> None:
           (f", {len(skipped)} skipped" if skipped else ""))
 
 
-def _name_files_apart(rows: list[dict], plots: list[dict]) -> None:
+def _name_files_apart(rows: list[Row], plots: list[dict]) -> None:
     """The FMU column names a model; where two FMU files given are models of one name (an FMI
     2.0 and an FMI 3.0 FMU, a model from several exporters), each file's rows and plots are
     named by its path instead, so that neither the table nor the JUnit suites merge them."""
@@ -174,6 +175,8 @@ def _name_files_apart(rows: list[dict], plots: list[dict]) -> None:
 
 
 def _jsonable(x):
+    if isinstance(x, Row):
+        return _jsonable(x.to_json())
     if isinstance(x, dict):
         return {k: _jsonable(v) for k, v in x.items()}
     if isinstance(x, (list, tuple)):
@@ -266,7 +269,7 @@ def main(argv: list[str] | None = None) -> int:
     fmulog.install()
     selection = Selection(frozenset(args.left_out), not args.no_model_exchange, not args.no_fmi3)
     header = _header(selection)
-    rows: list[dict] = []
+    rows: list[Row] = []
     plots: list[dict] = []
     details: list[dict] = []
     paths = _fmu_files(args.fmus)

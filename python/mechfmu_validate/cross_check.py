@@ -50,6 +50,7 @@ from .embedded_reference import EmbeddedReference, Files
 from .fmu import Fmu
 from .host import HOST_FOLDER
 from .reference import csv_text
+from .rows import Row
 
 __all__ = ["CASE_NAME", "IMPORTER", "NOT_COMPLIANT", "VERDICTS", "Place", "beside", "sources", "walk",
            "not_validated", "skip_row", "criterion_rows", "take_outputs", "write_results", "importer_version"]
@@ -184,9 +185,9 @@ def not_validated(path: Path) -> str | None:
             "interface, which this one does not have")
 
 
-def skip_row(path: Path, why: str) -> dict[str, Any]:
+def skip_row(path: Path, why: str) -> Row:
     """The SKIP row of an FMU that is not validated (:func:`not_validated`)."""
-    return dict(kind="reference", fmu=path.stem, case=CASE_NAME, importer="mechfmu", max_error=None, tolerance=None,
+    return Row(kind="reference", fmu=path.stem, case=CASE_NAME, importer="mechfmu", max_error=None, tolerance=None,
                 passed=True, skipped=True, problems=[why], notes=[])
 
 
@@ -204,7 +205,7 @@ def _output_csv(ref: EmbeddedReference, result: Result) -> str:
     return csv_text(["time", *[ref.columns[n] for n in names]], [time, *columns], digits=13, allow_nan=True)
 
 
-def _tree_result(row: dict[str, Any], ours: dict[str, Any], ref: EmbeddedReference, result: Result | None,
+def _tree_result(row: Row, ours: Row, ref: EmbeddedReference, result: Result | None,
                  how: str) -> None:
     """Marks the criterion's ``row`` as the result of the FMU's folder in the tree."""
     row["cross_check"] = dict(
@@ -213,8 +214,8 @@ def _tree_result(row: dict[str, Any], ours: dict[str, Any], ref: EmbeddedReferen
                   tolerance=ours.get("tolerance"), problems=ours.get("problems", [])))
 
 
-def criterion_rows(fmu: Fmu, ref: EmbeddedReference, ours: dict[str, Any], result: Result | None, importer: str,
-                   run_model_exchange: tuple[str, Callable[[Case], Result] | None]) -> Iterator[dict[str, Any]]:
+def criterion_rows(fmu: Fmu, ref: EmbeddedReference, ours: Row, result: Result | None, importer: str,
+                   run_model_exchange: tuple[str, Callable[[Case], Result] | None]) -> Iterator[Row]:
     """FMPy's criterion on ``importer``'s Co-Simulation run of the reference (``ours`` its row,
     ``result`` its result); for the files beside an FMU in a tree's ``me`` folder, the
     reference's run under FMPy's CVode as well (``run_model_exchange``: its importer's name and
@@ -233,7 +234,7 @@ def criterion_rows(fmu: Fmu, ref: EmbeddedReference, ours: dict[str, Any], resul
         return
     me_importer, run = run_model_exchange
     if run is None:
-        yield dict(skip_row(fmu.path, "Model Exchange runs left out (--no-model-exchange)"), fmu=fmu.model,
+        yield skip_row(fmu.path, "Model Exchange runs left out (--no-model-exchange)").but(fmu=fmu.model,
                    importer=me_importer)
         return
     got: dict[str, Result] = {}
@@ -242,7 +243,7 @@ def criterion_rows(fmu: Fmu, ref: EmbeddedReference, ours: dict[str, Any], resul
         got["result"] = run(case)
         return got["result"]
 
-    me_row = dict(model_exchange.cvode_row(fmu, ref.case, importer=me_importer, run=recorded), kind="reference")
+    me_row = model_exchange.cvode_row(fmu, ref.case, importer=me_importer, run=recorded).but(kind="reference")
     yield me_row
     me_criterion = fmpy_criterion.criterion_row(fmu.model, ref, got.get("result"), me_importer)
     _tree_result(me_criterion, me_row, ref, got.get("result"),
@@ -251,13 +252,13 @@ def criterion_rows(fmu: Fmu, ref: EmbeddedReference, ours: dict[str, Any], resul
     yield me_criterion
 
 
-def take_outputs(rows: list[dict[str, Any]]) -> dict[str, str | None]:
+def take_outputs(rows: list[Row]) -> dict[str, str | None]:
     """The ``<Model>_out.csv`` texts of the FMUs of a tree, by the FMU file of their rows
     (``file``), taken out of the rows (which go on to the JSON file without them)."""
     return {r["file"]: r["cross_check"].pop("output", None) for r in rows if "cross_check" in r}
 
 
-def _verdict(result_row: dict[str, Any] | None, mine: list[dict[str, Any]]) -> str:
+def _verdict(result_row: Row | None, mine: list[Row]) -> str:
     if result_row is not None:
         return "passed" if result_row["passed"] and not result_row.get("experiment_problem") else "failed"
     return "rejected" if any(r.get("skipped") for r in mine) else "failed"
@@ -269,8 +270,8 @@ def _cell(x: Any) -> str:
     return ("0" if x == 0 else f"{x:.2e}") if isinstance(x, float) and math.isfinite(x) else str(x)
 
 
-def _readme(place: Place, path: Path, verdict: str, result_row: dict[str, Any] | None,
-            mine: list[dict[str, Any]], header: dict[str, Any]) -> str:
+def _readme(place: Place, path: Path, verdict: str, result_row: Row | None,
+            mine: list[Row], header: dict[str, Any]) -> str:
     model = place.model
     lines = [f"# {model}: {verdict}", "",
              f"{place.text()}; imported by mechfmu {importer_version()} (`mechfmu validate`, FMPy {header['fmpy']}).",
@@ -295,7 +296,7 @@ def _readme(place: Place, path: Path, verdict: str, result_row: dict[str, Any] |
     return "\n".join(lines)
 
 
-def write_results(root: Path, fmus: list[Path], rows: list[dict[str, Any]], outputs: dict[str, str | None],
+def write_results(root: Path, fmus: list[Path], rows: list[Row], outputs: dict[str, str | None],
                   header: dict[str, Any]) -> list[Path]:
     """The results' folder of each FMU of ``fmus`` in a tree (see the module's documentation)
     under ``root``, from the rows of the run, each naming its FMU file (``file``; ``outputs``:

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Callable, Iterator
 
 from .model_exchange import FixedStep
+from .rows import Row
 
 if TYPE_CHECKING:  # pragma: no cover
     from .case import Case, Evaluation, Result
@@ -149,7 +150,7 @@ class Importer:
     #: whether it runs here (its version), or why not
     available: Callable[[], Availability]
     #: the rows of a case in an interface, each made when it is taken
-    case_rows: Callable[[CaseRun, str], Iterator[dict[str, Any]]]
+    case_rows: Callable[[CaseRun, str], Iterator[Row]]
     #: the key of its entry in the JSON header
     header_key: str = ""
     #: its entry in the JSON header and the report's, from its availability (None: not used)

@@ -41,6 +41,7 @@ from . import fmulog, progress
 from .fmulog import signal_name
 from .importer import Selection
 from .platforms import WineSession, cleanup_copies
+from .rows import Row
 from .validation import validate_fmu
 
 __all__ = ["Job", "TIME_LIMIT", "STOPPED", "bounded_text", "stopped_row", "validate_isolated"]
@@ -173,7 +174,7 @@ class _Sink(list):
         super().__init__()
         self._conn, self._output = conn, output
 
-    def append(self, row: dict) -> None:
+    def append(self, row: Row) -> None:
         text = self._output.take()
         if text.strip():
             row["output"] = row.get("output", "") + text
@@ -202,7 +203,7 @@ def _die_with_parent(parent: int) -> None:
         os._exit(1)
 
 
-def _send_result(conn, rows: list[dict], plots: list[dict], details: list[dict]) -> None:
+def _send_result(conn, rows: list[Row], plots: list[dict], details: list[dict]) -> None:
     """The final message; the rows alone (plain data) when the plots or details cannot be sent."""
     try:
         conn.send(("done", rows, plots, details))
@@ -247,9 +248,9 @@ def _child(conn, shared: _Shared, workdir: str, job: Job, wine_tmpdir: str | Non
 # The parent
 
 
-def stopped_row(job: Job, problem: str, output: str = "") -> dict:
+def stopped_row(job: Job, problem: str, output: str = "") -> Row:
     """The FAIL row of a validation that did not finish, saying why."""
-    return dict(kind="check", fmu=job.name, case=STOPPED, importer="-", max_error=None, tolerance=None,
+    return Row(kind="check", fmu=job.name, case=STOPPED, importer="-", max_error=None, tolerance=None,
                 passed=False, notes=[], problems=[problem], **({"output": output} if output.strip() else {}))
 
 
@@ -327,7 +328,7 @@ def _why_stopped(watch: _Watch, shared: _Shared, time_limit: float) -> str | Non
     return None
 
 
-def _receive(receive, proc, shared: _Shared, watch: _Watch, rows: list[dict], time_limit: float):
+def _receive(receive, proc, shared: _Shared, watch: _Watch, rows: list[Row], time_limit: float):
     """The child's messages until its result (returned as ``("done", rows, plots, details)``)
     or its end: then ``("stopped", why)``, ``why`` None when it ended or died by itself."""
     while True:
@@ -356,7 +357,7 @@ def _receive(receive, proc, shared: _Shared, watch: _Watch, rows: list[dict], ti
 
 
 def validate_isolated(job: Job, time_limit: float = TIME_LIMIT, child=None
-                      ) -> tuple[list[dict], list[dict], list[dict]]:
+                      ) -> tuple[list[Row], list[dict], list[dict]]:
     """``job`` run in a child process: (rows, plots, details). A child that dies, exits without
     a result or makes no progress for ``time_limit`` seconds leaves the rows it sent and one
     FAIL row saying so. ``child`` is the function the child runs (default: the validation;
@@ -370,7 +371,7 @@ def validate_isolated(job: Job, time_limit: float = TIME_LIMIT, child=None
     receive, send = context.Pipe(duplex=False)
     proc = context.Process(target=child or _child, daemon=True,
                            args=(send, shared, workdir, job, WineSession.tmpdir, os.getpid()))
-    rows: list[dict] = []
+    rows: list[Row] = []
     watch = _Watch()
     try:
         proc.start()

@@ -43,6 +43,7 @@ import numpy as np
 
 from .case import Case, Evaluation, Result, evaluate
 from .fmu import Fmu, NotSupported
+from .rows import Row
 
 __all__ = ["CVODE_FLOOR", "CVODE_RTOL", "FixedStep", "OrderCheck", "ORDER_SLACK", "band_text", "order_band",
            "run_cvode", "run_fixed_step", "cvode_row", "fixed_step_row"]
@@ -156,16 +157,16 @@ def _worst(checks: list[OrderCheck]) -> OrderCheck | None:
 
 
 def cvode_row(fmu: Fmu, case: Case, anchor: str = "", entry: dict[str, Any] | None = None, *, importer: str,
-              run: Callable[[Fmu, Case], Result]) -> dict[str, Any]:
+              run: Callable[[Fmu, Case], Result]) -> Row:
     """The case's row under FMPy's CVode, held to the case's limits (named ``importer``, run by
     ``run``); ``entry`` (the case's plot's errors) gets its error over time."""
-    row = dict(kind="case", fmu=fmu.model, case=case.name, anchor=anchor, importer=importer, problems=[],
+    row = Row(kind="case", fmu=fmu.model, case=case.name, anchor=anchor, importer=importer, problems=[],
                notes=[CVODE_NOTE])
     t0 = time.perf_counter()
     try:
         result, ev = run_cvode(fmu, case, run)
     except Exception as e:
-        return dict(row, max_error=None, tolerance=None, passed=False,
+        return row.but(max_error=None, tolerance=None, passed=False,
                     problems=[f"{importer} run failed: {type(e).__name__}: {e}"])
     worst = ev.worst
     limited = not ev.passed and ev.problem is None and all(x.passed or x.max_error <= CVODE_FLOOR
@@ -185,19 +186,19 @@ def cvode_row(fmu: Fmu, case: Case, anchor: str = "", entry: dict[str, Any] | No
     return row
 
 
-def fixed_step_row(fmu: Fmu, case: Case, method: FixedStep, anchor: str = "") -> dict[str, Any]:
+def fixed_step_row(fmu: Fmu, case: Case, method: FixedStep, anchor: str = "") -> Row:
     """The case's row under a fixed-step method; SKIP when the importer cannot run it."""
     rule = (f"passes at the case's limit, or with an observed order of {band_text(method.band)} "
             f"(the method's: {method.order})")
-    row = dict(kind="case", fmu=fmu.model, case=case.name, anchor=anchor, importer=method.importer,
+    row = Row(kind="case", fmu=fmu.model, case=case.name, anchor=anchor, importer=method.importer,
                order=method.order, order_band=list(method.band), tolerance=None, problems=[], notes=[rule])
     t0 = time.perf_counter()
     try:
         ev, checks, h = run_fixed_step(fmu, case, method)
     except NotSupported as e:
-        return dict(row, max_error=None, passed=True, skipped=True, problems=[str(e)])
+        return row.but(max_error=None, passed=True, skipped=True, problems=[str(e)])
     except Exception as e:
-        return dict(row, max_error=None, passed=False, problems=[f"{method.importer} run failed: "
+        return row.but(max_error=None, passed=False, problems=[f"{method.importer} run failed: "
                                                                      f"{type(e).__name__}: {e}"])
     worst = _worst(checks)
     note = f"fixed step h = {h:g} s and h/2: {rule}"

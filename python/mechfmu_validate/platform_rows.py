@@ -17,6 +17,7 @@ from .host import NATIVE, PLATFORMS
 from .importer import CS, FMI2, FMI3, Importer, row_name
 from .platforms import (EMULATED, FMI2_FOLDERS, NotPrepared, Runners, WineSession,
                         binary_platforms, cleanup_copies, compare, fmi_version, run_case)
+from .rows import Row
 
 if TYPE_CHECKING:  # pragma: no cover
     from .case import Case
@@ -80,7 +81,7 @@ class Platforms:
         self.folders = {p: self.found[p].split("/")[1] if p in self.found else fmi2_names.get(p, p)
                         for p in (*self.found, *PLATFORMS)}
 
-    def summary_row(self) -> dict:
+    def summary_row(self) -> Row:
         """The platforms this FMU has binaries for and which of them run here."""
         parts = []
         for platform in self.found:
@@ -99,14 +100,14 @@ class Platforms:
             notes.append(f"no binary for {', '.join(missing)}")
         if self.foreign and self.runners is None:
             notes.append(f"the other platforms' binaries were not run: {self.why_not}")
-        return dict(kind="note", fmu=self.name, case=f"(platforms, FMI {self.version})",
+        return Row(kind="note", fmu=self.name, case=f"(platforms, FMI {self.version})",
                     importer=", ".join(self.folders[p] for p in self.found) or "-", max_error=None, tolerance=None,
                     passed=NATIVE in self.found, problems=[] if NATIVE in self.found
                     else [f"no {self.folders[NATIVE]} binary: nothing to run on this machine"], notes=notes,
                     platforms=dict(found=list(self.found), run=[NATIVE] + (self.foreign if self.runners else []),
                                    names={p: self.folders[p] for p in (*self.found, *PLATFORMS)}))
 
-    def case_rows(self, fmu: Fmu, case: Case) -> Iterator[dict]:
+    def case_rows(self, fmu: Fmu, case: Case) -> Iterator[Row]:
         """The case on each foreign binary against this machine's, a row as each run ends (so
         that what the run printed is its row's)."""
         if self.runners is None or not self.foreign:
@@ -116,7 +117,7 @@ class Platforms:
         except Exception as e:  # noqa: BLE001 (a row, not a crash)
             native, native_error = None, f"{type(e).__name__}: {e}"
         for platform in self.foreign:
-            row = dict(kind="case", fmu=self.name, case=case.name, importer=f"{self.label} {platform}",
+            row = Row(kind="case", fmu=self.name, case=case.name, importer=f"{self.label} {platform}",
                        tolerance=PLATFORM_TOLERANCE, problems=[], notes=[])
             try:
                 if native is None:

@@ -20,6 +20,7 @@ import numpy as np
 from .importer import CS, FMI2, FMI3, ME, Curve, row_name
 from .importers import IMPORTERS, REFERENCE
 from .model_exchange import band_text
+from .rows import Row
 
 __all__ = ["plot_case", "write_report", "markdown_table", "number_text", "limit_text", "result_text",
            "platform_lines", "versions_text"]
@@ -44,7 +45,7 @@ def number_text(x: Any) -> str:
     return f"{x:.1e}"
 
 
-def limit_text(row: dict[str, Any], fmt=number_text) -> str:
+def limit_text(row: Row, fmt=number_text) -> str:
     """A row's tolerance cell: the limit, or for a fixed-step Model Exchange row judged by
     its order, the observed order and the band it must lie in."""
     if row.get("observed_order") is not None:
@@ -52,7 +53,7 @@ def limit_text(row: dict[str, Any], fmt=number_text) -> str:
     return fmt(row.get("tolerance"))
 
 
-def result_text(row: dict[str, Any]) -> str:
+def result_text(row: Row) -> str:
     """PASS, FAIL, SKIP, or LIMIT: the importer's solver did not reach the case's limit, the
     error it reached is reported (Model Exchange rows; not a failure)."""
     if row.get("skipped"):
@@ -202,7 +203,7 @@ def plot_case(entry: dict[str, Any], path: Path) -> None:
     plt.close(fig)
 
 
-def markdown_table(rows: list[dict[str, Any]]) -> str:
+def markdown_table(rows: list[Row]) -> str:
     lines = ["| FMU | case | importer | max error | tolerance | result |", "|---|---|---|---:|---:|---|"]
     for r in rows:
         result = result_text(r)
@@ -211,7 +212,7 @@ def markdown_table(rows: list[dict[str, Any]]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def platform_lines(rows: list[dict[str, Any]]) -> list[str]:
+def platform_lines(rows: list[Row]) -> list[str]:
     """One line per FMU: the platforms it has binaries for, which of them ran here, and how
     (the rows ``(platforms, ...)`` of :mod:`.platform_rows`)."""
     lines = []
@@ -227,7 +228,7 @@ def platform_lines(rows: list[dict[str, Any]]) -> list[str]:
     return lines
 
 
-def _html_table(rows: list[dict[str, Any]]) -> str:
+def _html_table(rows: list[Row]) -> str:
     out = ["<table><tr><th>FMU</th><th>case</th><th>importer</th><th>max error</th><th>tolerance</th><th>result</th></tr>"]
     for r in rows:
         result = result_text(r)
@@ -269,7 +270,7 @@ def versions_text(header: dict[str, Any]) -> str:
                      for i in IMPORTERS)
 
 
-def write_report(directory: Path, rows: list[dict[str, Any]], cases: list[dict[str, Any]],
+def write_report(directory: Path, rows: list[Row], cases: list[dict[str, Any]],
                  header: dict[str, Any]) -> None:
     directory.mkdir(parents=True, exist_ok=True)
     for entry in cases:

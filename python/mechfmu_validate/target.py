@@ -24,6 +24,7 @@ from . import fmulog
 from .arrays import ArrayMap, MappingError, derive, fmi2_sibling, fmi3_sibling
 from .fmu import Fmu
 from .opening import open_fmu
+from .rows import Row
 
 __all__ = ["AGREEMENT", "AGREEMENT_TOLERANCE", "Target", "agreement_row"]
 
@@ -77,10 +78,10 @@ class Target:
         self.fmu.cleanup()
 
 
-def agreement_row(f3: Target, fmu2: Fmu) -> dict:
+def agreement_row(f3: Target, fmu2: Fmu) -> Row:
     """The DefaultExperiment under FMPy's Co-Simulation through both FMUs: every FMI 2.0
     variable against its FMI 3.0 counterpart (each place of an array element)."""
-    row = dict(kind="check", fmu=fmu2.model, case=AGREEMENT, importer="FMPy", tolerance=AGREEMENT_TOLERANCE,
+    row = Row(kind="check", fmu=fmu2.model, case=AGREEMENT, importer="FMPy", tolerance=AGREEMENT_TOLERANCE,
                problems=[], notes=[])
     mark = fmulog.LogMark()
     try:
@@ -102,7 +103,7 @@ def agreement_row(f3: Target, fmu2: Fmu) -> dict:
                 if err > worst or not where:
                     worst, where = err, name if k < 0 else f"{name} = {names.element_names_of(name)[0]}"
     except Exception as e:
-        return dict(row, max_error=None, passed=False, problems=[f"{type(e).__name__}: {mark.explain(e)}"])
+        return row.but(max_error=None, passed=False, problems=[f"{type(e).__name__}: {mark.explain(e)}"])
     row.update(max_error=worst, passed=worst <= AGREEMENT_TOLERANCE,
                notes=[f"{len(fmi2)} variables over {len(cs2)} points of the DefaultExperiment; worst: {where}"])
     if not row["passed"]:

@@ -31,6 +31,7 @@ from .loader import load_cases, reference_case
 from .opening import OPENS, BrokenFmu
 from .platform_rows import Platforms
 from .progress import report
+from .rows import Row
 from .signals import real_signals, unknown_names
 from .target import Target, agreement_row
 
@@ -52,10 +53,10 @@ def _settings(case: Case) -> str:
     return "; ".join(parts)
 
 
-def _check_rows(name: str, checks) -> Iterator[dict]:
+def _check_rows(name: str, checks) -> Iterator[Row]:
     """Each check's row, made as the check is (lazily: each row takes its own console output)."""
     for c in checks:
-        yield dict(kind="check", fmu=name, case=f"check: {c.name}",
+        yield Row(kind="check", fmu=name, case=f"check: {c.name}",
                    importer="fmpy" if c.name.endswith("fmpy validate") else "mechfmu",
                    max_error=float(len(c.problems)) if c.max_error is None else c.max_error,
                    tolerance=0.0 if c.tolerance is None else c.tolerance,
@@ -86,7 +87,7 @@ def _entry(name: str, case: Case, target: Target) -> dict[str, Any]:
     return entry
 
 
-def _append(rows: list[dict], entry: dict, made) -> None:
+def _append(rows: list[Row], entry: dict, made) -> None:
     """Rows appended to ``rows`` one by one, as ``made`` gives them (the sink of an isolated
     validation gives each the console output written while it was made), and to ``entry``'s
     verdict."""
@@ -95,47 +96,47 @@ def _append(rows: list[dict], entry: dict, made) -> None:
         entry["passed"] = entry.get("passed", True) and row["passed"]
 
 
-def _broken_row(path: Path, problem: str, name: str | None = None) -> dict:
+def _broken_row(path: Path, problem: str, name: str | None = None) -> Row:
     """The one row of an FMU that cannot be opened (:mod:`.opening`)."""
-    return dict(kind="check", fmu=name or path.name, case=OPENS, importer="mechfmu", max_error=1.0, tolerance=0.0,
+    return Row(kind="check", fmu=name or path.name, case=OPENS, importer="mechfmu", max_error=1.0, tolerance=0.0,
                 passed=False, problems=[f"{path}: {problem}"], notes=[])
 
 
-def _note_row(name: str, text: str) -> dict:
-    return dict(kind="note", fmu=name, case=text, importer="-", max_error=None, tolerance=None, passed=True,
+def _note_row(name: str, text: str) -> Row:
+    return Row(kind="note", fmu=name, case=text, importer="-", max_error=None, tolerance=None, passed=True,
                 problems=[], notes=[])
 
 
-def _load_cases(cases_file: Path | None, name: str, rows: list[dict]) -> list[Case]:
+def _load_cases(cases_file: Path | None, name: str, rows: list[Row]) -> list[Case]:
     """The cases of the FMU's cases file; a file that does not load is a FAIL row."""
     if cases_file is None:
         return []
     try:
         return load_cases(cases_file, name)
     except Exception as e:  # noqa: BLE001 (the user's file: a row, not a crash)
-        rows.append(dict(_note_row(name, f"check: {cases_file} loads"), kind="check", importer="mechfmu",
+        rows.append(_note_row(name, f"check: {cases_file} loads").but(kind="check", importer="mechfmu",
                          max_error=1.0, tolerance=0.0, passed=False, problems=[f"{type(e).__name__}: {e}"]))
         return []
 
 
-def _unknown_row(fmu, case: Case, cases_file: Path | None, unknown: list[str]) -> dict:
-    return dict(kind="case", fmu=fmu.model, case=case.name, importer="FMPy", max_error=None, tolerance=None,
+def _unknown_row(fmu, case: Case, cases_file: Path | None, unknown: list[str]) -> Row:
+    return Row(kind="case", fmu=fmu.model, case=case.name, importer="FMPy", max_error=None, tolerance=None,
                 passed=False, notes=[], problems=[
                     f"the case {case.name!r} of {cases_file} names {', '.join(unknown)}, which "
                     f"{fmu.path.name} does not have (not a variable of its modelDescription.xml)"])
 
 
-def _nothing_simulated_row(path: Path, name: str, why: str | None = None) -> dict:
+def _nothing_simulated_row(path: Path, name: str, why: str | None = None) -> Row:
     """The FAIL row of an FMU against which nothing was simulated (only its checks ran, or
     nothing ran): ``why``, by default that it has no reference that could be run."""
     why = why or (f"{path} has no reference that could be run: no validation/cases.py (--cases), and no "
                   f"reference results in {embedded_reference.REFERENCE_DIR}/ of the archive or {path.stem}_ref.csv "
                   "beside it that mechfmu validate can run (a SKIP row says why one cannot be); only the checks ran")
-    return dict(_note_row(name, "(nothing simulated)"), kind="check", importer="mechfmu", passed=False,
+    return _note_row(name, "(nothing simulated)").but(kind="check", importer="mechfmu", passed=False,
                 problems=[f"nothing simulated: {why}"])
 
 
-def _case_rows(run: CaseRun, selection: Selection, rows: list[dict], entry: dict) -> None:
+def _case_rows(run: CaseRun, selection: Selection, rows: list[Row], entry: dict) -> None:
     """The case's rows under every importer selected that runs the FMU's version, Co-Simulation
     first (the reference importer's first of all), appended to ``rows`` and to ``entry``'s
     verdict."""
@@ -145,7 +146,7 @@ def _case_rows(run: CaseRun, selection: Selection, rows: list[dict], entry: dict
                 _append(rows, entry, importer.case_rows(run, interface))
 
 
-def _reference_rows(target: Target, selection: Selection, rows: list[dict], plots: list[dict] | None,
+def _reference_rows(target: Target, selection: Selection, rows: list[Row], plots: list[dict] | None,
                     others: bool) -> bool:
     """Each reference of the FMU (the one it carries, :mod:`.embedded_reference`, and the
     files beside it, :mod:`.cross_check`) under the reference importer (plotted when ``plots``
@@ -158,20 +159,20 @@ def _reference_rows(target: Target, selection: Selection, rows: list[dict], plot
 
 
 def _reference_source_rows(target: Target, files: embedded_reference.Files | None, note: str | None,
-                           selection: Selection, rows: list[dict], plots: list[dict] | None, others: bool) -> bool:
+                           selection: Selection, rows: list[Row], plots: list[dict] | None, others: bool) -> bool:
     """The rows of one reference (``files``; None: the one the FMU carries), see
     :func:`_reference_rows`; False when there is none, or one that cannot be simulated (its
     SKIP row says why)."""
     name = target.fmu.model
     case_name = files.case_name if files is not None else embedded_reference.CASE_NAME
-    failed = dict(_note_row(name, case_name), kind="reference", importer=row_name(REFERENCE.name, target.version, CS))
+    failed = _note_row(name, case_name).but(kind="reference", importer=row_name(REFERENCE.name, target.version, CS))
     try:
         ref = embedded_reference.read(target.fmu, target.names if target.version == FMI3 else None, files)
     except embedded_reference.Unsupported as e:
-        rows.append(dict(failed, skipped=True, problems=[str(e)]))
+        rows.append(failed.but(skipped=True, problems=[str(e)]))
         return False
     except (embedded_reference.ReferenceProblem, MappingError) as e:
-        rows.append(dict(failed, max_error=None, passed=False, problems=[str(e)]))
+        rows.append(failed.but(max_error=None, passed=False, problems=[str(e)]))
         return True
     if ref is None:
         return False
@@ -192,7 +193,7 @@ def _reference_source_rows(target: Target, files: embedded_reference.Files | Non
         if importer.reference or not (selection.uses(importer) and importer.runs.covers(CS, target.version)):
             continue
         if real is None:
-            rows.append(dict(failed, importer=row_name(importer.name, target.version, CS), skipped=True,
+            rows.append(failed.but(importer=row_name(importer.name, target.version, CS), skipped=True,
                              problems=[why]))
             continue
         for other in importer.case_rows(CaseRun(target, real, run.anchor, "reference", [], None, run.deviations,
@@ -204,7 +205,7 @@ def _reference_source_rows(target: Target, files: embedded_reference.Files | Non
     return True
 
 
-def _open_sibling(target: Target, selection: Selection, rows: list[dict]) -> Target | None:
+def _open_sibling(target: Target, selection: Selection, rows: list[Row]) -> Target | None:
     """The same mechanism's FMU in the other version, when it was built beside this one (an
     FMI 3.0 FMU beside an FMI 2.0 one only when ``selection.fmi3``); a FAIL row when it cannot
     be opened."""
@@ -219,7 +220,7 @@ def _open_sibling(target: Target, selection: Selection, rows: list[dict]) -> Tar
 
 
 def validate_fmu(path: Path, cases_file: Path | None, only: list[str], selection: Selection,
-                 rows: list[dict], plots: list[dict], details: list[dict]) -> None:
+                 rows: list[Row], plots: list[dict], details: list[dict]) -> None:
     """An FMU's rows, and those of the FMI 3.0 FMU beside an FMI 2.0 one (see the module's
     documentation). An FMU that cannot be opened is one FAIL row saying why; one without
     Co-Simulation (or of FMI 1.0) a SKIP row saying so and the FAIL row of nothing simulated."""

@@ -15,6 +15,7 @@ from .importer import CS, FMI2, FMI3, ME, Importer, row_name
 from .importers import IMPORTERS, REFERENCE
 from .model_exchange import ORDER_SLACK, FixedStep, band_text
 from .report import number_text, plot_case, versions_text
+from .rows import Row
 from .target import AGREEMENT
 
 __all__ = ["write_readme"]
@@ -50,7 +51,7 @@ def _head(version: str) -> list[str]:
 FMI3_ROWS = {name for importer in IMPORTERS for name in importer.row_names(FMI3)}
 
 
-def _me_cell(row: dict[str, Any] | None) -> str:
+def _me_cell(row: Row | None) -> str:
     """A Model Exchange row in the table: the error, the observed order when the row
     is judged by it, ✗ when it fails."""
     if row is None:
@@ -65,13 +66,13 @@ def _me_cell(row: dict[str, Any] | None) -> str:
     return cell if row["passed"] else cell + " **✗**"
 
 
-def _cell(row: dict[str, Any] | None) -> str:
+def _cell(row: Row | None) -> str:
     if row is None:
         return "-"
     return number_text(row["max_error"]) + ("" if row["passed"] else " **✗**")
 
 
-def _line(fmu: str, case: str, by: dict[str, dict[str, Any]], version: str) -> str:
+def _line(fmu: str, case: str, by: dict[str, Row], version: str) -> str:
     reference = by.get(row_name(REFERENCE.name, version, CS)) or {}
     cells = [_me_cell(by.get(name)) if me else _cell(by.get(name)) for _, name, me in _columns(version)]
     return (f"| {fmu} | {case} | {number_text(reference.get('max_error'))} | "
@@ -79,8 +80,8 @@ def _line(fmu: str, case: str, by: dict[str, dict[str, Any]], version: str) -> s
             f"{'PASS' if all(r['passed'] for r in by.values()) else 'FAIL'} |")
 
 
-def _tables(rows: list[dict[str, Any]]) -> tuple[list[str], list[str]]:
-    per_case: dict[tuple[str, str], dict[str, dict[str, Any]]] = {}
+def _tables(rows: list[Row]) -> tuple[list[str], list[str]]:
+    per_case: dict[tuple[str, str], dict[str, Row]] = {}
     for r in rows:
         if r["kind"] == "case":
             per_case.setdefault((r["fmu"], r["case"]), {})[r["importer"]] = r
@@ -182,7 +183,7 @@ def _highlighted(cases: list[dict[str, Any]]) -> list[tuple[dict[str, Any], str]
     return out
 
 
-def write_readme(directory: Path, rows: list[dict[str, Any]], cases: list[dict[str, Any]],
+def write_readme(directory: Path, rows: list[Row], cases: list[dict[str, Any]],
                  header: dict[str, Any]) -> list[Path]:
     """The tables (``validation.md``) and the highlighted cases' plots they link to (in
     ``validation/`` beside it)."""

@@ -33,6 +33,7 @@ from ..case import Case, Result
 from ..fmu import NotSupported
 from ..importer import CS, FMI2, FMI3, ME, Availability, CaseRun, Curve, Importer, Runs, Words, row_name
 from ..model_exchange import FixedStep, fixed_step_row, order_band
+from ..rows import Row
 from ..signals import input_events_on_grid, input_values
 from ..target import Target
 
@@ -169,12 +170,12 @@ def run_crate3(f3: Target, case: Case, interface: str = "cs", step: float | None
 
 
 def fmi_crate_row(target: Target, case: Case, reference: Result | None, floors: dict[str, float],
-                  anchor: str = "", kind: str = "case") -> tuple[dict[str, Any], dict[str, Any] | None]:
+                  anchor: str = "", kind: str = "case") -> tuple[Row, dict[str, Any] | None]:
     """The case under the fmi crate in Co-Simulation against FMPy's run (``reference``), both
     at the case's tolerance: (row, what the report plots of it)."""
     importer = row_name(NAME, target.version, CS)
     note = FMI3_NOTE if target.version == FMI3 else FMI_CRATE_NOTE
-    row = dict(kind=kind, fmu=target.fmu.model, case=case.name, importer=importer, anchor=anchor, problems=[],
+    row = Row(kind=kind, fmu=target.fmu.model, case=case.name, importer=importer, anchor=anchor, problems=[],
                notes=[note], tolerance=FMI_CRATE_TOLERANCE)
     t0 = time.perf_counter()
     try:
@@ -183,9 +184,9 @@ def fmi_crate_row(target: Target, case: Case, reference: Result | None, floors: 
             raise RuntimeError(f"the {row_name('FMPy', target.version, CS)} run failed: nothing to compare with")
         worst, where, when, over_time = agreement(fc, reference, case.recorded(), floors)
     except NotSupported as e:  # what the runner does not do: not the FMU's failure
-        return dict(row, max_error=None, passed=True, skipped=True, problems=[f"{importer}: {e}"]), None
+        return row.but(max_error=None, passed=True, skipped=True, problems=[f"{importer}: {e}"]), None
     except Exception as e:  # noqa: BLE001 (a row, not a crash)
-        return dict(row, max_error=None, passed=False,
+        return row.but(max_error=None, passed=False,
                     problems=[f"{importer} run failed: {type(e).__name__}: {e}"]), None
     row.update(max_error=worst, passed=bool(worst <= FMI_CRATE_TOLERANCE),
                notes=[f"worst signal {where} at t = {when:g}", note],
@@ -211,7 +212,7 @@ def _available() -> Availability:
     return Availability(ok, "fmi crate 0.8 (mechfmu-fmi-run)" if ok else found)
 
 
-def _case_rows(run: CaseRun, interface: str) -> Iterator[dict[str, Any]]:
+def _case_rows(run: CaseRun, interface: str) -> Iterator[Row]:
     if interface == ME:
         method = rk4(run.target)
         run.progress(method.importer)

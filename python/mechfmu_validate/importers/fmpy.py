@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from typing import Any, Iterator
+from typing import Iterator
 
 import numpy as np
 
@@ -26,6 +26,7 @@ from ..case import Case, Evaluation, Result, evaluate
 from ..fmu import Fmu, NotSupported
 from ..importer import CS, FMI2, FMI3, ME, Availability, CaseRun, Curve, Importer, Runs, Words, row_name
 from ..model_exchange import CVODE_RTOL, FixedStep, cvode_row, fixed_step_row, order_band
+from ..rows import Row
 from ..signals import held_input
 from ..target import Target
 
@@ -109,12 +110,12 @@ def run_fmpy_target(target: Target, case: Case) -> Result:
 
 
 def cs_row(target: Target, case: Case, anchor: str = "", kind: str = "case",
-           problems: list[str] | None = None) -> tuple[dict[str, Any], Result | None, Evaluation | None]:
+           problems: list[str] | None = None) -> tuple[Row, Result | None, Evaluation | None]:
     """The case under FMPy's Co-Simulation against its reference: (row, result, evaluation).
     ``problems``: what fails the row whatever the run gives (the comparison is made all the same)."""
     importer = row_name(NAME, target.version, CS)
     note = [CS_NOTE3] if target.version == FMI3 else []
-    row = dict(kind=kind, fmu=target.fmu.model, case=case.name, importer=importer, anchor=anchor, problems=[],
+    row = Row(kind=kind, fmu=target.fmu.model, case=case.name, importer=importer, anchor=anchor, problems=[],
                notes=note)
     problems = list(problems or [])
     t0 = time.perf_counter()
@@ -122,10 +123,10 @@ def cs_row(target: Target, case: Case, anchor: str = "", kind: str = "case",
         result = run_fmpy_target(target, case)
         ev = evaluate(case, result)
     except NotSupported as e:  # the importer's limit, not the FMU's failure
-        return dict(row, max_error=None, tolerance=None, passed=not problems, skipped=True,
+        return row.but(max_error=None, tolerance=None, passed=not problems, skipped=True,
                     problems=[*problems, f"{importer} run: {e}"]), None, None
     except Exception as e:  # noqa: BLE001 (a row, not a crash)
-        return dict(row, max_error=None, tolerance=None, passed=False,
+        return row.but(max_error=None, tolerance=None, passed=False,
                     problems=[*problems, f"{importer} run failed: {type(e).__name__}: {e}"]), None, None
     worst = ev.worst
     found = [*problems, *([ev.problem] if ev.problem else [])]
@@ -251,7 +252,7 @@ def _available() -> Availability:
     return Availability(True, fmpy.__version__)
 
 
-def _case_rows(run: CaseRun, interface: str) -> Iterator[dict[str, Any]]:
+def _case_rows(run: CaseRun, interface: str) -> Iterator[Row]:
     if interface == CS:
         run.progress(row_name(NAME, run.version, CS))
         row, run.reference, run.evaluation = cs_row(run.target, run.case, run.anchor, run.kind, run.problems)

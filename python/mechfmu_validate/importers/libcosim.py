@@ -25,6 +25,7 @@ from ..agreement import agreement
 from ..case import Case, Evaluation, Result
 from ..fmu import Fmu, NotRead
 from ..importer import CS, FMI2, Availability, CaseRun, Curve, Importer, Runs, Words
+from ..rows import Row
 from ..signals import input_events_on_grid, input_values
 from .fmpy import simulate
 
@@ -154,26 +155,26 @@ def run_libcosim(fmu: Fmu, case: Case) -> Result:
 
 
 def libcosim_row(fmu: Fmu, case: Case, fmpy_result: Result | None, ev: Evaluation | None, anchor: str = "",
-                 kind: str = "case") -> tuple[dict[str, Any], dict[str, Any] | None]:
+                 kind: str = "case") -> tuple[Row, dict[str, Any] | None]:
     """The case under libcosim against FMPy at the same settings (libcosim passes no
     tolerance and no stop time: nor does that FMPy run): (row, what the report plots of it)."""
-    row = dict(kind=kind, fmu=fmu.model, case=case.name, importer=NAME, anchor=anchor, problems=[], notes=[],
+    row = Row(kind=kind, fmu=fmu.model, case=case.name, importer=NAME, anchor=anchor, problems=[], notes=[],
                tolerance=LIBCOSIM_TOLERANCE)
     row["notes"] = [LIBCOSIM_NOTE]
     try:
         lc = run_libcosim(fmu, case)
     except NotRead as e:
         if fmu.by_mechfmu:  # ours promise to run under libcosim
-            return dict(row, max_error=None, passed=False, problems=[f"libcosim run failed: {e}"]), None
-        return dict(row, max_error=None, passed=True, skipped=True, problems=[
+            return row.but(max_error=None, passed=False, problems=[f"libcosim run failed: {e}"]), None
+        return row.but(max_error=None, passed=True, skipped=True, problems=[
             f"{e}: a limit of libcosim's loader (the FMI Library), not a failure of the FMU, which the "
             "checks and the other importers judge"]), None
     except Exception as e:  # noqa: BLE001 (a row, not a crash)
-        return dict(row, max_error=None, passed=False, problems=[f"libcosim run failed: {type(e).__name__}: {e}"]), None
+        return row.but(max_error=None, passed=False, problems=[f"libcosim run failed: {type(e).__name__}: {e}"]), None
     try:
         same = run_fmpy_as_libcosim(fmu, case)
     except Exception as e:  # noqa: BLE001 (a row, not a crash)
-        return dict(row, max_error=None, passed=False, problems=[
+        return row.but(max_error=None, passed=False, problems=[
             f"FMPy's run at libcosim's settings (no tolerance, no stop time) failed: {type(e).__name__}: {e}"]), None
     floors = {s.name: s.scale for s in ev.signals} if ev is not None else {}
     worst, where, when, over_time = agreement(lc, same, case.recorded(), floors)
@@ -187,7 +188,7 @@ def _available() -> Availability:
     return Availability(ok, text)
 
 
-def _case_rows(run: CaseRun, interface: str) -> Iterator[dict[str, Any]]:
+def _case_rows(run: CaseRun, interface: str) -> Iterator[Row]:
     run.progress(NAME)
     row, plotted = libcosim_row(run.fmu, run.case, run.reference, run.evaluation, run.anchor, run.kind)
     if plotted is not None and run.deviations is not None:
