@@ -5,8 +5,10 @@ An importer declares its name (its rows' importer column, and the ``--no-<option
 leaves it out), whether it can run here and why not (:class:`Availability`), what it runs
 (:class:`Runs`: Co-Simulation and Model Exchange, FMI 2.0 and 3.0, SSP), how it runs a case
 (``case_rows``, given a :class:`CaseRun`) and its tolerance. The command line, the order of
-the rows, the report's header and the validation tables' columns are read from the
-declarations: nothing else names an importer.
+the rows, the report's header, curves and legend and the validation tables' columns are read
+from the declarations. Beyond its own module and the registry, only :mod:`.platforms` knows
+one: it runs other platforms' binaries with the runner of the importer declared with
+``platforms=True``.
 
 A case runs first under the reference importer (FMPy in Co-Simulation, against the case's
 reference): its result and evaluation are what the others compare with
