@@ -2,12 +2,12 @@
 
 For each FMU: FMPy's ``validate_fmu`` and mechfmu's stricter checks (:mod:`.checks`); the
 mechanism's reference cases, declared once in ``<crate>/validation/cases.py`` with
-:class:`mechfmu_validate.case.Case`, under FMPy's ``simulate_fmu``, libcosim and the fmi crate
-in Co-Simulation (:mod:`.importers`, :mod:`.fmi_crate`), and in Model Exchange
-(:mod:`.model_exchange`); the same cases on the mechanism's FMI 3.0 FMU (:mod:`.fmi3`, its
-array elements named by :mod:`.arrays`, its checks :mod:`.checks3`); a table, an exit status,
-and optionally a report with one plot per case (:mod:`.report`) and the validation tables of
-``docs/validation.md`` (:mod:`.readme`). The same
+:class:`mechfmu_validate.case.Case`, under each importer of the registry
+(:mod:`.importers`, one module each, declaring what :mod:`.importer` asks), in Co-Simulation
+and in Model Exchange (:mod:`.model_exchange`); the same cases on the mechanism's FMI 3.0 FMU
+(:mod:`.target`: the version a value; its array elements named by :mod:`.arrays`); a table,
+an exit status, and optionally a report with one plot per case (:mod:`.report`) and the
+validation tables of ``docs/validation.md`` (:mod:`.validation_tables`). The same
 cases are what ``tests/python/test_cases.py``, ``test_model_exchange.py`` and ``test_fmi3.py``
 run.
 

@@ -82,7 +82,7 @@ class ArrayMap:
         return [a if k < 0 else element_name(a, self.shapes[a], k) for a, k in self.places(name)]
 
     def fmi3_elements(self, values: Mapping[str, float]) -> dict[str, float]:
-        """FMI 2.0 values by FMI 3.0 element name (each place of a scalar), for mechfmu-fmi-run."""
+        """FMI 2.0 values by FMI 3.0 element name (each place of a scalar), for a runner that sets elements by name."""
         return {e: float(v) for n, v in values.items() for e in self.element_names_of(n)}
 
     def fmi3_start_values(self, values: Mapping[str, float]) -> dict[str, Any]:
@@ -161,7 +161,7 @@ def _listed_scalars(fmu3) -> dict[str, list[str]]:
 
 
 def derive(fmu3) -> ArrayMap:
-    """The FMI 2.0 names of the FMI 3.0 FMU ``fmu3`` (an :class:`~.importers.Fmu`): its
+    """The FMI 2.0 names of the FMI 3.0 FMU ``fmu3`` (an :class:`~.fmu.Fmu`): its
     scalars are FMI 2.0's, and each array's annotation ``org.mechfmu.scalars`` names the FMI
     2.0 variable of every element. An FMU without arrays needs none; another exporter's
     without annotations has its elements named as FMI 3.0 writes them (``y[2]``)."""

@@ -1,5 +1,5 @@
 """Reference cases: declared once in ``<crate>/validation/cases.py``, run by
-``mechfmu validate`` (under FMPy and libcosim) and by the test suite (``tests/python/test_cases.py``).
+``mechfmu validate`` (under each of its importers) and by the test suite (``tests/python/test_cases.py``).
 
 A case says how to run the FMU (start values, an input table, stop time, output interval,
 relative tolerance), what to compare (``outputs``, FMU variables, and ``derived`` signals
@@ -227,8 +227,8 @@ def step_input(names: Sequence[str], times: Sequence[float], values: Sequence[Se
                stop_time: float) -> np.ndarray:
     """A piecewise-constant input table in fmpy's format: ``values[i]`` holds from
     ``times[i]`` to ``times[i+1]``; every change is written as two rows at the same time, so
-    FMPy (which interpolates between rows of different times), libcosim (fed the same
-    values at every communication point) and a zero-order-hold reference all agree. Put the
+    FMPy (which interpolates between rows of different times), an importer fed the same
+    values at every communication point, and a zero-order-hold reference all agree. Put the
     change times on the communication grid."""
     names = list(names)
     rows = [(float(times[0]), *map(float, values[0]))]

@@ -1,18 +1,25 @@
-"""Static and loading checks of an FMU, beyond a simulation.
+"""Static and loading checks of an FMU, beyond a simulation, in its FMI version (an FMI 3.0
+FMU's rows are ``check: FMI 3.0 ...``).
 
 * ``fmpy validate``: FMPy's own validation (schema, names, causality/variability/initial
   combinations, start values, units, ModelStructure);
-* what FMPy does not check: value references and their aliases (FMI 2.0 allows variables
-  to share one: one value, so one type, no constant beside a variable, no two start values
-  that differ), no ``initial`` on inputs, start within [min, max], every Real variable with a
-  unit and every unit and
-  display unit used defined, ``modelIdentifier`` = the binary's name in the archive (and the
-  binary exports the 34 FMI 2.0 Co-Simulation functions, and the modelDescription it carries
-  is the archive's), the GUID in the XML accepted by ``fmi2Instantiate`` and a wrong one
-  refused;
+* what FMPy does not check: the model description's value references, aliases, inputs,
+  bounds and units (:mod:`.description_checks`), ``modelIdentifier`` = the binary's name in
+  the archive (and the binary exports the 34 FMI 2.0 Co-Simulation functions, and the
+  modelDescription it carries is the archive's), the GUID in the XML accepted by
+  ``fmi2Instantiate`` and a wrong one refused;
 * the files every mechfmu FMU carries: ``documentation/index.html``, and the reference
   results in ``extra/org.fmi-standard.fmi-ls-ref/`` in the FMI cross-check CSV conventions
   (checked against the reference case's reference when there is one).
+
+An FMI 3.0 FMU: ``fmpy validate``; ``identifier = binary``, this machine's
+``binaries/<tuple>/<modelIdentifier>.<so|dll|dylib>`` is in the archive (and every other
+platform's binary is named after the model identifier too), loads, exports the FMI 3.0
+functions (those FMPy's FMI 3.0 binding declares: Co-Simulation, Model Exchange and the
+common ones), and for a mechfmu binary carries exactly the archive's
+``modelDescription.xml``; ``fmi3InstantiateCoSimulation`` accepts the model description's
+instantiation token and refuses a wrong one; and ``arrays = FMI 2.0 scalars``: which FMI 2.0
+variable each element of its arrays is (:func:`check_arrays`).
 
 An FMU built by another exporter is held to the standard, not to mechfmu's own rules: a
 problem names the clause of the standard it breaks (``FMI 2.0.5 §2.2.7 start: ...``); aliases
@@ -25,21 +32,23 @@ problem names the clause of the standard it breaks (``FMI 2.0.5 §2.2.7 start: .
 from __future__ import annotations
 
 import ctypes
-import xml.etree.ElementTree as ET
 import zipfile
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Iterator
 
 import numpy as np
 
+from . import fmulog
 from .case import Case, signal_scale
-from .importers import Fmu
-from .platforms import HOST_EXTENSION, HOST_FOLDER
+from .check import Check
+from .description_checks import check_model_description
+from .fmu import Fmu
+from .host import HOST_EXTENSION, HOST_FOLDER
+from .target import Target
 
-__all__ = ["Check", "run_checks", "FMI2_CS_FUNCTIONS", "REFERENCE_DIR", "read_csv"]
+__all__ = ["run_checks", "FMI2_CS_FUNCTIONS", "REFERENCE_DIR", "read_csv"]
 
 REFERENCE_DIR = "extra/org.fmi-standard.fmi-ls-ref"
-PLATFORM_DIR = f"binaries/{HOST_FOLDER['2']}"
 
 FMI2_CS_FUNCTIONS = [
     "fmi2GetTypesPlatform", "fmi2GetVersion", "fmi2SetDebugLogging", "fmi2Instantiate",
@@ -58,258 +67,117 @@ FMI2_CS_FUNCTIONS = [
 REFERENCE_CSV_TOLERANCE = 1e-9
 
 
-@dataclass
-class Check:
-    name: str
-    problems: list[str] = field(default_factory=list)
-    notes: list[str] = field(default_factory=list)
-    #: for the reference CSV check: the largest deviation (fraction of range) and its tolerance
-    max_error: float | None = None
-    tolerance: float | None = None
-
-    @property
-    def passed(self) -> bool:
-        return not self.problems
-
-
-def _raw_variables(root: ET.Element) -> list[ET.Element]:
-    mv = root.find("ModelVariables")
-    return list(mv.findall("ScalarVariable")) if mv is not None else []
-
-
-def _type_element(sv: ET.Element) -> ET.Element | None:
-    for tag in ("Real", "Integer", "Boolean", "String", "Enumeration"):
-        e = sv.find(tag)
-        if e is not None:
-            return e
-    return None
-
-
-def check_fmpy(fmu: Fmu) -> Check:
+def check_fmpy(target: Target) -> Check:
+    """FMPy's own validation of the archive."""
     from fmpy.validation import validate_fmu
 
-    c = Check("fmpy validate")
+    c = Check(f"{VERSIONS[target.version].prefix}fmpy validate")
     try:
-        c.problems = [str(p) for p in validate_fmu(str(fmu.path))]
+        c.problems = [str(p) for p in validate_fmu(str(target.fmu.path))]
     except Exception as e:
         c.problems = [f"validate_fmu raised {type(e).__name__}: {e}"]
     return c
 
 
-#: FMI 2.0's base types, by which value references are shared (fmi2GetInteger reads both)
-BASE_TYPE = {"Real": "Real", "Integer": "Integer", "Enumeration": "Integer", "Boolean": "Boolean", "String": "String"}
+@dataclass(frozen=True)
+class _Version:
+    """What the binary and instantiation checks look for in an FMU of one FMI version."""
 
-#: the clause of the standard the alias rules are (FMI 2.0.5, section 2.2.7, ScalarVariable)
-ALIASES = "FMI 2.0.5 §2.2.7"
-
-
-def _alias_set_problems(members: list[tuple[ET.Element, ET.Element | None]], types: dict[str, ET.Element],
-                        key: tuple[str, str]) -> tuple[list[str], list[str]]:
-    """What makes an alias set (the variables of one base type and one value reference) not
-    one value: (problems, notes)."""
-    problems, notes = [], []
-    where = f"the {key[0]} value reference {key[1]} ({', '.join(sv.get('name') for sv, _ in members)})"
-    kinds = sorted({e.tag for _, e in members if e is not None})
-    if len(kinds) > 1:
-        problems.append(f"{ALIASES} valueReference: {where} is one value, of one type, but declared "
-                        f"{' and '.join(kinds)}")
-    constant = [sv.get("name") for sv, _ in members if sv.get("variability") == "constant"]
-    if constant and len(constant) < len(members):
-        problems.append(f"{ALIASES} variability: {where} mixes constants ({', '.join(constant)}) with variables "
-                        "that change: one value cannot be both")
-    starts = {sv.get("name"): e.get("start") for sv, e in members if e is not None and e.get("start") is not None}
-    given = {n: v for n, v in starts.items() if n not in constant}
-    kind = next((e.tag for _, e in members if e is not None), "")
-    values = {n: _start_value(kind, v) for n, v in starts.items()}
-    if len({values[n] for n in given}) > 1 or (constant and len(set(values.values())) > 1):
-        problems.append(f"{ALIASES} start: {where} has conflicting start values "
-                        f"({', '.join(f'{n}={v}' for n, v in starts.items())})")
-    elif len(given) > 1:
-        notes.append(f"{ALIASES} start: {where}: {len(given)} aliases give the same start value; the standard "
-                     "asks for at most one")
-    variabilities = {sv.get("variability") or "continuous" for sv, _ in members}
-    if len(variabilities) > 1 and not constant:
-        notes.append(f"{where}: aliases of variabilities {', '.join(sorted(variabilities))}")
-
-    units = {_unit(e, types) for _, e in members if e is not None} - {None}
-    if len(units) > 1:
-        notes.append(f"{where}: aliases in units {', '.join(sorted(units))}")
-    return problems, notes
+    #: the check names' prefix
+    prefix: str
+    #: this machine's binaries' folder in the archive
+    folder: str
+    #: the interface elements, one of which names the model identifier, and the words if none does
+    interfaces: tuple[str, ...]
+    no_interface: str
+    #: mechfmu's export of the model description it was built with, and its words for it
+    own_description: str
+    described: str
+    #: the instantiation's words: the function, the model description's attribute, the clause
+    instantiate: str
+    token: str
+    standard: str
 
 
-def _unit(e: ET.Element, types: dict[str, ET.Element]) -> str | None:
-    """A variable's unit, its own or its declared type's."""
-    dt = types.get(e.get("declaredType")) if e.get("declaredType") else None
-    return e.get("unit") or (dt.get("unit") if dt is not None else None)
+VERSIONS = {
+    "2.0": _Version("", f"binaries/{HOST_FOLDER['2']}", ("coSimulation",), "no <CoSimulation> element",
+                    "mechfmu_model_description", "", "fmi2Instantiate", "GUID", "FMI 2.0"),
+    "3.0": _Version("FMI 3.0 ", f"binaries/{HOST_FOLDER['3']}", ("coSimulation", "modelExchange"),
+                    "neither <CoSimulation> nor <ModelExchange>", "mechfmu_model_description_fmi3", "FMI 3.0 ",
+                    "fmi3InstantiateCoSimulation", "instantiationToken", "FMI 3.0"),
+}
 
 
-def check_value_references(fmu: Fmu, svs: list[ET.Element], types: dict[str, ET.Element]) -> Check:
-    """Variables of one base type sharing a value reference are aliases, which FMI 2.0 allows
-    (FMI 2.0.5 section 2.2.7, valueReference): one value, so one type, no constant beside a
-    variable, no two different start values. Aliases of different variabilities or units
-    are notes. mechfmu declares no aliases: in its own FMUs a shared value reference is a
-    fault."""
-    c = Check("value references and aliases")
-    sets: dict[tuple[str, str], list[tuple[ET.Element, ET.Element | None]]] = {}
-    for sv in svs:
-        e = _type_element(sv)
-        key = (BASE_TYPE.get(e.tag, e.tag) if e is not None else "?", sv.get("valueReference"))
-        sets.setdefault(key, []).append((sv, e))
-    for key, members in sets.items():
-        if len(members) < 2:
-            continue
-        if fmu.by_mechfmu:
-            c.problems.append(f"{', '.join(sv.get('name') for sv, _ in members)} share the {key[0]} value reference "
-                              f"{key[1]} (mechfmu declares no aliases)")
-            continue
-        problems, notes = _alias_set_problems(members, types, key)
-        c.problems += problems
-        c.notes += notes
-    aliased = sum(len(m) > 1 for m in sets.values())
-    if aliased and not fmu.by_mechfmu:
-        c.notes.insert(0, f"{aliased} alias sets (variables sharing a value reference, {ALIASES}: allowed)")
-    return c
+def _functions(version: str) -> list[str]:
+    """The functions the binary must export: FMI 2.0's Co-Simulation ones, or every FMI 3.0 one
+    FMPy's binding declares (Co-Simulation, Model Exchange and the common ones)."""
+    if version == "2.0":
+        return FMI2_CS_FUNCTIONS
+    import fmpy.fmi3
+
+    return sorted(n for n in dir(fmpy.fmi3._FMU3) if n.startswith("fmi3"))
 
 
-def check_model_description(fmu: Fmu) -> list[Check]:
-    """Value references, initial on inputs, start within bounds, units."""
-    with zipfile.ZipFile(fmu.path) as z:
-        root = ET.fromstring(z.read("modelDescription.xml"))
-    svs = _raw_variables(root)
-    types = {}
-    td = root.find("TypeDefinitions")
-    if td is not None:
-        for st in td.findall("SimpleType"):
-            e = _type_element(st)
-            if e is not None:
-                types[st.get("name")] = e
-    units = {}
-    ud = root.find("UnitDefinitions")
-    if ud is not None:
-        for u in ud.findall("Unit"):
-            units[u.get("name")] = u
-
-    vr = check_value_references(fmu, svs, types)
-
-    inputs = Check("no initial on inputs")
-    for sv in svs:
-        if sv.get("causality") == "input" and sv.get("initial") is not None:
-            inputs.problems.append(f"FMI 2.0.5 §2.2.7 initial: input {sv.get('name')} has "
-                                   f"initial=\"{sv.get('initial')}\" (inputs carry no initial attribute)")
-        if sv.get("causality") == "input":
-            e = _type_element(sv)
-            if e is not None and e.get("start") is None:
-                inputs.problems.append(f"FMI 2.0.5 §2.2.7 start: input {sv.get('name')} has no start value "
-                                       "(an input must have one)")
-
-    bounds = Check("start within [min, max]")
-    for sv in svs:
-        e = _type_element(sv)
-        if e is None or e.get("start") is None or e.tag not in ("Real", "Integer"):
-            continue
-        dt = types.get(e.get("declaredType")) if e.get("declaredType") else None
-
-        def attr(name):
-            v = e.get(name)
-            if v is None and dt is not None:
-                v = dt.get(name)
-            return float(v) if v is not None else None
-
-        start, lo, hi = float(e.get("start")), attr("min"), attr("max")
-        if lo is not None and hi is not None and lo > hi:
-            bounds.problems.append(f"{sv.get('name')}: min {lo} > max {hi} (no value is within both)")
-        # the range an FMU is designed to operate in (FMI 2.0.5 §2.2.7 min, max): mechfmu
-        # starts every variable within it; another exporter's start outside it is a note
-        outside = bounds.problems if fmu.by_mechfmu else bounds.notes
-        if lo is not None and start < lo:
-            outside.append(f"{sv.get('name')}: start {start} < min {lo}")
-        if hi is not None and start > hi:
-            outside.append(f"{sv.get('name')}: start {start} > max {hi}")
-
-    un = Check("units declared and defined")
-    # mechfmu's rules, beyond the standard's: problems for its own FMUs, notes for others'
-    policy = un.problems if fmu.by_mechfmu else un.notes
-    for name, u in units.items():
-        if u.find("BaseUnit") is None:
-            policy.append(f"unit {name} has no <BaseUnit>")
-    for tname, e in types.items():
-        if e.tag == "Real" and e.get("unit") is not None and e.get("unit") not in units:
-            un.problems.append(f"type {tname} uses unit {e.get('unit')}, not in <UnitDefinitions>")
-    for sv in svs:
-        e = _type_element(sv)
-        if e is None or e.tag != "Real":
-            continue
-        dt = types.get(e.get("declaredType")) if e.get("declaredType") else None
-        if e.get("declaredType") and dt is None:
-            un.problems.append(f"{sv.get('name')}: declaredType {e.get('declaredType')} is not defined")
-        unit = e.get("unit") or (dt.get("unit") if dt is not None else None)
-        display = e.get("displayUnit") or (dt.get("displayUnit") if dt is not None else None)
-        if unit is None:
-            policy.append(f"{sv.get('name')} declares no unit (use \"1\" for a dimensionless quantity)")
-            continue
-        if unit not in units:
-            un.problems.append(f"{sv.get('name')}: unit {unit} is not in <UnitDefinitions>")
-        elif display is not None:
-            names = [d.get("name") for d in units[unit].findall("DisplayUnit")]
-            if display not in names:
-                un.problems.append(f"{sv.get('name')}: display unit {display} is not defined under unit {unit}")
-    return [vr, inputs, bounds, un]
-
-
-def check_binary(fmu: Fmu) -> Check:
-    """modelIdentifier = the binary's name; the 34 functions; the XML the binary carries."""
-    c = Check("identifier = binary")
-    cs = fmu.md.coSimulation
-    if cs is None:
-        c.problems.append("no <CoSimulation> element")
+def check_binary(target: Target) -> Check:
+    """modelIdentifier = the binary's name (every platform's binary so named); the FMI
+    functions exported; the XML the binary carries."""
+    fmu, v = target.fmu, VERSIONS[target.version]
+    c = Check(f"{v.prefix}identifier = binary")
+    interface = next((getattr(fmu.md, i) for i in v.interfaces if getattr(fmu.md, i) is not None), None)
+    if interface is None:
+        c.problems.append(v.no_interface)
         return c
-    ident = cs.modelIdentifier
+    ident = interface.modelIdentifier
     with zipfile.ZipFile(fmu.path) as z:
         names = z.namelist()
         archive_xml = z.read("modelDescription.xml")
-    libs = [n for n in names if n.startswith(PLATFORM_DIR + "/") and n.endswith("." + HOST_EXTENSION)]
-    want = f"{PLATFORM_DIR}/{ident}.{HOST_EXTENSION}"
+    want = f"{v.folder}/{ident}.{HOST_EXTENSION}"
+    if target.version == "2.0":
+        libs = [n for n in names if n.startswith(v.folder + "/") and n.endswith("." + HOST_EXTENSION)]
+    else:
+        libs = [n for n in names if n.startswith("binaries/") and n.endswith((".so", ".dll", ".dylib"))]
     if want not in names:
         c.problems.append(f"modelIdentifier {ident!r} but no {want} in the archive (it has {libs})")
         return c
-    others = [n for n in libs if n != want]
-    if others:
-        (c.problems if fmu.by_mechfmu else c.notes).append(f"other binaries beside {want}: {others}")
+    if target.version == "2.0":
+        others = [n for n in libs if n != want]
+        if others:
+            (c.problems if fmu.by_mechfmu else c.notes).append(f"other binaries beside {want}: {others}")
+    else:  # one binary per platform folder, named after the model identifier
+        others = [n for n in libs if n != want and n.rsplit("/", 1)[1].rsplit(".", 1)[0] != ident]
+        if others:
+            c.problems.append(f"binaries not named after the model identifier {ident!r}: {others}")
     try:
         lib = ctypes.CDLL(str(fmu.directory / want), mode=ctypes.RTLD_LOCAL)
     except OSError as e:
         c.problems.append(f"{want} does not load: {e}")
         return c
-    missing = [f for f in FMI2_CS_FUNCTIONS if not hasattr(lib, f)]
+    missing = [f for f in _functions(target.version) if not hasattr(lib, f)]
     if missing:
         c.problems.append(f"{want} does not export {', '.join(missing)}")
-    if hasattr(lib, "mechfmu_model_description"):
-        f = lib.mechfmu_model_description
+    if hasattr(lib, v.own_description):
+        f = getattr(lib, v.own_description)
         f.argtypes = [ctypes.c_void_p, ctypes.c_size_t]
         f.restype = ctypes.c_size_t
         n = f(None, 0)
         buf = ctypes.create_string_buffer(n + 1)
         f(buf, n + 1)
         if buf.raw[:n] != archive_xml:
-            c.problems.append("the modelDescription.xml in the archive is not the one the binary was built with")
+            c.problems.append(f"the modelDescription.xml in the archive is not the {v.described}one the binary "
+                              "was built with")
         else:
-            c.notes.append("the binary's own modelDescription equals the archive's")
+            c.notes.append(f"the binary's own {v.described}modelDescription equals the archive's")
     return c
 
 
-def check_guid(fmu: Fmu) -> Check:
-    """fmi2Instantiate accepts the XML's GUID and refuses another."""
-    from fmpy.fmi2 import FMU2Slave
+def _instantiates(target: Target, token: str) -> bool:
+    """Whether the FMU instantiates (in Co-Simulation, through FMPy) with ``token``."""
+    fmu = target.fmu
+    if target.version == "2.0":
+        from fmpy.fmi2 import FMU2Slave
 
-    c = Check("GUID accepted, wrong GUID refused")
-    cs = fmu.md.coSimulation
-    if cs is None:
-        c.problems.append("no <CoSimulation> element")
-        return c
-
-    def instantiate(guid: str) -> bool:
-        slave = FMU2Slave(guid=guid, unzipDirectory=str(fmu.directory), modelIdentifier=cs.modelIdentifier,
-                          instanceName="mechfmu-validate-guid")
+        slave = FMU2Slave(guid=token, unzipDirectory=str(fmu.directory),
+                          modelIdentifier=fmu.md.coSimulation.modelIdentifier, instanceName="mechfmu-validate-guid")
         try:
             slave.instantiate()
         except Exception:
@@ -318,19 +186,58 @@ def check_guid(fmu: Fmu) -> Check:
         slave.fmi2FreeInstance(slave.component)
         slave.freeLibrary()
         return True
+    from fmpy.fmi3 import FMU3Slave
 
-    guid = fmu.md.guid
-    if not instantiate(guid):
-        c.problems.append(f"fmi2Instantiate refused the modelDescription's GUID {guid}")
+    slave = FMU3Slave(guid=token, unzipDirectory=str(fmu.directory),
+                      modelIdentifier=fmu.md.coSimulation.modelIdentifier, instanceName="mechfmu-validate-token")
+    try:
+        slave.instantiate(logMessage=fmulog.fmi3_logger())
+    except Exception:
+        slave.freeLibrary()
+        return False
+    slave.freeInstance()
+    slave.freeLibrary()
+    return True
+
+
+def check_instantiation(target: Target) -> Check:
+    """The FMU's Co-Simulation instantiation accepts the XML's GUID (instantiation token) and
+    refuses another."""
+    v = VERSIONS[target.version]
+    fmi3 = target.version == "3.0"
+    c = Check(f"{v.prefix}instantiation token accepted, wrong token refused" if fmi3
+              else "GUID accepted, wrong GUID refused")
+    if target.fmu.md.coSimulation is None:
+        if fmi3:
+            c.notes.append("no <CoSimulation>: not checked")
+        else:
+            c.problems.append("no <CoSimulation> element")
+        return c
+    token = target.fmu.md.guid
+    if not _instantiates(target, token):
+        c.problems.append(f"{v.instantiate} refused the modelDescription's {v.token} {token}")
     wrong = "{00000000-0000-0000-0000-000000000000}"
-    if wrong == guid:
+    if wrong == token:
         wrong = "{11111111-1111-1111-1111-111111111111}"
-    if instantiate(wrong):
-        said = f"fmi2Instantiate accepted a wrong GUID {wrong}: it does not check the GUID"
-        if fmu.by_mechfmu:
+    if _instantiates(target, wrong):
+        said = f"{v.instantiate} accepted a wrong {v.token} {wrong}" + ("" if fmi3 else ": it does not check the GUID")
+        if target.fmu.by_mechfmu:
             c.problems.append(said)
-        else:  # the standard gives the GUID to check with but does not require the check
-            c.notes.append(f"{said} (allowed: FMI 2.0 does not require the check)")
+        else:  # the standard gives the token to check with but does not require the check
+            c.notes.append(f"{said} (allowed: {v.standard} does not require the check)")
+    return c
+
+
+def check_arrays(target: Target) -> Check:
+    """Which FMI 2.0 variable each element of an FMI 3.0 FMU's arrays is, as its model
+    description's annotations name it (:func:`~.arrays.derive`; what the cases' names need)."""
+    c = Check("FMI 3.0 arrays = FMI 2.0 scalars")
+    if target.mapping is None:
+        c.problems.append(target.problem or "no mapping")
+    elif target.mapping.elements:
+        c.notes += target.mapping.describe()
+    else:
+        c.notes.append("no arrays: the FMI 2.0 variables, by the same names")
     return c
 
 
@@ -440,22 +347,15 @@ def check_files(fmu: Fmu, reference_case: Case | None) -> Check:
     return c
 
 
-def _start_value(kind: str, text: str) -> float | bool | str:
-    """A start attribute as the value it writes (``1`` and ``1.0`` are one Real)."""
-    try:
-        if kind in ("Real", "Integer", "Enumeration"):
-            return float(text)
-        if kind == "Boolean":
-            return text.strip() in ("true", "1")
-    except ValueError:
-        pass
-    return text
-
-
-def run_checks(fmu: Fmu, reference_case: Case | None = None) -> Iterator[Check]:
-    """The checks, each made when it is taken (what the FMU writes while one runs is its own)."""
-    yield check_fmpy(fmu)
-    yield from check_model_description(fmu)
-    yield check_binary(fmu)
-    yield check_guid(fmu)
-    yield check_files(fmu, reference_case)
+def run_checks(target: Target, reference_case: Case | None = None) -> Iterator[Check]:
+    """The checks of the FMU in its FMI version, each made when it is taken (what the FMU
+    writes while one runs is its own)."""
+    yield check_fmpy(target)
+    if target.version == "2.0":
+        yield from check_model_description(target.fmu)
+    yield check_binary(target)
+    yield check_instantiation(target)
+    if target.version == "2.0":
+        yield check_files(target.fmu, reference_case)
+    else:
+        yield check_arrays(target)

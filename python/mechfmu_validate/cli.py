@@ -2,16 +2,16 @@
 
     python -m mechfmu_validate FMU|DIR [...] [--cases MODEL=cases.py ...] [--case TEXT ...]
                                [--report DIR] [--json FILE] [--junit FILE] [--readme DIR]
-                               [--cross-check-results DIR] [--time-limit SECONDS] [--no-libcosim]
-                               [--no-fmi-crate] [--no-model-exchange] [--no-fmi3]
+                               [--cross-check-results DIR] [--time-limit SECONDS] [--no-IMPORTER ...]
+                               [--no-model-exchange] [--no-fmi3]
     python -m mechfmu_validate references FMU [FMU ...] --cases MODEL=cases.py ...
 
-Each case runs under FMPy (against the case's reference), then under libcosim and under the
-Rust ``fmi`` crate (``mechfmu-fmi-run``, named by ``$MECHFMU_FMI_RUN``), each of which must agree
-with FMPy to 1e-9, relative, at the same settings; then in Model Exchange under FMPy's CVode
-and Euler and the fmi crate's RK4, against the reference (:mod:`.model_exchange`); then, when
-the FMI 3.0 FMU is beside the FMI 2.0 one (``<dir>/fmi3/<Name>.fmu``; ``--no-fmi3`` leaves it
-out), under FMPy's and the fmi crate's FMI 3.0 (:mod:`.fmi3`). An FMI 3.0 FMU given on the
+Each case runs under every importer of the registry (:mod:`.importers`; ``--no-IMPORTER``
+leaves one out): first under FMPy, against the case's reference, then under the others, each
+of which must agree with FMPy to its tolerance; in Co-Simulation, then in Model Exchange,
+against the reference (:mod:`.model_exchange`; ``--no-model-exchange`` leaves it out); then,
+when the FMI 3.0 FMU is beside the FMI 2.0 one (``<dir>/fmi3/<Name>.fmu``; ``--no-fmi3``
+leaves it out), under the importers of FMI 3.0 (:mod:`.target`). An FMI 3.0 FMU given on the
 command line gets its checks and the FMI 3.0 rows alone (:mod:`.validation`). An FMU without
 cases is run against the reference results it carries (:mod:`.embedded_reference`) and those
 beside it, ``<Model>_ref.csv`` with ``_in.csv`` and ``_ref.opt`` (:mod:`.cross_check`); one
@@ -42,15 +42,18 @@ import numpy as np
 
 import fmpy
 
+from . import fmulog
 from .cross_check import take_outputs, walk, write_results
-from .fmi_crate import fmi_crate_available
-from .importers import Fmu, capture_fmu_log, libcosim_available
+from .fmu import Fmu
+from .importer import Availability, Selection
+from .importers import IMPORTERS, PLATFORMS
 from .isolation import TIME_LIMIT, Job, validate_isolated
 from .junit import write_junit
 from .loader import default_case, load_cases, reference_case
 from .reference import write_references
 from .platform_rows import session as platform_session
 from .report import limit_text, platform_lines, result_text
+from .rows import Row
 
 
 def _positive_seconds(text: str) -> float:
@@ -84,9 +87,10 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--time-limit", type=_positive_seconds, default=TIME_LIMIT, metavar="SECONDS",
                    help="stop an FMU's validation as hung after SECONDS without progress (no result, no FMI call; "
                         f"default {TIME_LIMIT:g})")
-    p.add_argument("--no-libcosim", action="store_true", help="do not run the cases under libcosim")
-    p.add_argument("--no-fmi-crate", action="store_true",
-                   help="do not run the cases under the Rust fmi crate (mechfmu-fmi-run)")
+    for importer in IMPORTERS:
+        if importer.option is not None:
+            p.add_argument(f"--no-{importer.option}", action="append_const", const=importer.option, dest="left_out",
+                           default=[], help=importer.left_out)
     p.add_argument("--no-model-exchange", action="store_true", help="do not run the cases in Model Exchange")
     p.add_argument("--no-fmi3", action="store_true",
                    help="do not validate the FMI 3.0 FMU beside an FMI 2.0 one (<dir>/fmi3/<Name>.fmu)")
@@ -103,7 +107,7 @@ def _cases_map(items: list[str]) -> dict[str, Path]:
     return out
 
 
-def print_table(rows: list[dict]) -> None:
+def print_table(rows: list[Row]) -> None:
     def fmt(x):
         if x is None:
             return "-"
@@ -155,7 +159,7 @@ def print_table(rows: list[dict]) -> None:
           (f", {len(skipped)} skipped" if skipped else ""))
 
 
-def _name_files_apart(rows: list[dict], plots: list[dict]) -> None:
+def _name_files_apart(rows: list[Row], plots: list[dict]) -> None:
     """The FMU column names a model; where two FMU files given are models of one name (an FMI
     2.0 and an FMI 3.0 FMU, a model from several exporters), each file's rows and plots are
     named by its path instead, so that neither the table nor the JUnit suites merge them."""
@@ -171,6 +175,8 @@ def _name_files_apart(rows: list[dict], plots: list[dict]) -> None:
 
 
 def _jsonable(x):
+    if isinstance(x, Row):
+        return _jsonable(x.to_json())
     if isinstance(x, dict):
         return {k: _jsonable(v) for k, v in x.items()}
     if isinstance(x, (list, tuple)):
@@ -240,36 +246,37 @@ def _fmu_files(targets: list[Path]) -> list[Path] | None:
     return paths
 
 
+def _header(selection: Selection) -> dict[str, str]:
+    """The versions of what ran (each importer's, or why it did not), saying on stderr which
+    importer asked for cannot run here."""
+    header = {}
+    for importer in IMPORTERS:
+        available: Availability | None = None
+        if selection.uses(importer):
+            available = importer.available()
+            if not available.ok:
+                print(f"mechfmu validate: {importer.unavailable.format(why=available.text)}", file=sys.stderr)
+        header[importer.header_key] = importer.header(available)
+    return dict(header, python=platform.python_version())
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv and argv[0] == "references":
         return references_main(argv[1:])
     args = make_parser().parse_args(argv)
     cases_map = _cases_map(args.cases)
-    capture_fmu_log()
-    use_libcosim = not args.no_libcosim
-    libcosim_info = "libcosim not used"
-    if use_libcosim:
-        ok, libcosim_info = libcosim_available()
-        if not ok:
-            print(f"mechfmu validate: libcosim cannot run here ({libcosim_info}); the cases run under FMPy only "
-                  "and the libcosim rows fail", file=sys.stderr)
-    use_fmi_crate = not args.no_fmi_crate
-    fmi_crate_info = "fmi crate not used"
-    if use_fmi_crate:
-        ok, found = fmi_crate_available()
-        fmi_crate_info = "fmi crate 0.8 (mechfmu-fmi-run)" if ok else "fmi crate unavailable"
-        if not ok:
-            print(f"mechfmu validate: the fmi-crate importer cannot run here ({found}); its rows fail",
-                  file=sys.stderr)
-    rows: list[dict] = []
+    fmulog.install()
+    selection = Selection(frozenset(args.left_out), not args.no_model_exchange, not args.no_fmi3)
+    header = _header(selection)
+    rows: list[Row] = []
     plots: list[dict] = []
     details: list[dict] = []
     paths = _fmu_files(args.fmus)
     if paths is None:
         return 2
     # the Windows binaries run under one wine session (when scripts/cross-runners prepared it)
-    with platform_session(use_fmi_crate):
+    with platform_session(selection.uses(PLATFORMS)):
         for path in paths:
             md_model = None
             try:
@@ -277,8 +284,7 @@ def main(argv: list[str] | None = None) -> int:
             except Exception:
                 pass
             # in a child process: an FMU that crashes or hangs is one FAIL row (:mod:`.isolation`)
-            job = Job(path, md_model or path.name, cases_map.get(md_model or path.stem), tuple(args.case),
-                      use_libcosim, use_fmi_crate, not args.no_model_exchange, not args.no_fmi3)
+            job = Job(path, md_model or path.name, cases_map.get(md_model or path.stem), tuple(args.case), selection)
             fmu_rows, fmu_plots, fmu_details = validate_isolated(job, args.time_limit)
             for item in (*fmu_rows, *fmu_plots):
                 item["file"] = str(path)
@@ -286,8 +292,6 @@ def main(argv: list[str] | None = None) -> int:
             plots += fmu_plots
             details += fmu_details
     _name_files_apart(rows, plots)
-    header = dict(fmpy=fmpy.__version__, libcosim=libcosim_info, fmi_crate=fmi_crate_info,
-                  python=platform.python_version())
     outputs = take_outputs(rows)
     print_table(rows)
     platforms = platform_lines(rows)
@@ -303,7 +307,7 @@ def main(argv: list[str] | None = None) -> int:
             e["png_path"] = args.report / e["png"]
         print(f"report: {args.report / 'index.html'} (and index.md)")
     if args.readme:
-        from .readme import write_readme
+        from .validation_tables import write_readme
 
         for path in write_readme(args.readme, rows, plots, header):
             print(f"readme: {path}")

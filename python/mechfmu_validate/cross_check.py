@@ -47,9 +47,10 @@ from . import embedded_reference, fmpy_criterion, model_exchange
 from .arrays import fmi2_sibling
 from .case import Case, Result
 from .embedded_reference import EmbeddedReference, Files
-from .importers import ME_CVODE_RTOL, Fmu
-from .platforms import HOST_FOLDER
+from .fmu import Fmu
+from .host import HOST_FOLDER
 from .reference import csv_text
+from .rows import Row
 
 __all__ = ["CASE_NAME", "IMPORTER", "NOT_COMPLIANT", "VERDICTS", "Place", "beside", "sources", "walk",
            "not_validated", "skip_row", "criterion_rows", "take_outputs", "write_results", "importer_version"]
@@ -184,9 +185,9 @@ def not_validated(path: Path) -> str | None:
             "interface, which this one does not have")
 
 
-def skip_row(path: Path, why: str) -> dict[str, Any]:
+def skip_row(path: Path, why: str) -> Row:
     """The SKIP row of an FMU that is not validated (:func:`not_validated`)."""
-    return dict(kind="reference", fmu=path.stem, case=CASE_NAME, importer="mechfmu", max_error=None, tolerance=None,
+    return Row(kind="reference", fmu=path.stem, case=CASE_NAME, importer="mechfmu", max_error=None, tolerance=None,
                 passed=True, skipped=True, problems=[why], notes=[])
 
 
@@ -204,7 +205,7 @@ def _output_csv(ref: EmbeddedReference, result: Result) -> str:
     return csv_text(["time", *[ref.columns[n] for n in names]], [time, *columns], digits=13, allow_nan=True)
 
 
-def _tree_result(row: dict[str, Any], ours: dict[str, Any], ref: EmbeddedReference, result: Result | None,
+def _tree_result(row: Row, ours: Row, ref: EmbeddedReference, result: Result | None,
                  how: str) -> None:
     """Marks the criterion's ``row`` as the result of the FMU's folder in the tree."""
     row["cross_check"] = dict(
@@ -213,12 +214,12 @@ def _tree_result(row: dict[str, Any], ours: dict[str, Any], ref: EmbeddedReferen
                   tolerance=ours.get("tolerance"), problems=ours.get("problems", [])))
 
 
-def criterion_rows(fmu: Fmu, ref: EmbeddedReference, ours: dict[str, Any], result: Result | None, importer: str,
-                   run_model_exchange: tuple[str, Callable[[Case], Result]] | None = None) -> Iterator[dict[str, Any]]:
+def criterion_rows(fmu: Fmu, ref: EmbeddedReference, ours: Row, result: Result | None, importer: str,
+                   run_model_exchange: tuple[str, Callable[[Case], Result] | None]) -> Iterator[Row]:
     """FMPy's criterion on ``importer``'s Co-Simulation run of the reference (``ours`` its row,
     ``result`` its result); for the files beside an FMU in a tree's ``me`` folder, the
     reference's run under FMPy's CVode as well (``run_model_exchange``: its importer's name and
-    how it runs a case; None: Model Exchange left out), mechfmu's row and the criterion's. The
+    how it runs a case, None when Model Exchange is left out), mechfmu's row and the criterion's. The
     criterion's row of the run the folder names is the FMU's result in the tree. Each row is
     made when it is taken (the Model Exchange run's console output is its own row's)."""
     first = fmpy_criterion.criterion_row(fmu.model, ref, result, importer, ours.get("anchor", ""))
@@ -231,33 +232,33 @@ def criterion_rows(fmu: Fmu, ref: EmbeddedReference, ours: dict[str, Any], resul
     yield first
     if place is None or place.interface == "cs":
         return
-    if run_model_exchange is None:
-        yield dict(skip_row(fmu.path, "Model Exchange runs left out (--no-model-exchange)"), fmu=fmu.model,
-                   importer=model_exchange.CVODE)
-        return
     me_importer, run = run_model_exchange
+    if run is None:
+        yield skip_row(fmu.path, "Model Exchange runs left out (--no-model-exchange)").but(fmu=fmu.model,
+                   importer=me_importer)
+        return
     got: dict[str, Result] = {}
 
     def recorded(_fmu: Fmu, case: Case) -> Result:
         got["result"] = run(case)
         return got["result"]
 
-    me_row = dict(model_exchange.cvode_row(fmu, ref.case, importer=me_importer, run=recorded), kind="reference")
+    me_row = model_exchange.cvode_row(fmu, ref.case, importer=me_importer, run=recorded).but(kind="reference")
     yield me_row
     me_criterion = fmpy_criterion.criterion_row(fmu.model, ref, got.get("result"), me_importer)
     _tree_result(me_criterion, me_row, ref, got.get("result"),
                  f"FMPy {fmpy.__version__}'s simulate_fmu in Model Exchange, CVode at relative tolerance "
-                 f"{ME_CVODE_RTOL:g}")
+                 f"{model_exchange.CVODE_RTOL:g}")
     yield me_criterion
 
 
-def take_outputs(rows: list[dict[str, Any]]) -> dict[str, str | None]:
+def take_outputs(rows: list[Row]) -> dict[str, str | None]:
     """The ``<Model>_out.csv`` texts of the FMUs of a tree, by the FMU file of their rows
     (``file``), taken out of the rows (which go on to the JSON file without them)."""
     return {r["file"]: r["cross_check"].pop("output", None) for r in rows if "cross_check" in r}
 
 
-def _verdict(result_row: dict[str, Any] | None, mine: list[dict[str, Any]]) -> str:
+def _verdict(result_row: Row | None, mine: list[Row]) -> str:
     if result_row is not None:
         return "passed" if result_row["passed"] and not result_row.get("experiment_problem") else "failed"
     return "rejected" if any(r.get("skipped") for r in mine) else "failed"
@@ -269,8 +270,8 @@ def _cell(x: Any) -> str:
     return ("0" if x == 0 else f"{x:.2e}") if isinstance(x, float) and math.isfinite(x) else str(x)
 
 
-def _readme(place: Place, path: Path, verdict: str, result_row: dict[str, Any] | None,
-            mine: list[dict[str, Any]], header: dict[str, Any]) -> str:
+def _readme(place: Place, path: Path, verdict: str, result_row: Row | None,
+            mine: list[Row], header: dict[str, Any]) -> str:
     model = place.model
     lines = [f"# {model}: {verdict}", "",
              f"{place.text()}; imported by mechfmu {importer_version()} (`mechfmu validate`, FMPy {header['fmpy']}).",
@@ -295,7 +296,7 @@ def _readme(place: Place, path: Path, verdict: str, result_row: dict[str, Any] |
     return "\n".join(lines)
 
 
-def write_results(root: Path, fmus: list[Path], rows: list[dict[str, Any]], outputs: dict[str, str | None],
+def write_results(root: Path, fmus: list[Path], rows: list[Row], outputs: dict[str, str | None],
                   header: dict[str, Any]) -> list[Path]:
     """The results' folder of each FMU of ``fmus`` in a tree (see the module's documentation)
     under ``root``, from the rows of the run, each naming its FMU file (``file``; ``outputs``:

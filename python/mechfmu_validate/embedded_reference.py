@@ -45,7 +45,7 @@ from .case import Case
 
 if TYPE_CHECKING:  # pragma: no cover
     from .arrays import ArrayMap
-    from .importers import Fmu
+    from .fmu import Fmu
 
 __all__ = ["REFERENCE_DIR", "CASE_NAME", "ReferenceProblem", "Unsupported", "Files", "EmbeddedReference", "find",
            "carried", "read", "tolerance_for", "DEFAULT_TOLERANCE"]

@@ -15,11 +15,13 @@ from __future__ import annotations
 
 import math
 import warnings
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from fmpy.cross_check import validate_result, validate_signal
+
+from .rows import Row
 
 if TYPE_CHECKING:  # pragma: no cover
     from .case import Result
@@ -79,18 +81,18 @@ def judge(result: Result, ref: EmbeddedReference) -> tuple[str | None, dict[str,
 
 
 def criterion_row(fmu_name: str, ref: EmbeddedReference, result: Result | None, importer: str,
-                  anchor: str = "") -> dict[str, Any]:
+                  anchor: str = "") -> Row:
     """The criterion's row on ``importer``'s run of the reference (``result``, None when that
     run failed)."""
-    row = dict(kind="reference", fmu=fmu_name, case=ref.case.name, importer=importer_name(importer), anchor=anchor,
+    row = Row(kind="reference", fmu=fmu_name, case=ref.case.name, importer=importer_name(importer), anchor=anchor,
                tolerance=LIMIT, problems=[], notes=[NOTE])
     if result is None:
-        return dict(row, max_error=math.inf, passed=False,
+        return row.but(max_error=math.inf, passed=False,
                     problems=[f"the {importer} run failed: no result for the criterion to judge"])
     try:
         problem, outside = judge(result, ref)
     except Exception as e:  # noqa: BLE001 (a row, not a crash)
-        return dict(row, max_error=math.inf, passed=False,
+        return row.but(max_error=math.inf, passed=False,
                     problems=[f"FMPy's criterion failed: {type(e).__name__}: {e}"])
     worst = max(outside, key=outside.get, default=None)
     problems = [problem] if problem else []

@@ -1,5 +1,5 @@
 """The FMUs' log messages under FMPy, captured: the one implementation, used by
-``mechfmu validate`` (:func:`mechfmu_validate.importers.run_fmpy`) and by the test suite
+``mechfmu validate`` (:func:`mechfmu_validate.importers.fmpy.run_fmpy`) and by the test suite
 (``tests/python/fmutest.py``: ``LogMark``, ``Slave.log``).
 
 FMI 2.0 loggers are variadic, which ctypes cannot receive, so fmpy routes messages through a
@@ -33,12 +33,14 @@ string itself (their records are collected by ``LogMark(raw=True)``).
 from __future__ import annotations
 
 import re
+import signal
 import threading
 from ctypes import byref
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["LogRecord", "LogMark", "install", "raw_callbacks", "repoint", "fmi3_logger", "status_name", "STATUS_NAMES"]
+__all__ = ["LogRecord", "LogMark", "install", "raw_callbacks", "repoint", "fmi3_logger", "signal_name", "status_name",
+           "STATUS_NAMES"]
 
 #: fmi2Status values and their names
 STATUS_NAMES = {
@@ -49,6 +51,14 @@ STATUS_NAMES = {
     4: "fmi2Fatal",
     5: "fmi2Pending",
 }
+
+
+def signal_name(number: int) -> str:
+    """``SIGSEGV (signal 11)``: the signal a run died of."""
+    try:
+        return f"{signal.Signals(number).name} (signal {number})"
+    except ValueError:
+        return f"signal {number}"
 
 
 def status_name(status: int, fmi: int = 2) -> str:

@@ -10,11 +10,11 @@ call FMPy makes, the function and its numeric arguments, and counts the calls. T
 turns a death by a signal, an exit without a result, or :data:`TIME_LIMIT` seconds without
 progress (no row, no new run, no FMI call) into one FAIL row (:data:`STOPPED`) naming the
 signal or the time limit, the run, and the FMI call it was in (the last one written; a run
-whose importer calls the FMU from native code, libcosim or the fmi crate's runner, names
-the run only).
+whose importer calls the FMU from its own native code, not through FMPy, names the run
+only).
 
-Everything the importers and the FMU write to the child's standard output and error (the FMI
-Library's messages from libcosim's loader, FMPy's warnings, an FMU's ``printf``) goes to a
+Everything the importers and the FMU write to the child's standard output and error (an
+importer's loader's messages, FMPy's warnings, an FMU's ``printf``) goes to a
 file (its file descriptors 1 and 2), and each row takes what was written while it was made:
 ``row["output"]``, shown under the row's detail and in the JSON and the JUnit
 ``<system-out>``. The child's temporary files are in a directory of its own, removed after
@@ -37,10 +37,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from . import progress
-from .fmi_crate import signal_name
-from .importers import capture_fmu_log
+from . import fmulog, progress
+from .fmulog import signal_name
+from .importer import Selection
 from .platforms import WineSession, cleanup_copies
+from .rows import Row
 from .validation import validate_fmu
 
 __all__ = ["Job", "TIME_LIMIT", "STOPPED", "bounded_text", "stopped_row", "validate_isolated"]
@@ -81,10 +82,8 @@ class Job:
     name: str
     cases_file: Path | None
     only: tuple[str, ...]
-    use_libcosim: bool
-    use_fmi_crate: bool
-    use_model_exchange: bool
-    use_fmi3: bool
+    #: the importers, interfaces and versions it runs
+    selection: Selection
 
 
 @dataclass
@@ -175,7 +174,7 @@ class _Sink(list):
         super().__init__()
         self._conn, self._output = conn, output
 
-    def append(self, row: dict) -> None:
+    def append(self, row: Row) -> None:
         text = self._output.take()
         if text.strip():
             row["output"] = row.get("output", "") + text
@@ -204,7 +203,7 @@ def _die_with_parent(parent: int) -> None:
         os._exit(1)
 
 
-def _send_result(conn, rows: list[dict], plots: list[dict], details: list[dict]) -> None:
+def _send_result(conn, rows: list[Row], plots: list[dict], details: list[dict]) -> None:
     """The final message; the rows alone (plain data) when the plots or details cannot be sent."""
     try:
         conn.send(("done", rows, plots, details))
@@ -219,7 +218,7 @@ def _child(conn, shared: _Shared, workdir: str, job: Job, wine_tmpdir: str | Non
     os.environ["TMPDIR"] = tempfile.tempdir = workdir
     output = _Output(os.path.join(workdir, OUTPUT))
     WineSession.tmpdir = wine_tmpdir
-    capture_fmu_log()
+    fmulog.install()
     _track_fmi_calls(shared)
 
     def said(message: str) -> None:
@@ -232,9 +231,7 @@ def _child(conn, shared: _Shared, workdir: str, job: Job, wine_tmpdir: str | Non
     progress.listen(said, alive)
     rows, plots, details = _Sink(conn, output), [], []
     try:
-        validate_fmu(job.path, job.cases_file, list(job.only), job.use_libcosim, rows, plots, details,
-                     use_fmi_crate=job.use_fmi_crate, use_model_exchange=job.use_model_exchange,
-                     use_fmi3=job.use_fmi3)
+        validate_fmu(job.path, job.cases_file, list(job.only), job.selection, rows, plots, details)
     except Exception as e:  # noqa: BLE001 (a bug of ours on this FMU: its row, and on to the next)
         where = traceback.extract_tb(e.__traceback__)[-1]
         rows.append(stopped_row(job, f"mechfmu validate failed on {job.path}: {type(e).__name__}: {e} "
@@ -251,9 +248,9 @@ def _child(conn, shared: _Shared, workdir: str, job: Job, wine_tmpdir: str | Non
 # The parent
 
 
-def stopped_row(job: Job, problem: str, output: str = "") -> dict:
+def stopped_row(job: Job, problem: str, output: str = "") -> Row:
     """The FAIL row of a validation that did not finish, saying why."""
-    return dict(kind="check", fmu=job.name, case=STOPPED, importer="-", max_error=None, tolerance=None,
+    return Row(kind="check", fmu=job.name, case=STOPPED, importer="-", max_error=None, tolerance=None,
                 passed=False, notes=[], problems=[problem], **({"output": output} if output.strip() else {}))
 
 
@@ -265,7 +262,7 @@ def _where_stopped(running: str, call: str, calls: int) -> str:
         return f"in {call}, {run}"
     if calls == 0:
         return f"before any FMI call, {run}"
-    return f"{run} (in a call the FMI function of which is not known: libcosim's or a runner's)"
+    return f"{run} (in a call the FMI function of which is not known: an importer's native code)"
 
 
 def _read_output(workdir: str, offset: int) -> str:
@@ -331,7 +328,7 @@ def _why_stopped(watch: _Watch, shared: _Shared, time_limit: float) -> str | Non
     return None
 
 
-def _receive(receive, proc, shared: _Shared, watch: _Watch, rows: list[dict], time_limit: float):
+def _receive(receive, proc, shared: _Shared, watch: _Watch, rows: list[Row], time_limit: float):
     """The child's messages until its result (returned as ``("done", rows, plots, details)``)
     or its end: then ``("stopped", why)``, ``why`` None when it ended or died by itself."""
     while True:
@@ -360,7 +357,7 @@ def _receive(receive, proc, shared: _Shared, watch: _Watch, rows: list[dict], ti
 
 
 def validate_isolated(job: Job, time_limit: float = TIME_LIMIT, child=None
-                      ) -> tuple[list[dict], list[dict], list[dict]]:
+                      ) -> tuple[list[Row], list[dict], list[dict]]:
     """``job`` run in a child process: (rows, plots, details). A child that dies, exits without
     a result or makes no progress for ``time_limit`` seconds leaves the rows it sent and one
     FAIL row saying so. ``child`` is the function the child runs (default: the validation;
@@ -374,7 +371,7 @@ def validate_isolated(job: Job, time_limit: float = TIME_LIMIT, child=None
     receive, send = context.Pipe(duplex=False)
     proc = context.Process(target=child or _child, daemon=True,
                            args=(send, shared, workdir, job, WineSession.tmpdir, os.getpid()))
-    rows: list[dict] = []
+    rows: list[Row] = []
     watch = _Watch()
     try:
         proc.start()

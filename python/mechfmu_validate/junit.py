@@ -12,9 +12,9 @@ from __future__ import annotations
 import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
-from typing import Any
 
 from .report import result_text
+from .rows import Row
 
 __all__ = ["write_junit"]
 
@@ -22,7 +22,7 @@ __all__ = ["write_junit"]
 NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ufffe\uffff]")
 
 
-def _testcase(row: dict[str, Any], suite: str, name: str) -> ET.Element:
+def _testcase(row: Row, suite: str, name: str) -> ET.Element:
     case = ET.Element("testcase", classname=suite, name=name, time=f"{row.get('seconds') or 0.0:.3f}")
     result = result_text(row)
     problems = [NOT_XML.sub("", str(p)) for p in row.get("problems", [])]
@@ -52,8 +52,8 @@ def _unique(names: list[str]) -> list[str]:
     return out
 
 
-def write_junit(path: Path, rows: list[dict[str, Any]]) -> None:
-    by_file: dict[str, list[dict[str, Any]]] = {}
+def write_junit(path: Path, rows: list[Row]) -> None:
+    by_file: dict[str, list[Row]] = {}
     for row in rows:
         by_file.setdefault(row.get("file") or row["fmu"], []).append(row)
     root = ET.Element("testsuites", name="mechfmu validate")

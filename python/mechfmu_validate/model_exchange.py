@@ -10,7 +10,7 @@ blamed for.
   :data:`CVODE_FLOOR`: a case that asks more of an invariant (1e-8) than CVode reaches at
   that tolerance (up to 4e-7 over the cases' horizons; they pass at 1e-12) is LIMIT. This is
   the row that gates the FMU: a wrong derivative shows far above the floor.
-* ``FMPy ME Euler`` and ``fmi crate ME RK4``: fixed-step methods of order p, whose error is
+* ``FMPy ME Euler`` and ``... ME RK4``: fixed-step methods of order p, whose error is
   their truncation error C h^p + O(h^(p+1)), far above most cases' limits for Euler. Each runs
   at two steps, h and h/2, and a signal passes when its error meets the case's limit, or when
   halving the step divides it by 2^p: the observed order log2(e(h) / e(h/2)) within
@@ -42,15 +42,14 @@ from typing import Any, Callable
 import numpy as np
 
 from .case import Case, Evaluation, Result, evaluate
-from .fmi_crate import run_fmi_crate
-from .importers import ME_CVODE_RTOL, Fmu, NotSupported, run_fmpy_me
+from .fmu import Fmu, NotSupported
+from .rows import Row
 
-__all__ = ["CVODE", "CVODE_FLOOR", "EULER", "RK4", "FixedStep", "OrderCheck", "METHODS", "ORDER_SLACK", "band_text",
-           "run_cvode", "run_fixed_step", "cvode_row", "fixed_step_row", "rows"]
+__all__ = ["CVODE_FLOOR", "CVODE_RTOL", "FixedStep", "OrderCheck", "ORDER_SLACK", "band_text", "order_band",
+           "run_cvode", "run_fixed_step", "cvode_row", "fixed_step_row"]
 
-CVODE = "FMPy ME CVode"
-EULER = "FMPy ME Euler"
-RK4 = "fmi crate ME RK4"
+#: the relative tolerance of CVode in the Model Exchange runs
+CVODE_RTOL = 1e-10
 
 #: how far the observed order may be from the method's: it tolerates a next term of the
 #: error's expansion of about a quarter of the leading one at h, and a part b of the error
@@ -58,7 +57,7 @@ RK4 = "fmi crate ME RK4"
 #: the truncation error), b < 0.013 C h^4 (RK4; 0.037 C h^4)
 ORDER_SLACK = 0.25
 
-CVODE_NOTE = f"FMPy's CVode (BDF) at relative tolerance {ME_CVODE_RTOL:g}, against the reference"
+CVODE_NOTE = f"FMPy's CVode (BDF) at relative tolerance {CVODE_RTOL:g}, against the reference"
 
 #: the largest error of a CVode row that is LIMIT rather than FAIL: the limit of most cases,
 #: 2.5 times CVode's worst measured drift of an invariant at rtol 1e-10 (4e-7)
@@ -79,12 +78,10 @@ class FixedStep:
     run: Callable[[Fmu, Case, float], Result]
 
 
-METHODS = {
-    EULER: FixedStep(EULER, 1, (1 - ORDER_SLACK, 1 + ORDER_SLACK), 2, 8,
-                     lambda fmu, case, h: run_fmpy_me(fmu, case, "Euler", h)),
-    RK4: FixedStep(RK4, 4, (4 - ORDER_SLACK, 5 + ORDER_SLACK), 1, 2,
-                   lambda fmu, case, h: run_fmi_crate(fmu, case, interface="me", step=h)),
-}
+def order_band(order: int, highest: int | None = None) -> tuple[float, float]:
+    """The observed orders a method of ``order`` passes with: ``order`` within
+    :data:`ORDER_SLACK`, up to ``highest`` (a conserved quantity drifting one order above)."""
+    return order - ORDER_SLACK, (highest or order) + ORDER_SLACK
 
 
 @dataclass
@@ -131,10 +128,9 @@ def band_text(band) -> str:
     return f"{band[0]:g} to {band[1]:g}"
 
 
-def run_cvode(fmu: Fmu, case: Case, run: Callable[[Fmu, Case], Result] | None = None) -> tuple[Result, Evaluation]:
-    """The case under FMPy's CVode (``run``: how, for an FMU FMPy cannot run from the case's
-    names alone, such as an FMI 3.0 one with arrays)."""
-    result = run(fmu, case) if run is not None else run_fmpy_me(fmu, case, "CVode")
+def run_cvode(fmu: Fmu, case: Case, run: Callable[[Fmu, Case], Result]) -> tuple[Result, Evaluation]:
+    """The case under CVode, as ``run`` runs it, and its evaluation."""
+    result = run(fmu, case)
     return result, evaluate(case, result)
 
 
@@ -160,30 +156,17 @@ def _worst(checks: list[OrderCheck]) -> OrderCheck | None:
     return max(checks, key=lambda c: (not c.passed, not c.within_tolerance, c.error), default=None)
 
 
-def rows(fmu: Fmu, case: Case, anchor: str, entry: dict[str, Any], use_fmi_crate: bool = True,
-         progress: Callable[[str], None] = lambda _: None) -> list[dict[str, Any]]:
-    """The case's Model Exchange rows: CVode, Euler, and RK4 when the fmi crate is used.
-    ``entry`` (the case's plot) gets the CVode run's error over time."""
-    progress(CVODE)
-    out = [cvode_row(fmu, case, anchor, entry)]
-    for method in METHODS.values():
-        if method.importer != RK4 or use_fmi_crate:
-            progress(method.importer)
-            out.append(fixed_step_row(fmu, case, method, anchor))
-    return out
-
-
-def cvode_row(fmu: Fmu, case: Case, anchor: str = "", entry: dict[str, Any] | None = None, importer: str = CVODE,
-              run: Callable[[Fmu, Case], Result] | None = None) -> dict[str, Any]:
+def cvode_row(fmu: Fmu, case: Case, anchor: str = "", entry: dict[str, Any] | None = None, *, importer: str,
+              run: Callable[[Fmu, Case], Result]) -> Row:
     """The case's row under FMPy's CVode, held to the case's limits (named ``importer``, run by
-    ``run``: see :func:`run_cvode`)."""
-    row = dict(kind="case", fmu=fmu.model, case=case.name, anchor=anchor, importer=importer, problems=[],
+    ``run``); ``entry`` (the case's plot's errors) gets its error over time."""
+    row = Row(kind="case", fmu=fmu.model, case=case.name, anchor=anchor, importer=importer, problems=[],
                notes=[CVODE_NOTE])
     t0 = time.perf_counter()
     try:
         result, ev = run_cvode(fmu, case, run)
     except Exception as e:
-        return dict(row, max_error=None, tolerance=None, passed=False,
+        return row.but(max_error=None, tolerance=None, passed=False,
                     problems=[f"{importer} run failed: {type(e).__name__}: {e}"])
     worst = ev.worst
     limited = not ev.passed and ev.problem is None and all(x.passed or x.max_error <= CVODE_FLOOR
@@ -199,23 +182,23 @@ def cvode_row(fmu: Fmu, case: Case, anchor: str = "", entry: dict[str, Any] | No
             row["notes"].insert(0, f"LIMIT: CVode reaches {worst.max_error:.1e}, not the case's {worst.tolerance:g}"
                                    f" (reported up to {CVODE_FLOOR:g})")
         if entry is not None:
-            entry["me_cvode"] = dict(time=ev.time, error_over_time=np.max([s.error for s in ev.signals], axis=0))
+            entry[importer] = dict(time=ev.time, error_over_time=np.max([s.error for s in ev.signals], axis=0))
     return row
 
 
-def fixed_step_row(fmu: Fmu, case: Case, method: FixedStep, anchor: str = "") -> dict[str, Any]:
+def fixed_step_row(fmu: Fmu, case: Case, method: FixedStep, anchor: str = "") -> Row:
     """The case's row under a fixed-step method; SKIP when the importer cannot run it."""
     rule = (f"passes at the case's limit, or with an observed order of {band_text(method.band)} "
             f"(the method's: {method.order})")
-    row = dict(kind="case", fmu=fmu.model, case=case.name, anchor=anchor, importer=method.importer,
+    row = Row(kind="case", fmu=fmu.model, case=case.name, anchor=anchor, importer=method.importer,
                order=method.order, order_band=list(method.band), tolerance=None, problems=[], notes=[rule])
     t0 = time.perf_counter()
     try:
         ev, checks, h = run_fixed_step(fmu, case, method)
     except NotSupported as e:
-        return dict(row, max_error=None, passed=True, skipped=True, problems=[str(e)])
+        return row.but(max_error=None, passed=True, skipped=True, problems=[str(e)])
     except Exception as e:
-        return dict(row, max_error=None, passed=False, problems=[f"{method.importer} run failed: "
+        return row.but(max_error=None, passed=False, problems=[f"{method.importer} run failed: "
                                                                      f"{type(e).__name__}: {e}"])
     worst = _worst(checks)
     note = f"fixed step h = {h:g} s and h/2: {rule}"

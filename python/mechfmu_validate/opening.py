@@ -17,8 +17,8 @@ import zlib
 from pathlib import Path
 
 from . import fmulog
-from .importers import Fmu
-from .platforms import HOST_EXTENSION, HOST_FOLDER
+from .fmu import Fmu
+from .host import HOST_EXTENSION, HOST_FOLDER
 
 __all__ = ["BrokenFmu", "open_fmu", "OPENS"]
 

@@ -1,7 +1,8 @@
 """The rows of ``mechfmu validate`` for an FMU's binaries: the platforms it carries, which of
 them ran, and each reference case on each binary for another platform (Windows under
 wine64, ARM Linux under qemu-aarch64, through :mod:`.platforms`) against this machine's
-binary, both through the ``fmi`` crate's importer, to :data:`PLATFORM_TOLERANCE`.
+binary, both through the importer that runs them (:data:`~.importers.PLATFORMS`), to
+:data:`PLATFORM_TOLERANCE`.
 
 The foreign binaries run when ``scripts/cross-runners`` has prepared their runners
 (``target/cross-runners/runners.env``); otherwise the platform row says they were packaged
@@ -12,12 +13,15 @@ from __future__ import annotations
 import contextlib
 from typing import TYPE_CHECKING, Iterator
 
-from .platforms import (EMULATED, FMI2_FOLDERS, NATIVE, PLATFORMS, NotPrepared, Runners, WineSession,
+from .host import NATIVE, PLATFORMS
+from .importer import CS, FMI2, FMI3, Importer, row_name
+from .platforms import (EMULATED, FMI2_FOLDERS, NotPrepared, Runners, WineSession,
                         binary_platforms, cleanup_copies, compare, fmi_version, run_case)
+from .rows import Row
 
 if TYPE_CHECKING:  # pragma: no cover
     from .case import Case
-    from .importers import Fmu
+    from .fmu import Fmu
 
 __all__ = ["PLATFORM_TOLERANCE", "Platforms", "session"]
 
@@ -54,18 +58,20 @@ def session(enabled: bool = True) -> Iterator[None]:
 
 
 class Platforms:
-    """The binaries of the opened ``fmu`` (``label``: the importer prefix of its rows, e.g.
-    ``"fmi crate"`` or ``"fmi crate FMI3"``; ``names``: the FMI 3.0 FMU's array mapping, as
-    :func:`~.fmi3.run_crate3` passes it)."""
+    """The binaries of the opened ``fmu``, run by ``runner``, the importer that runs them
+    (``names``: the FMI 3.0 FMU's array mapping; ``enabled``: whether the runner is used)."""
 
-    def __init__(self, fmu: Fmu, name: str, label: str, names=None, enabled: bool = True):
-        self.path, self.name, self.label, self.names = fmu.path, name, label, names
+    def __init__(self, fmu: Fmu, name: str, runner: Importer, names=None, enabled: bool = True):
+        self.path, self.name, self.names = fmu.path, name, names
+        self.runner = runner.name
         self.version = fmi_version(self.path)
         found = binary_platforms(self.path)
         # in the order of PLATFORMS, then any other
         self.found = {p: found[p] for p in sorted(found, key=lambda p: (p not in PLATFORMS,
                                                                        PLATFORMS.index(p) if p in PLATFORMS else 0, p))}
-        self.runners, why_not = _load() if enabled else (None, "not asked for (--no-fmi-crate)")
+        #: the importer prefix of its rows: the runner's Co-Simulation rows' importer column
+        self.label = row_name(runner.name, FMI3 if self.version.startswith("3.") else FMI2, CS)
+        self.runners, why_not = _load() if enabled else (None, f"not asked for (--no-{runner.option})")
         self.why_not = why_not
         self.foreign = [p for p in EMULATED if p in self.found]
         self.by_mechfmu = fmu.by_mechfmu
@@ -75,14 +81,14 @@ class Platforms:
         self.folders = {p: self.found[p].split("/")[1] if p in self.found else fmi2_names.get(p, p)
                         for p in (*self.found, *PLATFORMS)}
 
-    def summary_row(self) -> dict:
+    def summary_row(self) -> Row:
         """The platforms this FMU has binaries for and which of them run here."""
         parts = []
         for platform in self.found:
             if platform == NATIVE:
                 parts.append(f"{self.folders[platform]}: run (every importer)")
             elif platform in EMULATED and self.runners is not None:
-                parts.append(f"{self.folders[platform]}: run {EMULATED[platform]} (fmi crate)")
+                parts.append(f"{self.folders[platform]}: run {EMULATED[platform]} ({self.runner})")
             elif platform.endswith("-darwin") and self.by_mechfmu:
                 # mechfmu build checked it (exports, libraries, signature) before packaging it
                 parts.append(f"{self.folders[platform]}: packaged, checked, not run (only a Mac runs it)")
@@ -94,14 +100,14 @@ class Platforms:
             notes.append(f"no binary for {', '.join(missing)}")
         if self.foreign and self.runners is None:
             notes.append(f"the other platforms' binaries were not run: {self.why_not}")
-        return dict(kind="note", fmu=self.name, case=f"(platforms, FMI {self.version})",
+        return Row(kind="note", fmu=self.name, case=f"(platforms, FMI {self.version})",
                     importer=", ".join(self.folders[p] for p in self.found) or "-", max_error=None, tolerance=None,
                     passed=NATIVE in self.found, problems=[] if NATIVE in self.found
                     else [f"no {self.folders[NATIVE]} binary: nothing to run on this machine"], notes=notes,
                     platforms=dict(found=list(self.found), run=[NATIVE] + (self.foreign if self.runners else []),
                                    names={p: self.folders[p] for p in (*self.found, *PLATFORMS)}))
 
-    def case_rows(self, fmu: Fmu, case: Case) -> Iterator[dict]:
+    def case_rows(self, fmu: Fmu, case: Case) -> Iterator[Row]:
         """The case on each foreign binary against this machine's, a row as each run ends (so
         that what the run printed is its row's)."""
         if self.runners is None or not self.foreign:
@@ -111,7 +117,7 @@ class Platforms:
         except Exception as e:  # noqa: BLE001 (a row, not a crash)
             native, native_error = None, f"{type(e).__name__}: {e}"
         for platform in self.foreign:
-            row = dict(kind="case", fmu=self.name, case=case.name, importer=f"{self.label} {platform}",
+            row = Row(kind="case", fmu=self.name, case=case.name, importer=f"{self.label} {platform}",
                        tolerance=PLATFORM_TOLERANCE, problems=[], notes=[])
             try:
                 if native is None:

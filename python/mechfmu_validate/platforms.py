@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import copy
 import os
-import platform as _platform_info
 import re
 import shlex
 import shutil
@@ -51,31 +50,17 @@ from typing import TYPE_CHECKING, Mapping, Sequence
 import numpy as np
 
 from .case import Case, Result
-from .fmi_crate import FMI_RUN_ENV, run_fmi_crate
-from .importers import agreement
+from .agreement import agreement
+from .host import NATIVE
+from .importers.fmi_crate import FMI_RUN_ENV, run_fmi_crate
 
 if TYPE_CHECKING:  # pragma: no cover
     from .arrays import ArrayMap
-    from .importers import Fmu
+    from .fmu import Fmu
 
-__all__ = ["PLATFORMS", "NATIVE", "EMULATED", "FMI2_FOLDERS", "HOST_FOLDER", "HOST_EXTENSION",
-           "binary_folders", "library_extension", "SCRIPT", "ENV_FILE", "NotPrepared", "Runners", "WineSession", "fmi_version",
+__all__ = ["EMULATED", "FMI2_FOLDERS", "SCRIPT", "ENV_FILE", "NotPrepared", "Runners", "WineSession", "fmi_version",
            "binary_platforms", "aarch64_fmi2_copy", "cleanup_copies", "run_case", "Comparison", "compare"]
 
-#: FMI 3.0's platform tuples of the platforms mechfmu builds FMUs for
-PLATFORMS = ("x86_64-linux", "x86_64-windows", "aarch64-linux", "x86_64-darwin", "aarch64-darwin")
-
-
-def _this_platform() -> str:
-    """This machine's FMI 3.0 platform tuple (``x86_64-linux``, ``aarch64-darwin``, ...)."""
-    machine = _platform_info.machine().lower()
-    arch = {"amd64": "x86_64", "arm64": "aarch64"}.get(machine, machine)
-    system = {"Darwin": "darwin"}.get(_platform_info.system(), _platform_info.system().lower())
-    return f"{arch}-{system}"
-
-
-#: the platform this module runs on (its binary runs under every importer)
-NATIVE = _this_platform()
 #: the other platforms whose binaries run here, emulated, and how (an x86-64 Linux machine
 #: runs the Windows and ARM Linux ones; nothing runs a Mac binary but a Mac)
 EMULATED = {"x86_64-windows": "under wine64", "aarch64-linux": "under qemu-aarch64"} if NATIVE == "x86_64-linux" else {}
@@ -86,24 +71,6 @@ FMI2_FOLDERS = {"linux64": "x86_64-linux", "win64": "x86_64-windows", "darwin64"
 RUN_HERE = (NATIVE, *EMULATED)
 
 
-def binary_folders(platform: str) -> dict[str, str]:
-    """The folder under ``binaries/`` FMPy loads a binary for ``platform`` from, by FMI major
-    version: FMI 2.0's x86-64 names, and on Apple silicon ``darwin64`` (whose universal file
-    mechfmu makes for it), else the FMI 3.0 tuple."""
-    fmi2 = {"x86_64-linux": "linux64", "x86_64-windows": "win64", "x86_64-darwin": "darwin64",
-            "aarch64-darwin": "darwin64"}
-    return {"2": fmi2.get(platform, platform), "3": platform}
-
-
-def library_extension(platform: str) -> str:
-    """The file extension of a shared library of ``platform``."""
-    return {"windows": "dll", "darwin": "dylib"}.get(platform.partition("-")[2], "so")
-
-
-#: this machine's binary folder, by FMI major version
-HOST_FOLDER = binary_folders(NATIVE)
-#: the file extension of this machine's shared libraries
-HOST_EXTENSION = library_extension(NATIVE)
 #: what prepares the runners
 SCRIPT = "scripts/cross-runners"
 #: the environment file it writes (``$MECHFMU_CROSS_RUNNERS_ENV`` overrides)
@@ -338,7 +305,7 @@ class Comparison:
 
     ``max_relative``: the largest ``|x - y| / scale`` over the compared columns and times,
     ``y`` native, ``scale`` the native column's largest magnitude, or 1 for a column that is
-    zero throughout (then an absolute difference): :func:`~.importers.agreement`'s
+    zero throughout (then an absolute difference): :func:`~.agreement.agreement`'s
     definition, the one every importer comparison of ``mechfmu validate`` uses.
     ``bit_identical``: every compared value has the same 64 bits (so ``-0.0`` differs
     from ``0.0``); ``differing``: the columns that are not."""

@@ -1,7 +1,7 @@
-"""What ``mechfmu validate`` is running now (``"Crane: swing_60deg (libcosim)"``): shown on a
+"""What ``mechfmu validate`` is running now (``"Crane: swing_60deg (FMPy ME CVode)"``): shown on a
 terminal, and heard by whoever listens, as the child process validating an FMU does
 (:mod:`.isolation`) to name the run an FMU crashed or hung in. A run whose importer calls the
-FMU from native code (libcosim, the fmi crate's runner) says it is alive with :func:`beat`."""
+FMU from its own native code (not through FMPy) says it is alive with :func:`beat`."""
 
 from __future__ import annotations
 

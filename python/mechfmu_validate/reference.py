@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from .case import CONSTANT, Case
-from .importers import Fmu
+from .fmu import Fmu
 
 __all__ = ["write_references", "reference_table", "reference_columns", "csv_text", "MAX_COLUMNS"]
 

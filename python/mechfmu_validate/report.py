@@ -1,9 +1,9 @@
 """The report of ``mechfmu validate --report DIR``: ``DIR/index.md``, ``DIR/index.html`` and
 one PNG per case (``DIR/<FMU>/<case>.png``): the FMU's signals against the reference, and the
-error over time on a log scale (with the tolerance, libcosim's and the fmi crate's deviations
-from FMPy, and the Model Exchange run under CVode).
+error over time on a log scale (with the tolerance, and the other importers' runs' errors, as
+each importer's declaration draws them: :attr:`~.importer.Importer.curves`).
 ``--readme DIR`` writes the tables (``DIR/validation.md``) and the highlighted cases' PNGs
-(``DIR/validation/<name>.png``) with these plots and cells (:mod:`.readme`).
+(``DIR/validation/<name>.png``) with these plots and cells (:mod:`.validation_tables`).
 """
 
 from __future__ import annotations
@@ -17,10 +17,16 @@ from typing import Any
 
 import numpy as np
 
+from .importer import CS, FMI2, FMI3, ME, Curve, row_name
+from .importers import IMPORTERS, REFERENCE
 from .model_exchange import band_text
+from .rows import Row
 
 __all__ = ["plot_case", "write_report", "markdown_table", "number_text", "limit_text", "result_text",
-           "platform_lines"]
+           "platform_lines", "versions_text"]
+
+#: how each run's error over time is drawn, by importer column
+CURVES: dict[str, Curve] = {name: curve for importer in IMPORTERS for name, curve in importer.curves.items()}
 
 COLORS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#17becf"]
 FLOOR = 1e-17  # zeros on the log scale
@@ -39,7 +45,7 @@ def number_text(x: Any) -> str:
     return f"{x:.1e}"
 
 
-def limit_text(row: dict[str, Any], fmt=number_text) -> str:
+def limit_text(row: Row, fmt=number_text) -> str:
     """A row's tolerance cell: the limit, or for a fixed-step Model Exchange row judged by
     its order, the observed order and the band it must lie in."""
     if row.get("observed_order") is not None:
@@ -47,7 +53,7 @@ def limit_text(row: dict[str, Any], fmt=number_text) -> str:
     return fmt(row.get("tolerance"))
 
 
-def result_text(row: dict[str, Any]) -> str:
+def result_text(row: Row) -> str:
     """PASS, FAIL, SKIP, or LIMIT: the importer's solver did not reach the case's limit, the
     error it reached is reported (Model Exchange rows; not a failure)."""
     if row.get("skipped"):
@@ -110,12 +116,10 @@ def _heading(fig, entry: dict[str, Any], fig_h: float) -> None:
     if worst is not None:
         sub.append(f"{entry.get('label', 'FMPy')}: max error {worst.max_error:.1e} ({worst.name}), "
                    f"tolerance {worst.tolerance:.0e}")
-    lc = entry.get("libcosim")
-    if lc and lc.get("max_error") is not None:
-        sub.append(f"libcosim vs FMPy: {lc['max_error']:.1e}, tolerance {lc['tolerance']:.0e}")
-    fc = entry.get("fmi_crate")
-    if fc and fc.get("max_error") is not None:
-        sub.append("fmi crate vs FMPy: " + ("0 (identical)" if fc["max_error"] == 0 else f"{fc['max_error']:.1e}"))
+    for name, deviation in entry.get("deviations", {}).items():
+        heading = CURVES[name].heading
+        if heading is not None and deviation.get("max_error") is not None:
+            sub.append(heading(deviation))
     line1 = ";   ".join(sub)
     settings = entry.get("settings") or ""
     if len(settings) > 130:
@@ -139,19 +143,15 @@ def _errors(ax, entry: dict[str, Any], colors: dict[str, str], rest: list) -> No
     tols = sorted({s.tolerance for s in ev.signals})
     for i, tol in enumerate(tols):
         ax.axhline(tol, color="#cf222e", ls="--", lw=1.2, label="tolerance" if i == 0 else None)
-    lc = entry.get("libcosim")
-    if lc and lc.get("error_over_time") is not None:
-        ax.semilogy(lc["time"], np.maximum(lc["error_over_time"], FLOOR), color="#6e7781", lw=1.0,
-                    ls=(0, (1, 1.5)), label="libcosim vs FMPy")
-        ax.axhline(lc["tolerance"], color="#6e7781", ls="--", lw=0.9, label="libcosim tolerance")
-    fc = entry.get("fmi_crate")
-    if fc and fc.get("error_over_time") is not None and np.any(fc["error_over_time"] > 0):
-        ax.semilogy(fc["time"], np.maximum(fc["error_over_time"], FLOOR), color="#8250df", lw=1.0,
-                    ls=(0, (3, 1.5)), label="fmi crate vs FMPy")
-    me = entry.get("me_cvode")
-    if me and me.get("error_over_time") is not None:
-        ax.semilogy(me["time"], np.maximum(me["error_over_time"], FLOOR), color="#bf8700", lw=1.0,
-                    ls=(0, (5, 2)), label="ME CVode")
+    for name, deviation in entry.get("deviations", {}).items():
+        curve = CURVES[name]
+        error = deviation.get("error_over_time")
+        if error is None or (curve.only_nonzero and not np.any(error > 0)):
+            continue
+        ax.semilogy(deviation["time"], np.maximum(error, FLOOR), color=curve.color, lw=1.0, ls=curve.dashes,
+                    label=curve.label)
+        if curve.tolerance_label is not None:
+            ax.axhline(deviation["tolerance"], color=curve.color, ls="--", lw=0.9, label=curve.tolerance_label)
     ax.set_ylabel("|FMU − ref| / scale")
     ax.set_xlabel("time (s)")
     ax.grid(True, which="major", color="#e5e7eb")
@@ -203,7 +203,7 @@ def plot_case(entry: dict[str, Any], path: Path) -> None:
     plt.close(fig)
 
 
-def markdown_table(rows: list[dict[str, Any]]) -> str:
+def markdown_table(rows: list[Row]) -> str:
     lines = ["| FMU | case | importer | max error | tolerance | result |", "|---|---|---|---:|---:|---|"]
     for r in rows:
         result = result_text(r)
@@ -212,7 +212,7 @@ def markdown_table(rows: list[dict[str, Any]]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def platform_lines(rows: list[dict[str, Any]]) -> list[str]:
+def platform_lines(rows: list[Row]) -> list[str]:
     """One line per FMU: the platforms it has binaries for, which of them ran here, and how
     (the rows ``(platforms, ...)`` of :mod:`.platform_rows`)."""
     lines = []
@@ -228,7 +228,7 @@ def platform_lines(rows: list[dict[str, Any]]) -> list[str]:
     return lines
 
 
-def _html_table(rows: list[dict[str, Any]]) -> str:
+def _html_table(rows: list[Row]) -> str:
     out = ["<table><tr><th>FMU</th><th>case</th><th>importer</th><th>max error</th><th>tolerance</th><th>result</th></tr>"]
     for r in rows:
         result = result_text(r)
@@ -242,26 +242,35 @@ def _html_table(rows: list[dict[str, Any]]) -> str:
     return "\n".join(out)
 
 
-LEGEND = (
-    "max error: for a case under FMPy, max over time and signals of |FMU − reference| / scale, the scale being "
-    "the reference signal's range (or its magnitude when it is constant: a relative drift); under libcosim, "
-    "max |libcosim − FMPy| / max |FMPy| at the same settings (libcosim passes no tolerance, so both use the "
-    "FMU's DefaultExperiment tolerance); under the fmi crate (rust-fmi), max |fmi crate − FMPy| / max |FMPy|, "
-    "both at the case's tolerance. In Model Exchange (FMPy ME CVode, FMPy ME Euler, fmi crate ME RK4) the "
-    "error against the reference as under FMPy: CVode at relative tolerance 1e-10 is held to the case's "
-    "tolerance; the fixed-step methods are run at h and h/2 and held to the case's tolerance or to their "
-    "order: the observed order log2(e(h)/e(h/2)), whose band is shown, says the whole error is the "
-    "method's truncation error. LIMIT: the importer's solver did not reach the case's tolerance (CVode "
-    "up to 1e-6; a fixed-step method outside its asymptotic range, or limited by what the FMU holds to its "
-    "own tolerance); the error reached is reported, not failed. The FMI 3.0 FMU of the mechanism "
-    "(fmus/fmi3/<Name>.fmu) runs the same cases: FMPy FMI3 CS and FMPy FMI3 ME CVode against the reference "
-    "as above; fmi crate FMI3 CS against FMPy's FMI 3.0 run (1e-9); fmi crate FMI3 ME RK4 as the RK4 row; "
-    "check: FMI 3.0 CS = FMI 2.0 CS compares every variable of the DefaultExperiment under both FMUs (1e-12, "
-    "relative). For a check: the number of problems found."
-)
+def _legend() -> str:
+    """What the table's columns measure, from the importers' declarations."""
+    me = [row_name(i.name, FMI2, ME, m) for i in IMPORTERS if i.runs.covers(ME, FMI2) for m in i.methods.get(FMI2, ())]
+    return (
+        "max error: " + "; ".join(i.words.report for i in IMPORTERS if i.words.report and i.runs.covers(CS, FMI2))
+        + f". In Model Exchange ({', '.join(me)}) the "
+        "error against the reference as under FMPy: CVode at relative tolerance 1e-10 is held to the case's "
+        "tolerance; the fixed-step methods are run at h and h/2 and held to the case's tolerance or to their "
+        "order: the observed order log2(e(h)/e(h/2)), whose band is shown, says the whole error is the "
+        "method's truncation error. LIMIT: the importer's solver did not reach the case's tolerance (CVode "
+        "up to 1e-6; a fixed-step method outside its asymptotic range, or limited by what the FMU holds to its "
+        "own tolerance); the error reached is reported, not failed. The FMI 3.0 FMU of the mechanism "
+        "(fmus/fmi3/<Name>.fmu) runs the same cases: "
+        + "; ".join(i.words.report3 for i in IMPORTERS if i.words.report3 and i.runs.covers(CS, FMI3))
+        + "; check: FMI 3.0 CS = FMI 2.0 CS compares every variable of the DefaultExperiment under both FMUs "
+        "(1e-12, relative). For a check: the number of problems found."
+    )
 
 
-def write_report(directory: Path, rows: list[dict[str, Any]], cases: list[dict[str, Any]],
+LEGEND = _legend()
+
+
+def versions_text(header: dict[str, Any]) -> str:
+    """``FMPy 0.3.32, ...``: each importer's version (or why it did not run), in the registry's order."""
+    return ", ".join(f"{i.name} {header[i.header_key]}" if i is REFERENCE else header.get(i.header_key, "-")
+                     for i in IMPORTERS)
+
+
+def write_report(directory: Path, rows: list[Row], cases: list[dict[str, Any]],
                  header: dict[str, Any]) -> None:
     directory.mkdir(parents=True, exist_ok=True)
     for entry in cases:
@@ -274,8 +283,7 @@ def write_report(directory: Path, rows: list[dict[str, Any]], cases: list[dict[s
     summary = (f"{sum(r['passed'] for r in rows)} of {len(rows)} rows pass"
                + ("" if ok else f"; **{sum(not r['passed'] for r in rows)} fail**"))
     md = [f"# mechfmu validate: {'PASS' if ok else 'FAIL'}", "",
-          f"{summary}. FMPy {header['fmpy']}, {header['libcosim']}, {header.get('fmi_crate', '-')}, "
-          f"Python {header['python']}.", "",
+          f"{summary}. {versions_text(header)}, Python {header['python']}.", "",
           LEGEND, "", markdown_table(rows), "## Platforms", "",
           *[f"- {line}" for line in platform_lines(rows)], ""]
     for entry in cases:
@@ -286,8 +294,7 @@ def write_report(directory: Path, rows: list[dict[str, Any]], cases: list[dict[s
     (directory / "index.md").write_text("\n".join(md))
 
     body = [f"<h1>mechfmu validate: <span class={'pass' if ok else 'fail'}>{'PASS' if ok else 'FAIL'}</span></h1>",
-            f"<p>{html.escape(summary.replace('**', ''))}. FMPy {html.escape(header['fmpy'])}, "
-            f"{html.escape(header['libcosim'])}, {html.escape(header.get('fmi_crate', '-'))}, "
+            f"<p>{html.escape(summary.replace('**', ''))}. {html.escape(versions_text(header))}, "
             f"Python {html.escape(header['python'])}.</p>",
             f"<p class=legend>{html.escape(LEGEND)}</p>", _html_table(rows), "<h2>Platforms</h2><ul>",
             *[f"<li>{html.escape(line)}</li>" for line in platform_lines(rows)], "</ul>"]

@@ -25,7 +25,8 @@ from functools import cache
 from pathlib import Path
 from types import ModuleType
 
-from mechfmu_validate.model_exchange import CVODE, EULER, RK4
+from mechfmu_validate.importers.fmi_crate import RK4
+from mechfmu_validate.importers.fmpy import CVODE, EULER
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 

@@ -19,10 +19,13 @@ import pytest
 
 import fmutest
 
+from mechfmu_validate.agreement import agreement
 from mechfmu_validate.case import evaluate, signal_scale
 from mechfmu_validate.checks import REFERENCE_CSV_TOLERANCE, REFERENCE_DIR, read_csv, run_checks
-from mechfmu_validate.cs_rows import LIBCOSIM_TOLERANCE
-from mechfmu_validate.importers import Fmu, agreement, libcosim_available, run_fmpy, run_libcosim
+from mechfmu_validate.fmu import Fmu
+from mechfmu_validate.importers.fmpy import run_fmpy
+from mechfmu_validate.importers.libcosim import LIBCOSIM_TOLERANCE, libcosim_available, run_libcosim
+from mechfmu_validate.target import Target
 from mechfmu_validate.loader import default_case, load_cases, reference_case
 from mechfmu_validate.reference import reference_table
 from mechanisms import mechanisms
@@ -107,7 +110,7 @@ def test_case_under_libcosim_agrees_with_fmpy(model, case):
 def test_checks_pass(model):
     fmu = fmu_of(model)
     cases = load_cases(dict(CRATES)[model] / "validation/cases.py", model)
-    failed = [f"{c.name}: {p}" for c in run_checks(fmu, reference_case(cases)) for p in c.problems]
+    failed = [f"{c.name}: {p}" for c in run_checks(Target(fmu), reference_case(cases)) for p in c.problems]
     assert not failed, "\n".join(failed)
 
 

@@ -1,5 +1,5 @@
 """The FMI 3.0 FMUs (fmus/fmi3/<Name>.fmu, written by `mechfmu build` beside the FMI 2.0 ones)
-as `mechfmu validate` runs them (mechfmu_validate.fmi3):
+as `mechfmu validate` runs them (mechfmu_validate.target, mechfmu_validate.importers):
 
 * which FMI 2.0 variable each element of their arrays is, as their model descriptions name
   it (mechfmu_validate.arrays), is the contract's (docs/mechanisms/README.md, "FMI 3.0, arrays";
@@ -31,10 +31,12 @@ import fmutest
 from mechfmu_validate import fmulog
 from mechfmu_validate.arrays import MappingError, derive
 from mechfmu_validate.case import Case, evaluate, step_input
-from mechfmu_validate.fmi3 import (AGREEMENT_TOLERANCE, CRATE_TOLERANCE, FMI3_CVODE, Fmi3, agreement_row, run_crate3,
-                                   run_fmpy3, run_fmpy3_me)
-from mechfmu_validate.importers import Fmu, agreement, run_fmpy, run_fmpy_me
-from mechfmu_validate.model_exchange import CVODE, CVODE_FLOOR, cvode_row
+from mechfmu_validate.agreement import agreement
+from mechfmu_validate.fmu import Fmu
+from mechfmu_validate.importers.fmi_crate import FMI_CRATE_TOLERANCE as CRATE_TOLERANCE, run_crate3
+from mechfmu_validate.importers.fmpy import CVODE, FMI3_CVODE, run_fmpy, run_fmpy3, run_fmpy3_me, run_fmpy_me
+from mechfmu_validate.model_exchange import CVODE_FLOOR, cvode_row
+from mechfmu_validate.target import AGREEMENT_TOLERANCE, Target as Fmi3, agreement_row
 from mechanisms import mechanism
 from test_cases import CASES, MODELS
 from test_model_exchange import KNOWN_LIMITS, fmi_run  # noqa: F401 (fmi_run: the fixture)

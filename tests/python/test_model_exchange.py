@@ -28,14 +28,18 @@ import fmutest
 from fmutest import LogMark, fmu_path, simulate
 from mechfmu_validate import model_exchange
 from mechfmu_validate.case import Result, evaluate
-from mechfmu_validate.fmi_crate import FMI_RUN_ENV
-from mechfmu_validate.importers import Fmu, held_input, on_grid, simulate_me
-from mechfmu_validate.model_exchange import CVODE, EULER, METHODS, RK4
+from mechfmu_validate.fmu import Fmu
+from mechfmu_validate.importers.fmi_crate import FMI_RUN_ENV, RK4, rk4
+from mechfmu_validate.importers.fmpy import CVODE, EULER, EULER_METHOD, on_grid, run_fmpy_me, simulate_me
+from mechfmu_validate.signals import held_input
 from mechanisms import known_limits, mechanism
 from refs import crane_dynamics as ref_cd
 from refs import step_input
 from test_cases import CASES, MODELS
 from test_crane_dynamics import TAU0
+
+#: the fixed-step methods, by their rows' importer column
+METHODS = {EULER: EULER_METHOD, RK4: rk4()}
 
 #: (model, case, importer): why the importer's solver does not reach the case's limit
 KNOWN_LIMITS = known_limits()
@@ -81,7 +85,7 @@ def cases_under(importer: str) -> list:
 
 @pytest.mark.parametrize("model, case, limit", cases_under(CVODE))
 def test_case_under_cvode(model, case, limit):
-    _, ev = model_exchange.run_cvode(fmu_of(model), case)
+    _, ev = model_exchange.run_cvode(fmu_of(model), case, run_fmpy_me)
     assert ev.problem is None, ev.problem
     failed = [f"{s.name}: {s.max_error:.3e} of scale {s.scale:.4g} at t = {s.at_time:g} (tolerance {s.tolerance:g})"
               for s in ev.signals if not s.passed]

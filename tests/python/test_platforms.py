@@ -2,7 +2,7 @@
 
 Every reference case of every mechanism (fmus/*/validation/cases.py, the ones test_cases.py
 and `mechfmu validate` run), on the FMI 2.0 and the FMI 3.0 FMU, in Co-Simulation, through
-the fmi crate's importer `mechfmu-fmi-run` (mechfmu_validate.fmi_crate) built for each
+the fmi crate's importer `mechfmu-fmi-run` (mechfmu_validate.importers.fmi_crate) built for each
 platform (mechfmu_validate.platforms):
 
 * x86_64-linux: natively;
@@ -14,7 +14,7 @@ platform (mechfmu_validate.platforms):
   Linux aarch64-linux, as mechfmu packs it).
 
 Each must agree with the native run to 1e-12 (relative to the native signal's largest
-magnitude, mechfmu_validate.importers.agreement); whether they are bit-identical is recorded
+magnitude, mechfmu_validate.agreement); whether they are bit-identical is recorded
 in target/test-figures/platforms.md and .json and printed at the end of the run.
 
 Prepared by `scripts/cross-runners` (the runners, the test-only bcryptprimitives.dll Wine 8
@@ -37,10 +37,11 @@ from pathlib import Path
 import pytest
 
 import fmutest
-from mechfmu_validate.fmi3 import Fmi3
-from mechfmu_validate.importers import Fmu
+from mechfmu_validate.fmu import Fmu
+from mechfmu_validate.host import NATIVE, PLATFORMS
+from mechfmu_validate.target import Target as Fmi3
 from mechfmu_validate.loader import load_cases
-from mechfmu_validate.platforms import (EMULATED, NATIVE, PLATFORMS, SCRIPT, NotPrepared, Runners, WineSession,
+from mechfmu_validate.platforms import (EMULATED, SCRIPT, NotPrepared, Runners, WineSession,
                                         binary_folders, library_extension,
                                         aarch64_fmi2_copy, binary_platforms, cleanup_copies, compare, run_case)
 from test_cases import CASES, CRATES

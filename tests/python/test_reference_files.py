@@ -33,7 +33,8 @@ import fmutest
 
 from mechfmu_validate.case import CONSTANT, Case
 from mechfmu_validate.embedded_reference import REFERENCE_DIR
-from mechfmu_validate.importers import Fmu, libcosim_available, run_libcosim
+from mechfmu_validate.fmu import Fmu
+from mechfmu_validate.importers.libcosim import libcosim_available, run_libcosim
 from mechfmu_validate.reference import MAX_COLUMNS, write_references
 from mechanisms import mechanisms
 

@@ -28,9 +28,10 @@ from pathlib import Path
 import pytest
 
 import fmutest
-from mechfmu_validate.fmi3 import AGREEMENT, FMI3_CRATE, FMI3_CS, FMI3_CVODE, FMI3_RK4
-from mechfmu_validate.fmi3 import IMPORTERS as FMI3_IMPORTERS
-from mechfmu_validate.model_exchange import CVODE, EULER, RK4
+from mechfmu_validate.importers.fmi_crate import FMI3_CRATE, FMI3_RK4, RK4
+from mechfmu_validate.importers.fmpy import CVODE, EULER, FMI3_CS, FMI3_CVODE
+from mechfmu_validate.target import AGREEMENT
+from mechfmu_validate.validation_tables import FMI3_ROWS as FMI3_IMPORTERS
 from mechanisms import models
 from test_model_exchange import KNOWN_LIMITS
 

@@ -36,12 +36,14 @@ import fmpy
 import pytest
 
 import fmutest
-from mechfmu_validate import cs_rows, embedded_reference
-from mechfmu_validate.fmi_crate import FMI_RUN_ENV
+from mechfmu_validate import embedded_reference
+from mechfmu_validate.fmu import NotRead
+from mechfmu_validate.importers import fmpy as fmpy_importer, libcosim
+from mechfmu_validate.importers.fmi_crate import FMI_RUN_ENV
 from mechfmu_validate.fmpy_criterion import CRITERION
-from mechfmu_validate.importers import NotRead
 from mechfmu_validate.opening import OPENS, open_fmu
 from mechfmu_validate.report import result_text
+from mechfmu_validate.target import Target
 
 REPO = fmutest.REPO_ROOT
 SOURCE = Path(__file__).resolve().parent / "data" / "foreign"
@@ -231,7 +233,7 @@ def test_an_event_in_the_reference_is_compared_after_it(tmp_path):
                  **{f"{REF_DIR}/{n}": REFERENCE[n] for n in ("FirstOrder_in.csv", "FirstOrder_ref.opt")}}
         with open_fmu(build(tmp_path / str(passes), files=files)) as fmu:
             ref = embedded_reference.read(fmu)
-            row, _, _ = cs_rows.fmpy_row(fmu, ref.case)
+            row, _, _ = fmpy_importer.cs_row(Target(fmu), ref.case)
         assert row["passed"] == passes and ref.case.output_interval == pytest.approx(0.1), (order, row)
 
 
@@ -440,9 +442,9 @@ def test_an_fmu_libcosims_loader_refuses_is_its_limit_unless_ours(monkeypatch, b
     def refuse(fmu, case):
         raise NotRead("libcosim could not load X.fmu")
 
-    monkeypatch.setattr(cs_rows, "run_libcosim", refuse)
+    monkeypatch.setattr(libcosim, "run_libcosim", refuse)
     fmu, case = SimpleNamespace(model="X", by_mechfmu=by_mechfmu), SimpleNamespace(name="default")
-    row, plotted = cs_rows.libcosim_row(fmu, case, None, None)
+    row, plotted = libcosim.libcosim_row(fmu, case, None, None)
     assert plotted is None and row["problems"][0].startswith("libcosim")
     assert "could not load X.fmu" in row["problems"][0]
     if by_mechfmu:

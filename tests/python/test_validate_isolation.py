@@ -25,12 +25,13 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from mechfmu_validate import isolation, validation
-from mechfmu_validate.fmi_crate import FMI_RUN_ENV
+from mechfmu_validate.importer import Selection
+from mechfmu_validate.importers.fmi_crate import FMI_RUN_ENV
 from mechfmu_validate.isolation import STOPPED, Job, validate_isolated
 from test_validate_foreign import REPO, build, fmi_run, good, reference_rows, validate  # noqa: F401 (fixtures)
 
 #: a job for the children below, which do not validate it
-JOB = Job(Path("Fake.fmu"), "Fake", None, (), False, False, False, False)
+JOB = Job(Path("Fake.fmu"), "Fake", None, (), Selection(frozenset({"libcosim", "fmi-crate"}), False, False))
 ROW = dict(kind="check", fmu="Fake", case="check: fake", importer="-", max_error=None, tolerance=None,
            passed=True, notes=[], problems=[])
 
@@ -201,7 +202,7 @@ def child_sending_what_the_parent_cannot_read(conn, *_):
 def child_validating_a_talking_batch(*args):
     """The real child around a validation whose three runs (as the platforms' runs of one case,
     made by one generator) each write to the console, as wine or an FMU does, while made."""
-    def validate_fmu(path, cases_file, only, use_libcosim, rows, *_, **__):
+    def validate_fmu(path, cases_file, only, selection, rows, *_, **__):
         def made():
             for name in ("win64", "aarch64-linux", "x86_64-windows"):
                 os.write(2, f"the {name} run speaks\n".encode())

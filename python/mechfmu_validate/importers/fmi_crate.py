@@ -1,6 +1,7 @@
-"""The third importer: the Rust ``fmi`` crate (rust-fmi), through ``mechfmu-fmi-run`` (built
-from ``tools/fmi-run``), in Co-Simulation and in Model Exchange (its own RK4), on an FMI 2.0
-or an FMI 3.0 FMU.
+"""The Rust ``fmi`` crate (rust-fmi), through ``mechfmu-fmi-run`` (built from
+``tools/fmi-run``), in Co-Simulation and in Model Exchange (its own RK4, held to its order:
+:mod:`.model_exchange`), on an FMI 2.0 or an FMI 3.0 FMU; compared with FMPy's run of the
+same FMU to :data:`FMI_CRATE_TOLERANCE`.
 
 The runner is a separate executable, found through the environment variable
 ``MECHFMU_FMI_RUN`` (``mechfmu validate`` builds it and sets it); it reads the experiment as
@@ -17,39 +18,51 @@ from __future__ import annotations
 import csv
 import json
 import os
-import signal
 import subprocess
 import tempfile
+import time
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, Iterator
 
 import numpy as np
 
-from . import progress
-from .case import Case, Result
-from .importers import NotSupported, input_events_on_grid, input_values
+from .. import progress
+from ..fmulog import signal_name
+from ..agreement import agreement
+from ..case import Case, Result
+from ..fmu import NotSupported
+from ..importer import CS, FMI2, FMI3, ME, Availability, CaseRun, Curve, Importer, Runs, Words, row_name
+from ..model_exchange import FixedStep, fixed_step_row, order_band
+from ..rows import Row
+from ..signals import input_events_on_grid, input_values
+from ..target import Target
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .arrays import ArrayMap
-    from .importers import Fmu
+    from ..arrays import ArrayMap
+    from ..fmu import Fmu
 
-__all__ = ["FMI_CRATE_NOTE", "FMI_RUN_ENV", "fmi_crate_available", "run_fmi_crate", "signal_name"]
+__all__ = ["IMPORTER", "NAME", "RK4", "FMI3_CRATE", "FMI3_RK4", "FMI_CRATE_NOTE", "FMI_CRATE_TOLERANCE", "FMI_RUN_ENV",
+           "fmi_crate_available", "fmi_crate_row", "rk4", "run_crate3", "run_fmi_crate"]
+
+#: the importer column of its FMI 2.0 Co-Simulation rows
+NAME = "fmi crate"
+RK4 = row_name(NAME, FMI2, ME, "RK4")
+FMI3_CRATE = row_name(NAME, FMI3, CS)
+FMI3_RK4 = row_name(NAME, FMI3, ME, "RK4")
+
+#: the fmi crate must agree with FMPy to this, relative, both at the case's tolerance
+FMI_CRATE_TOLERANCE = 1e-9
 
 FMI_CRATE_NOTE = "the fmi crate (rust-fmi) through mechfmu-fmi-run: compared with FMPy at the case's tolerance"
+#: the note of its FMI 3.0 Co-Simulation rows
+FMI3_NOTE = ("the fmi crate's FMI 3.0 import (mechfmu-fmi-run) against FMPy's FMI 3.0 run, both at the case's "
+             "tolerance")
 
 #: the environment variable naming the mechfmu-fmi-run executable
 FMI_RUN_ENV = "MECHFMU_FMI_RUN"
 
 #: how the runner says the crate could not import the FMU
 CANNOT_IMPORT = "mechfmu-fmi-run: cannot import "
-
-
-def signal_name(number: int) -> str:
-    """``SIGSEGV (signal 11)``."""
-    try:
-        return f"{signal.Signals(number).name} (signal {number})"
-    except ValueError:
-        return f"signal {number}"
 
 
 def _run_beating(command: list[str]) -> subprocess.CompletedProcess:
@@ -149,3 +162,84 @@ def run_fmi_crate(fmu: Fmu, case: Case, relative_tolerance: float | None | str =
     data = np.array([[float(x) for x in row] for row in table[1:]], dtype=float)
     columns = {"time": data[:, 0], **{name: data[:, i + 1] for i, name in enumerate(names)}}
     return Result(columns, log)
+
+
+def run_crate3(f3: Target, case: Case, interface: str = "cs", step: float | None = None) -> Result:
+    """:func:`run_fmi_crate` on the FMI 3.0 FMU."""
+    return run_fmi_crate(f3.fmu, case, interface=interface, step=step, mapping=f3.names)
+
+
+def fmi_crate_row(target: Target, case: Case, reference: Result | None, floors: dict[str, float],
+                  anchor: str = "", kind: str = "case") -> tuple[Row, dict[str, Any] | None]:
+    """The case under the fmi crate in Co-Simulation against FMPy's run (``reference``), both
+    at the case's tolerance: (row, what the report plots of it)."""
+    importer = row_name(NAME, target.version, CS)
+    note = FMI3_NOTE if target.version == FMI3 else FMI_CRATE_NOTE
+    row = Row(kind=kind, fmu=target.fmu.model, case=case.name, importer=importer, anchor=anchor, problems=[],
+               notes=[note], tolerance=FMI_CRATE_TOLERANCE)
+    t0 = time.perf_counter()
+    try:
+        fc = run_fmi_crate(target.fmu, case, mapping=target.names if target.fmu.fmi3 else None)
+        if reference is None:
+            raise RuntimeError(f"the {row_name('FMPy', target.version, CS)} run failed: nothing to compare with")
+        worst, where, when, over_time = agreement(fc, reference, case.recorded(), floors)
+    except NotSupported as e:  # what the runner does not do: not the FMU's failure
+        return row.but(max_error=None, passed=True, skipped=True, problems=[f"{importer}: {e}"]), None
+    except Exception as e:  # noqa: BLE001 (a row, not a crash)
+        return row.but(max_error=None, passed=False,
+                    problems=[f"{importer} run failed: {type(e).__name__}: {e}"]), None
+    row.update(max_error=worst, passed=bool(worst <= FMI_CRATE_TOLERANCE),
+               notes=[f"worst signal {where} at t = {when:g}", note],
+               seconds=time.perf_counter() - t0, log=fc.log[-20:])
+    return row, dict(time=fc.time, error_over_time=over_time, tolerance=FMI_CRATE_TOLERANCE, max_error=worst)
+
+
+def rk4(target: Target | None = None) -> FixedStep:
+    """The crate's RK4 at a fixed step (order 4; a conserved quantity drifts at order 5): the
+    output interval over 1 or 2 (``target``: the FMU in its FMI version; None: an FMI 2.0 FMU
+    given at each run)."""
+    version = target.version if target is not None else FMI2
+
+    def run(fmu: Fmu, case: Case, h: float) -> Result:
+        mapping = target.names if target is not None and target.fmu.fmi3 else None
+        return run_fmi_crate(fmu, case, interface="me", step=h, mapping=mapping)
+
+    return FixedStep(row_name(NAME, version, ME, "RK4"), 4, order_band(4, 5), 1, 2, run)
+
+
+def _available() -> Availability:
+    ok, found = fmi_crate_available()
+    return Availability(ok, "fmi crate 0.8 (mechfmu-fmi-run)" if ok else found)
+
+
+def _case_rows(run: CaseRun, interface: str) -> Iterator[Row]:
+    if interface == ME:
+        method = rk4(run.target)
+        run.progress(method.importer)
+        yield fixed_step_row(run.fmu, run.case, method, run.anchor)
+        return
+    run.progress(row_name(NAME, run.version, CS))
+    row, plotted = fmi_crate_row(run.target, run.case, run.reference, run.floors(), run.anchor, run.kind)
+    if plotted is not None and run.deviations is not None:
+        run.deviations[NAME] = plotted
+    yield row
+
+
+def _identical(d: dict[str, Any]) -> str:
+    return "fmi crate vs FMPy: " + ("0 (identical)" if d["max_error"] == 0 else f"{d['max_error']:.1e}")
+
+
+IMPORTER = Importer(
+    name=NAME, option="fmi-crate", left_out="do not run the cases under the Rust fmi crate (mechfmu-fmi-run)",
+    runs=Runs(frozenset({CS, ME}), frozenset({FMI2, FMI3})), tolerance=FMI_CRATE_TOLERANCE, available=_available,
+    case_rows=_case_rows, header_key="fmi_crate",
+    header=lambda a: "fmi crate not used" if a is None else a.text if a.ok else "fmi crate unavailable",
+    unavailable="the fmi-crate importer cannot run here ({why}); its rows fail",
+    methods={FMI2: ("RK4",), FMI3: ("RK4",)}, fixed_step=rk4(), platforms=True,
+    curves={NAME: Curve("fmi crate vs FMPy", "#8250df", (0, (3, 1.5)), only_nonzero=True, heading=_identical)},
+    words=Words(
+        report="under the fmi crate (rust-fmi), max |fmi crate − FMPy| / max |FMPy|, both at the case's tolerance",
+        report3="fmi crate FMI3 CS against FMPy's FMI 3.0 run (1e-9); fmi crate FMI3 ME RK4 as the RK4 row",
+        tables3="the fmi crate's FMI 3.0 import (mechfmu-fmi-run) against FMPy's FMI 3.0 run (1e-9) and its RK4 "
+                "held to its order, as above",
+        owner="the fmi crate's"))
