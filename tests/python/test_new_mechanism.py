@@ -31,7 +31,7 @@ from fmpy.validation import validate_fmu
 from fmutest import REPO_ROOT, Slave, status_name
 from mechanisms import Expectations, Limit, mechanisms
 from mechfmu_validate.loader import load_cases
-from mechfmu_validate.model_exchange import EULER
+from mechfmu_validate.importers.fmpy import EULER
 
 MECHFMU = REPO_ROOT / "target" / "release" / "mechfmu"
 DOUBLE_PENDULUM = Path(__file__).parent / "data" / "double_pendulum.rs"

@@ -38,12 +38,11 @@ import pytest
 
 import fmutest
 from mechfmu_validate.fmu import Fmu
-from mechfmu_validate.host import NATIVE, PLATFORMS
-from mechfmu_validate.target import Target as Fmi3
+from mechfmu_validate.host import NATIVE, PLATFORMS, binary_folders, library_extension
 from mechfmu_validate.loader import load_cases
-from mechfmu_validate.platforms import (EMULATED, SCRIPT, NotPrepared, Runners, WineSession,
-                                        binary_folders, library_extension,
-                                        aarch64_fmi2_copy, binary_platforms, cleanup_copies, compare, run_case)
+from mechfmu_validate.platforms import (EMULATED, SCRIPT, NotPrepared, Runners, WineSession, aarch64_fmi2_copy,
+                                        binary_platforms, cleanup_copies, compare, run_case)
+from mechfmu_validate.target import Target as Fmi3
 from test_cases import CASES, CRATES
 
 SKIP_ENV = "MECHFMU_SKIP_PLATFORMS"
