@@ -223,12 +223,7 @@ impl Lagrangian<2> for Shaken {
 }
 
 impl Mechanism for Shaken {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 1.0,
-        step: 0.01,
-        tolerance: 1e-8,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(1.0, 0.01, 1e-8);
     fn evaluate<S: Scalar>(v: &mut ShakenValues<S>) {
         Self::lagrange(v);
     }
@@ -345,12 +340,7 @@ impl Lagrangian<2> for Forgotten {
 }
 
 impl Mechanism for Forgotten {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 1.0,
-        step: 0.1,
-        tolerance: 1e-6,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(1.0, 0.1, 1e-6);
     fn evaluate<S: Scalar>(v: &mut ForgottenValues<S>) {
         Self::lagrange(v);
     }
@@ -403,12 +393,7 @@ impl Lagrangian<2> for Collapsing {
 }
 
 impl Mechanism for Collapsing {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 1.0,
-        step: 0.1,
-        tolerance: 1e-6,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(1.0, 0.1, 1e-6);
     fn evaluate<S: Scalar>(v: &mut CollapsingValues<S>) {
         Self::lagrange(v);
     }
