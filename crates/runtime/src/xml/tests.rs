@@ -143,6 +143,14 @@ pub(super) fn find<'a>(elements: &'a [(usize, Element)], name: &str) -> Vec<&'a 
         .collect()
 }
 
+/// The `name` attribute of each `<element>`.
+pub(super) fn names<'a>(elements: &'a [(usize, Element)], element: &str) -> Vec<&'a str> {
+    find(elements, element)
+        .into_iter()
+        .map(|e| e.get("name").unwrap())
+        .collect()
+}
+
 /// The elements of a model description of either standard, checked to be one document
 /// whose top-level elements come in the order both schemas give them.
 pub(super) fn parse_in_schema_order(xml: &str) -> Vec<(usize, Element)> {
@@ -238,10 +246,7 @@ fn units_types_and_display_units() {
     let xml = swing();
     // Every unit once, in order of first use, with its base-unit exponents.
     let elements = parse_back(&xml);
-    let units: Vec<&str> = find(&elements, "Unit")
-        .iter()
-        .map(|u| u.get("name").unwrap())
-        .collect();
+    let units = names(&elements, "Unit");
     assert_eq!(
         units,
         [
@@ -311,13 +316,19 @@ fn every_real_has_the_unit_and_display_unit_of_its_type() {
     assert_eq!(reals, Swing::VARIABLES.len());
 }
 
+/// The `ScalarVariable`s and their `<Real>`s, in the same order (the `<Real>`s of the
+/// `SimpleType`s come first, and are left out).
+fn variables_and_their_reals(elements: &[(usize, Element)]) -> (Vec<&Element>, Vec<&Element>) {
+    let variables = find(elements, "ScalarVariable");
+    let mut reals = find(elements, "Real");
+    reals.drain(..reals.len() - variables.len());
+    (variables, reals)
+}
+
 #[test]
 fn derivative_attribute_points_at_the_state() {
     let elements = parse_back(&swing());
-    let variables = find(&elements, "ScalarVariable");
-    let reals = find(&elements, "Real");
-    // Reals of the SimpleTypes come first.
-    let reals = &reals[reals.len() - variables.len()..];
+    let (variables, reals) = variables_and_their_reals(&elements);
     let derivative = |name: &str| {
         let i = variables
             .iter()
@@ -340,9 +351,7 @@ fn derivative_attribute_points_at_the_state() {
 #[test]
 fn states_come_before_their_derivatives_with_their_value_references() {
     let elements = parse_back(&swing());
-    let variables = find(&elements, "ScalarVariable");
-    let reals = find(&elements, "Real");
-    let reals = &reals[reals.len() - variables.len()..];
+    let (variables, reals) = variables_and_their_reals(&elements);
     for (i, real) in reals.iter().enumerate() {
         if let Some(state) = real.get("derivative") {
             let state: usize = state.parse().unwrap();

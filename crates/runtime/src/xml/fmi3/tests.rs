@@ -1,6 +1,6 @@
 use super::*;
 use crate::model::{Array, Declaration, Experiment, Scalar};
-use crate::xml::tests::{find, parse_in_schema_order, Element};
+use crate::xml::tests::{find, names, parse_in_schema_order, Element};
 
 const EXPERIMENT: Experiment = Experiment::until(10.0, 0.01, 1e-6);
 
@@ -254,10 +254,7 @@ fn arrays_have_dimensions_and_a_start_value_per_element() {
          causality=\"calculatedParameter\" variability=\"fixed\" initial=\"calculated\" unit=\"kg2\"/>"
     ));
     let elements = variables(&xml);
-    let types: Vec<&str> = find(&elements, "Float64Type")
-        .iter()
-        .map(|t| t.get("name").unwrap())
-        .collect();
+    let types = names(&elements, "Float64Type");
     assert_eq!(
         types,
         [
