@@ -254,18 +254,9 @@ fn arrays_have_dimensions_and_a_start_value_per_element() {
          causality=\"calculatedParameter\" variability=\"fixed\" initial=\"calculated\" unit=\"kg2\"/>"
     ));
     let elements = variables(&xml);
-    let types = names(&elements, "Float64Type");
     assert_eq!(
-        types,
-        [
-            "Mass",
-            "TranslationalSpringConstant",
-            "Force",
-            "Length",
-            "Velocity",
-            "Acceleration",
-            "Energy"
-        ]
+        names(&elements, "Float64Type").join(" "),
+        "Mass TranslationalSpringConstant Force Length Velocity Acceleration Energy"
     );
     // Calculated arrays and outputs have no start.
     assert_eq!(float64(&elements, "a").get("start"), None);
