@@ -99,25 +99,18 @@ mod tests {
 
     #[test]
     fn folders_follow_each_standard() {
-        assert_eq!(Platform::X86_64Linux.folder(Version::Fmi2), "linux64");
-        assert_eq!(Platform::X86_64Windows.folder(Version::Fmi2), "win64");
-        assert_eq!(
-            Platform::Aarch64Linux.folder(Version::Fmi2),
-            "aarch64-linux"
-        );
-        assert_eq!(
-            Platform::X86_64Windows.folder(Version::Fmi3),
-            "x86_64-windows"
-        );
-        assert_eq!(Platform::X86_64Darwin.folder(Version::Fmi2), "darwin64");
-        assert_eq!(
-            Platform::Aarch64Darwin.folder(Version::Fmi2),
-            "aarch64-darwin"
-        );
-        assert_eq!(
-            Platform::X86_64Darwin.folder(Version::Fmi3),
-            "x86_64-darwin"
-        );
+        let expected = [
+            (Platform::X86_64Linux, Version::Fmi2, "linux64"),
+            (Platform::X86_64Windows, Version::Fmi2, "win64"),
+            (Platform::Aarch64Linux, Version::Fmi2, "aarch64-linux"),
+            (Platform::X86_64Windows, Version::Fmi3, "x86_64-windows"),
+            (Platform::X86_64Darwin, Version::Fmi2, "darwin64"),
+            (Platform::Aarch64Darwin, Version::Fmi2, "aarch64-darwin"),
+            (Platform::X86_64Darwin, Version::Fmi3, "x86_64-darwin"),
+        ];
+        for (platform, version, folder) in expected {
+            assert_eq!(platform.folder(version), folder, "{platform:?} {version:?}");
+        }
     }
 
     #[test]

@@ -20,12 +20,7 @@ crate::mechanism! {
 }
 
 impl Mechanism for Spring {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 2.0,
-        step: 0.01,
-        tolerance: 1e-8,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(2.0, 0.01, 1e-8);
     const NOTES: &'static str = "
         The equation of motion:
 
@@ -53,11 +48,24 @@ fn default_experiment_records_every_output_at_every_communication_point() {
     assert!((x[200] - (2.0f64 * 2.0).cos()).abs() < 1e-6, "{}", x[200]);
 }
 
+/// The text `write` gives, after checking that it gives the same twice and that it
+/// contains every one of `needles`.
+pub(super) fn complete_and_deterministic(
+    write: fn() -> Result<String, String>,
+    needles: &[&str],
+) -> String {
+    let text = write().unwrap();
+    assert_eq!(text, write().unwrap());
+    for needle in needles {
+        assert!(text.contains(needle), "missing {needle:?} in\n{text}");
+    }
+    text
+}
+
 #[test]
 fn documentation_is_complete_and_deterministic() {
-    let html = documentation::<Spring>().unwrap();
-    assert_eq!(html, documentation::<Spring>().unwrap());
-    for needle in [
+    let guid = crate::contract::guid::<Spring>();
+    let needles = [
         "<h1>Spring</h1>",
         "<svg",
         "</svg>",
@@ -71,10 +79,9 @@ fn documentation_is_complete_and_deterministic() {
         "<td class=\"num\">&gt; 0</td>",
         "canSerializeFMUstate",
         "unit: m/s<",
-        &crate::contract::guid::<Spring>(),
-    ] {
-        assert!(html.contains(needle), "missing {needle:?} in\n{html}");
-    }
+        &guid,
+    ];
+    let html = complete_and_deterministic(documentation::<Spring>, &needles);
     // the input has no `initial`
     assert!(html.contains(
         "<td><code>F</code></td><td class=\"num\">2</td><td>input</td><td>continuous</td><td></td>"
@@ -152,12 +159,7 @@ const SWING: MovingCase = MovingCase {
 };
 
 impl Mechanism for Pendulum {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 5.0,
-        step: 0.01,
-        tolerance: 1e-8,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(5.0, 0.01, 1e-8);
     const MOVING_CASE: Option<MovingCase> = Some(SWING);
     fn evaluate<S: Scalar>(v: &mut PendulumValues<S>) {
         v.phi_ddot = -v.g * crate::model::sin(v.phi) / v.l;
@@ -179,12 +181,7 @@ crate::mechanism! {
 }
 
 impl Mechanism for Rest {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 1.0,
-        step: 0.1,
-        tolerance: 1e-8,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(1.0, 0.1, 1e-8);
     fn evaluate<S: Scalar>(v: &mut RestValues<S>) {
         v.a = v.F;
     }

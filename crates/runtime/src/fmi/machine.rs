@@ -100,11 +100,40 @@ pub const fn mask(states: &[ModelState]) -> StateMask {
     StateMask(bits)
 }
 
+/// Every state but `excluded`.
+pub const fn all_but(excluded: &[ModelState]) -> StateMask {
+    StateMask(mask(&ModelState::ALL).0 & !mask(excluded).0)
+}
+
 impl StateMask {
     pub fn contains(self, state: ModelState) -> bool {
         self.0 & state as u16 != 0
     }
 }
+
+// The rows both standards' tables share.
+pub const WRITABLE: StateMask = mask(&[
+    S::Instantiated,
+    S::InitializationMode,
+    S::EventMode,
+    S::ContinuousTimeMode,
+    S::StepComplete,
+]);
+/// Not in continuous-time mode: only continuous inputs may change there.
+pub const WRITABLE_DISCRETE: StateMask = mask(&[
+    S::Instantiated,
+    S::InitializationMode,
+    S::EventMode,
+    S::StepComplete,
+]);
+/// Where the continuous states and event indicators may be read.
+pub const STATES_READABLE: StateMask = mask(&[
+    S::InitializationMode,
+    S::EventMode,
+    S::ContinuousTimeMode,
+    S::Terminated,
+    S::Error,
+]);
 
 /// One FMI function: its standard and name (for messages), the states it may be called
 /// in, and the interface type it belongs to (`None`: both).
@@ -149,3 +178,19 @@ pub const fn cs(version: Version, name: &'static str, allowed: StateMask) -> Fun
         ..f(version, name, allowed)
     }
 }
+
+/// `f`, `me` and `cs` of one standard, for the rows of its table.
+macro_rules! row_constructors {
+    ($version:expr) => {
+        const fn f(name: &'static str, allowed: StateMask) -> Function {
+            $crate::fmi::machine::f($version, name, allowed)
+        }
+        const fn me(name: &'static str, allowed: StateMask) -> Function {
+            $crate::fmi::machine::me($version, name, allowed)
+        }
+        const fn cs(name: &'static str, allowed: StateMask) -> Function {
+            $crate::fmi::machine::cs($version, name, allowed)
+        }
+    };
+}
+pub(crate) use row_constructors;

@@ -2,62 +2,19 @@
 //! (Co-Simulation) of FMI 2.0.5, the tables of which function may be called in which
 //! state, one row per function (see [`machine`](crate::fmi::machine)).
 
-use crate::fmi::machine::{self, mask};
+use crate::fmi::machine::{
+    all_but, mask, row_constructors, STATES_READABLE, WRITABLE, WRITABLE_DISCRETE,
+};
 pub use crate::fmi::machine::{Function, Interface, ModelState, StateMask};
 use crate::fmi::Version::Fmi2;
 use ModelState as S;
 
-const fn f(name: &'static str, allowed: StateMask) -> Function {
-    machine::f(Fmi2, name, allowed)
-}
-const fn me(name: &'static str, allowed: StateMask) -> Function {
-    machine::me(Fmi2, name, allowed)
-}
-const fn cs(name: &'static str, allowed: StateMask) -> Function {
-    machine::cs(Fmi2, name, allowed)
-}
+row_constructors!(Fmi2);
 
 // The rows of the tables. "Any state with an instance but fatal" recurs:
-const LIVE: StateMask = mask(&[
-    S::Instantiated,
-    S::InitializationMode,
-    S::EventMode,
-    S::ContinuousTimeMode,
-    S::StepComplete,
-    S::StepInProgress,
-    S::StepFailed,
-    S::StepCanceled,
-    S::Terminated,
-    S::Error,
-]);
-const FREEABLE: StateMask = mask(&[
-    S::Instantiated,
-    S::InitializationMode,
-    S::EventMode,
-    S::ContinuousTimeMode,
-    S::StepComplete,
-    S::StepFailed,
-    S::StepCanceled,
-    S::Terminated,
-    S::Error,
-]);
-const READABLE: StateMask = mask(&[
-    S::InitializationMode,
-    S::EventMode,
-    S::ContinuousTimeMode,
-    S::StepComplete,
-    S::StepFailed,
-    S::StepCanceled,
-    S::Terminated,
-    S::Error,
-]);
-const WRITABLE: StateMask = mask(&[
-    S::Instantiated,
-    S::InitializationMode,
-    S::EventMode,
-    S::ContinuousTimeMode,
-    S::StepComplete,
-]);
+const LIVE: StateMask = all_but(&[S::Fatal]);
+const FREEABLE: StateMask = all_but(&[S::Fatal, S::StepInProgress]);
+const READABLE: StateMask = all_but(&[S::Fatal, S::StepInProgress, S::Instantiated]);
 const STATUS: StateMask = mask(&[
     S::StepComplete,
     S::StepInProgress,
@@ -67,14 +24,6 @@ const STATUS: StateMask = mask(&[
 ]);
 /// Model Exchange, once initialized and not yet terminated.
 const RUNNING_ME: StateMask = mask(&[S::EventMode, S::ContinuousTimeMode]);
-/// Where the continuous states and event indicators may be read.
-const STATES_READABLE: StateMask = mask(&[
-    S::InitializationMode,
-    S::EventMode,
-    S::ContinuousTimeMode,
-    S::Terminated,
-    S::Error,
-]);
 
 pub const SET_DEBUG_LOGGING: Function = f("fmi2SetDebugLogging", LIVE);
 pub const FREE_INSTANCE: Function = f("fmi2FreeInstance", FREEABLE);
@@ -99,13 +48,6 @@ pub const GET_INTEGER: Function = f("fmi2GetInteger", READABLE);
 pub const GET_BOOLEAN: Function = f("fmi2GetBoolean", READABLE);
 pub const GET_STRING: Function = f("fmi2GetString", READABLE);
 pub const SET_REAL: Function = f("fmi2SetReal", WRITABLE);
-/// Not in continuous-time mode: only continuous Real inputs may change there.
-const WRITABLE_DISCRETE: StateMask = mask(&[
-    S::Instantiated,
-    S::InitializationMode,
-    S::EventMode,
-    S::StepComplete,
-]);
 pub const SET_INTEGER: Function = f("fmi2SetInteger", WRITABLE_DISCRETE);
 pub const SET_BOOLEAN: Function = f("fmi2SetBoolean", WRITABLE_DISCRETE);
 pub const SET_STRING: Function = f("fmi2SetString", WRITABLE_DISCRETE);

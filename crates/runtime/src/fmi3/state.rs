@@ -7,64 +7,26 @@
 //! Activation and Intermediate Update Mode) are never entered: their functions are refused
 //! with a message.
 
-use crate::fmi::machine::{self, mask};
+use crate::fmi::machine::{
+    all_but, mask, row_constructors, STATES_READABLE, WRITABLE, WRITABLE_DISCRETE,
+};
 pub use crate::fmi::machine::{Function, Interface, ModelState, StateMask};
 use crate::fmi::Version::Fmi3;
 use ModelState as S;
 
-const fn f(name: &'static str, allowed: StateMask) -> Function {
-    machine::f(Fmi3, name, allowed)
-}
-const fn me(name: &'static str, allowed: StateMask) -> Function {
-    machine::me(Fmi3, name, allowed)
-}
-const fn cs(name: &'static str, allowed: StateMask) -> Function {
-    machine::cs(Fmi3, name, allowed)
-}
+row_constructors!(Fmi3);
 
-/// Any state an instance can be in, but Fatal.
-const LIVE: StateMask = mask(&[
-    S::Instantiated,
-    S::InitializationMode,
-    S::EventMode,
-    S::ContinuousTimeMode,
-    S::StepComplete,
-    S::StepFailed,
-    S::Terminated,
-    S::Error,
-]);
+/// Any state an instance can be in, but Fatal (FMI 3.0 has no step in progress or
+/// canceled step).
+const LIVE: StateMask = all_but(&[S::Fatal, S::StepInProgress, S::StepCanceled]);
 /// Where variables may be read: start values from instantiation on, so in every state.
 const READABLE: StateMask = LIVE;
-const WRITABLE: StateMask = mask(&[
+/// Where derivatives may be asked for: from initialization on.
+const DERIVATIVES: StateMask = all_but(&[
+    S::Fatal,
+    S::StepInProgress,
+    S::StepCanceled,
     S::Instantiated,
-    S::InitializationMode,
-    S::EventMode,
-    S::ContinuousTimeMode,
-    S::StepComplete,
-]);
-/// Not in continuous-time mode: only continuous inputs may change there.
-const WRITABLE_DISCRETE: StateMask = mask(&[
-    S::Instantiated,
-    S::InitializationMode,
-    S::EventMode,
-    S::StepComplete,
-]);
-const DERIVATIVES: StateMask = mask(&[
-    S::InitializationMode,
-    S::EventMode,
-    S::ContinuousTimeMode,
-    S::StepComplete,
-    S::StepFailed,
-    S::Terminated,
-    S::Error,
-]);
-/// Where the continuous states, their derivatives and the event indicators may be read.
-const STATES_READABLE: StateMask = mask(&[
-    S::InitializationMode,
-    S::EventMode,
-    S::ContinuousTimeMode,
-    S::Terminated,
-    S::Error,
 ]);
 
 pub const SET_DEBUG_LOGGING: Function = f("fmi3SetDebugLogging", LIVE);

@@ -168,6 +168,22 @@ fn sines_of_hyper_hyper_duals_are_num_duals_to_rounding() {
     }
 }
 
+/// A test mechanism whose equations are its Lagrangian's, its failures diagnosed by its
+/// mass matrix.
+macro_rules! lagrangian_mechanism {
+    ($name:ident / $values:ident, $experiment:expr) => {
+        impl Mechanism for $name {
+            const EXPERIMENT: Experiment = $experiment;
+            fn evaluate<S: Scalar>(v: &mut $values<S>) {
+                Self::lagrange(v);
+            }
+            fn diagnose(v: &$values<f64>) -> Option<String> {
+                Self::mass_matrix_problem(v)
+            }
+        }
+    };
+}
+
 crate::mechanism! {
     /// A pendulum hanging from a support moved horizontally by a drive and shaken vertically
     /// by a prescribed motion `A sin(ω t)`: a driven coordinate, a free one and a kinetic
@@ -222,20 +238,7 @@ impl Lagrangian<2> for Shaken {
     }
 }
 
-impl Mechanism for Shaken {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 1.0,
-        step: 0.01,
-        tolerance: 1e-8,
-    };
-    fn evaluate<S: Scalar>(v: &mut ShakenValues<S>) {
-        Self::lagrange(v);
-    }
-    fn diagnose(v: &ShakenValues<f64>) -> Option<String> {
-        Self::mass_matrix_problem(v)
-    }
-}
+lagrangian_mechanism!(Shaken / ShakenValues, Experiment::until(1.0, 0.01, 1e-8));
 
 /// Newton's law on the bob in the support's accelerating frame, and on the support.
 fn shaken_by_hand(v: &ShakenValues<f64>) -> (f64, f64) {
@@ -344,20 +347,10 @@ impl Lagrangian<2> for Forgotten {
     }
 }
 
-impl Mechanism for Forgotten {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 1.0,
-        step: 0.1,
-        tolerance: 1e-6,
-    };
-    fn evaluate<S: Scalar>(v: &mut ForgottenValues<S>) {
-        Self::lagrange(v);
-    }
-    fn diagnose(v: &ForgottenValues<f64>) -> Option<String> {
-        Self::mass_matrix_problem(v)
-    }
-}
+lagrangian_mechanism!(
+    Forgotten / ForgottenValues,
+    Experiment::until(1.0, 0.1, 1e-6)
+);
 
 #[test]
 fn a_kinetic_energy_without_a_velocity_is_refused_at_initialization_naming_it() {
@@ -402,20 +395,10 @@ impl Lagrangian<2> for Collapsing {
     }
 }
 
-impl Mechanism for Collapsing {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 1.0,
-        step: 0.1,
-        tolerance: 1e-6,
-    };
-    fn evaluate<S: Scalar>(v: &mut CollapsingValues<S>) {
-        Self::lagrange(v);
-    }
-    fn diagnose(v: &CollapsingValues<f64>) -> Option<String> {
-        Self::mass_matrix_problem(v)
-    }
-}
+lagrangian_mechanism!(
+    Collapsing / CollapsingValues,
+    Experiment::until(1.0, 0.1, 1e-6)
+);
 
 #[test]
 fn a_step_into_a_singular_mass_matrix_stops_and_says_why() {

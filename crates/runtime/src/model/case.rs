@@ -167,12 +167,7 @@ mod tests {
         Variable::output("m/s").named("v", ""),
     ];
 
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 1.0,
-        step: 0.1,
-        tolerance: 1e-6,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(1.0, 0.1, 1e-6);
 
     fn case(values: &'static [(&'static str, f64)]) -> Option<MovingCase> {
         Some(MovingCase {

@@ -43,6 +43,19 @@ pub struct Experiment {
     pub tolerance: f64,
 }
 
+#[cfg(test)]
+impl Experiment {
+    /// A unit test's experiment: from time 0 to `stop`.
+    pub(crate) const fn until(stop: f64, step: f64, tolerance: f64) -> Self {
+        Experiment {
+            start: 0.0,
+            stop,
+            step,
+            tolerance,
+        }
+    }
+}
+
 /// What a mechanism's [`Mechanism::monitor`] says about the current state.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Monitor {

@@ -37,39 +37,18 @@ const fn base(kg: i32, m: i32, s: i32, rad: i32) -> BaseUnit {
     }
 }
 
+/// No exponent, for the symbols of the base units `base` does not take.
+const ONE: BaseUnit = base(0, 0, 0, 0);
+
 /// The unit symbols understood, with their base-unit exponents.
 pub const SYMBOLS: &[(&str, BaseUnit)] = &[
     ("kg", base(1, 0, 0, 0)),
     ("m", base(0, 1, 0, 0)),
     ("s", base(0, 0, 1, 0)),
-    (
-        "A",
-        BaseUnit {
-            a: 1,
-            ..base(0, 0, 0, 0)
-        },
-    ),
-    (
-        "K",
-        BaseUnit {
-            k: 1,
-            ..base(0, 0, 0, 0)
-        },
-    ),
-    (
-        "mol",
-        BaseUnit {
-            mol: 1,
-            ..base(0, 0, 0, 0)
-        },
-    ),
-    (
-        "cd",
-        BaseUnit {
-            cd: 1,
-            ..base(0, 0, 0, 0)
-        },
-    ),
+    ("A", BaseUnit { a: 1, ..ONE }),
+    ("K", BaseUnit { k: 1, ..ONE }),
+    ("mol", BaseUnit { mol: 1, ..ONE }),
+    ("cd", BaseUnit { cd: 1, ..ONE }),
     ("rad", base(0, 0, 0, 1)),
     ("N", base(1, 1, -2, 0)),
     ("J", base(1, 2, -2, 0)),

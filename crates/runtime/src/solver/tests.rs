@@ -108,28 +108,55 @@ fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Errors of fixed-step runs with n, 2n, 4n, … steps; returns observed orders.
-fn observed_orders<S: OdeSystem, const N: usize>(
-    sys: &mut S,
-    y0: &[f64; N],
-    t1: f64,
-    exact: &[f64],
-    ns: &[u32],
+/// The end of the runs whose errors give the observed orders.
+const T1: f64 = 2.0;
+
+/// Fixed-step runs of `order` to `T1` with n, 2n, 4n, … steps (`ns`), and the range their
+/// errors' observed orders must lie in.
+struct Orders<'a> {
+    ns: &'a [u32],
     order: FixedOrder,
-) -> Vec<f64> {
-    let mut solver = Dopri5::<[f64; N]>::new();
-    let errs: Vec<f64> = ns
-        .iter()
-        .map(|&n| {
-            let mut y = *y0;
-            solver.integrate_fixed(sys, 0.0, t1, n, &mut y, order);
-            max_abs_diff(&y, exact)
-        })
-        .collect();
-    errs.windows(2)
-        .zip(ns.windows(2))
-        .map(|(e, n)| (e[0] / e[1]).ln() / (f64::from(n[1]) / f64::from(n[0])).ln())
-        .collect()
+    expected: std::ops::RangeInclusive<f64>,
+}
+
+impl<'a> Orders<'a> {
+    fn new(ns: &'a [u32], order: FixedOrder, expected: std::ops::RangeInclusive<f64>) -> Self {
+        Orders {
+            ns,
+            order,
+            expected,
+        }
+    }
+
+    /// Checks the observed orders of `sys` from `y0` at 0 to `exact` at `T1`.
+    fn check<S: OdeSystem, const N: usize>(
+        &self,
+        name: &str,
+        sys: &mut S,
+        (y0, exact): (&[f64; N], &[f64]),
+    ) {
+        let (ns, order) = (self.ns, self.order);
+        let mut solver = Dopri5::<[f64; N]>::new();
+        let errs: Vec<f64> = ns
+            .iter()
+            .map(|&n| {
+                let mut y = *y0;
+                solver.integrate_fixed(sys, 0.0, T1, n, &mut y, order);
+                max_abs_diff(&y, exact)
+            })
+            .collect();
+        let p: Vec<f64> = errs
+            .windows(2)
+            .zip(ns.windows(2))
+            .map(|(e, n)| (e[0] / e[1]).ln() / (f64::from(n[1]) / f64::from(n[0])).ln())
+            .collect();
+        let solution = match order {
+            FixedOrder::Fifth => "the 5th-order solution",
+            FixedOrder::Fourth => "the embedded solution",
+        };
+        println!("{name}: observed orders of {solution} {p:?}");
+        assert!(p.iter().all(|q| self.expected.contains(q)), "{p:?}");
+    }
 }
 
 // ---------------------------------------------------------------- tableau
@@ -166,54 +193,35 @@ fn tableau_is_consistent() {
 #[test]
 fn fifth_order_solution_converges_with_order_5() {
     // h = 0.1 … 0.0125 on [0, 2]: asymptotic, yet above rounding (errors ≥ 1e-14).
-    let ns = [20, 40, 80, 160];
-    let t1: f64 = 2.0;
-    let p = observed_orders(
-        &mut Decay,
-        &[1.0],
-        t1,
-        &[(-t1).exp()],
-        &ns,
-        FixedOrder::Fifth,
+    let fifth = Orders::new(&[20, 40, 80, 160], FixedOrder::Fifth, 4.8..=5.2);
+    fifth.check("y' = -y", &mut Decay, (&[1.0], &[(-T1).exp()]));
+    let exact = Oscillator::exact(T1);
+    fifth.check(
+        "oscillator",
+        &mut Oscillator::default(),
+        (&[1.0, 0.0], &exact),
     );
-    println!("y' = -y: observed orders of the 5th-order solution {p:?}");
-    assert!(p.iter().all(|q| (4.8..=5.2).contains(q)), "{p:?}");
-
-    let exact = Oscillator::exact(t1);
-    let mut osc = Oscillator::default();
-    let p = observed_orders(&mut osc, &[1.0, 0.0], t1, &exact, &ns, FixedOrder::Fifth);
-    println!("oscillator: observed orders of the 5th-order solution {p:?}");
-    assert!(p.iter().all(|q| (4.8..=5.2).contains(q)), "{p:?}");
 
     // Nonlinear, non-autonomous (checks the nodes c_i too). Its next error term is
     // large, so the observed order approaches 5 from above more slowly.
-    let ns = [40, 80, 160];
-    let exact = [1.0 / (1.0 + t1 * t1)];
-    let p = observed_orders(&mut Rational, &[1.0], t1, &exact, &ns, FixedOrder::Fifth);
-    println!("y' = -2ty^2: observed orders of the 5th-order solution {p:?}");
-    assert!(p.iter().all(|q| (4.8..=5.4).contains(q)), "{p:?}");
+    let fifth = Orders::new(&[40, 80, 160], FixedOrder::Fifth, 4.8..=5.4);
+    fifth.check(
+        "y' = -2ty^2",
+        &mut Rational,
+        (&[1.0], &[1.0 / (1.0 + T1 * T1)]),
+    );
 }
 
 #[test]
 fn embedded_solution_converges_with_order_4() {
     // Propagating y_new - err (the embedded solution) instead of y_new.
-    let ns = [20, 40, 80, 160];
-    let t1: f64 = 2.0;
-    let p = observed_orders(
-        &mut Decay,
-        &[1.0],
-        t1,
-        &[(-t1).exp()],
-        &ns,
-        FixedOrder::Fourth,
+    let fourth = Orders::new(&[20, 40, 80, 160], FixedOrder::Fourth, 3.8..=4.2);
+    fourth.check("y' = -y", &mut Decay, (&[1.0], &[(-T1).exp()]));
+    fourth.check(
+        "y' = -2ty^2",
+        &mut Rational,
+        (&[1.0], &[1.0 / (1.0 + T1 * T1)]),
     );
-    println!("y' = -y: observed orders of the embedded solution {p:?}");
-    assert!(p.iter().all(|q| (3.8..=4.2).contains(q)), "{p:?}");
-
-    let exact = [1.0 / (1.0 + t1 * t1)];
-    let p = observed_orders(&mut Rational, &[1.0], t1, &exact, &ns, FixedOrder::Fourth);
-    println!("y' = -2ty^2: observed orders of the embedded solution {p:?}");
-    assert!(p.iter().all(|q| (3.8..=4.2).contains(q)), "{p:?}");
 }
 
 #[test]

@@ -26,8 +26,8 @@ use quick_xml::events::BytesText;
 use quick_xml::Writer;
 
 use super::shared::{
-    self, generation_tool, one_line, pairs, real, write_default_experiment, write_log_categories,
-    write_units, Attributes, UnitInfo,
+    self, generation_tool, one_line, pairs, real, write_default_experiment, write_each,
+    write_log_categories, write_units, Attributes, UnitInfo,
 };
 use super::structure::{self, Dependency, DependencyKind, Knowns, Unknown};
 use crate::contract::{self, FMI3_CAPABILITIES};
@@ -316,22 +316,16 @@ fn write<M: Mechanism>(rows: &[Row], units: &[UnitInfo], lists: &Lists) -> io::R
     w.create_element("fmiModelDescription")
         .with_attributes(pairs(&root))
         .write_inner_content(|w| {
-            let mut me: Attributes = vec![("modelIdentifier", M::NAME.into())];
-            me.extend(
-                FMI3_CAPABILITIES
-                    .model_exchange_attributes(contract::needs_completed_integrator_step::<M>()),
-            );
-            w.create_element("ModelExchange")
-                .with_attributes(pairs(&me))
-                .write_empty()?;
-            let mut cs: Attributes = vec![("modelIdentifier", M::NAME.into())];
-            cs.extend(
-                FMI3_CAPABILITIES
-                    .co_simulation_attributes(contract::might_return_early_from_do_step::<M>()),
-            );
-            w.create_element("CoSimulation")
-                .with_attributes(pairs(&cs))
-                .write_empty()?;
+            let c = FMI3_CAPABILITIES;
+            let me = c.model_exchange_attributes(contract::needs_completed_integrator_step::<M>());
+            let cs = c.co_simulation_attributes(contract::might_return_early_from_do_step::<M>());
+            for (element, capabilities) in [("ModelExchange", me), ("CoSimulation", cs)] {
+                let mut a: Attributes = vec![("modelIdentifier", M::NAME.into())];
+                a.extend(capabilities);
+                w.create_element(element)
+                    .with_attributes(pairs(&a))
+                    .write_empty()?;
+            }
             write_units(w, units)?;
             write_types(w, units)?;
             write_log_categories(w, &categories)?;
@@ -350,22 +344,18 @@ fn write_types(w: &mut Writer<Vec<u8>>, units: &[UnitInfo]) -> io::Result<()> {
     if typed.is_empty() {
         return Ok(());
     }
-    w.create_element("TypeDefinitions")
-        .write_inner_content(|w| {
-            for u in typed {
-                let mut a: Attributes = vec![("name", u.type_name.clone())];
-                a.extend(u.quantity.map(|q| ("quantity", q.to_string())));
-                a.push(("unit", u.name.into()));
-                if let Some(d) = &u.display {
-                    a.push(("displayUnit", d.name.clone()));
-                }
-                w.create_element("Float64Type")
-                    .with_attributes(pairs(&a))
-                    .write_empty()?;
-            }
-            Ok(())
-        })?;
-    Ok(())
+    write_each(w, "TypeDefinitions", typed, |w, u| {
+        let mut a: Attributes = vec![("name", u.type_name.clone())];
+        a.extend(u.quantity.map(|q| ("quantity", q.to_string())));
+        a.push(("unit", u.name.into()));
+        if let Some(d) = &u.display {
+            a.push(("displayUnit", d.name.clone()));
+        }
+        w.create_element("Float64Type")
+            .with_attributes(pairs(&a))
+            .write_empty()?;
+        Ok(())
+    })
 }
 
 fn write_variables(w: &mut Writer<Vec<u8>>, rows: &[Row]) -> io::Result<()> {
@@ -380,31 +370,34 @@ fn write_variables(w: &mut Writer<Vec<u8>>, rows: &[Row]) -> io::Result<()> {
                     ("variability", "continuous".into()),
                 ]))
                 .write_empty()?;
-            for row in rows {
-                let element = w
-                    .create_element("Float64")
-                    .with_attributes(pairs(&row.attributes));
-                if row.dimensions.is_empty() {
-                    element.write_empty()?;
-                    continue;
-                }
-                element.write_inner_content(|w| {
-                    w.create_element("Annotations").write_inner_content(|w| {
-                        w.create_element("Annotation")
-                            .with_attribute(("type", SCALARS_ANNOTATION))
-                            .write_text_content(BytesText::new(&row.scalars.join(" ")))?;
-                        Ok(())
-                    })?;
-                    for d in row.dimensions {
-                        w.create_element("Dimension")
-                            .with_attribute(("start", d.to_string().as_str()))
-                            .write_empty()?;
-                    }
-                    Ok(())
-                })?;
-            }
+            rows.iter().try_for_each(|row| write_row(w, row))
+        })?;
+    Ok(())
+}
+
+/// One `<Float64>`: an array's with its scalars' names and its `<Dimension>`s.
+fn write_row(w: &mut Writer<Vec<u8>>, row: &Row) -> io::Result<()> {
+    let element = w
+        .create_element("Float64")
+        .with_attributes(pairs(&row.attributes));
+    if row.dimensions.is_empty() {
+        element.write_empty()?;
+        return Ok(());
+    }
+    element.write_inner_content(|w| {
+        w.create_element("Annotations").write_inner_content(|w| {
+            w.create_element("Annotation")
+                .with_attribute(("type", SCALARS_ANNOTATION))
+                .write_text_content(BytesText::new(&row.scalars.join(" ")))?;
             Ok(())
         })?;
+        for d in row.dimensions {
+            w.create_element("Dimension")
+                .with_attribute(("start", d.to_string().as_str()))
+                .write_empty()?;
+        }
+        Ok(())
+    })?;
     Ok(())
 }
 

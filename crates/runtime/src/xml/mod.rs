@@ -31,8 +31,8 @@ pub use structure::{ModelStructure, Unknown};
 use crate::contract::{Capabilities, CAPABILITIES, LOG_CATEGORIES};
 use crate::model::{Experiment, Mechanism, Variable};
 use shared::{
-    generation_tool, one_line, pairs, real, write_default_experiment, write_log_categories,
-    write_units, Attributes, UnitInfo,
+    generation_tool, one_line, pairs, real, write_default_experiment, write_each, write_holding,
+    write_log_categories, write_units, Attributes, UnitInfo,
 };
 
 /// Everything the modelDescription is written from.
@@ -190,29 +190,18 @@ fn write_types(w: &mut Writer<Vec<u8>>, units: &[UnitInfo]) -> io::Result<()> {
     if units.is_empty() {
         return Ok(());
     }
-    w.create_element("TypeDefinitions")
-        .write_inner_content(|w| {
-            for u in units {
-                let mut typed: Attributes = Vec::new();
-                if let Some(q) = u.quantity {
-                    typed.push(("quantity", q.into()));
-                }
-                typed.push(("unit", u.name.into()));
-                if let Some(d) = &u.display {
-                    typed.push(("displayUnit", d.name.clone()));
-                }
-                w.create_element("SimpleType")
-                    .with_attribute(("name", u.type_name.as_str()))
-                    .write_inner_content(|w| {
-                        w.create_element("Real")
-                            .with_attributes(pairs(&typed))
-                            .write_empty()?;
-                        Ok(())
-                    })?;
-            }
-            Ok(())
-        })?;
-    Ok(())
+    write_each(w, "TypeDefinitions", units, |w, u| {
+        let mut typed: Attributes = Vec::new();
+        if let Some(q) = u.quantity {
+            typed.push(("quantity", q.into()));
+        }
+        typed.push(("unit", u.name.into()));
+        if let Some(d) = &u.display {
+            typed.push(("displayUnit", d.name.clone()));
+        }
+        let name: Attributes = vec![("name", u.type_name.clone())];
+        write_holding(w, ("SimpleType", &name), ("Real", &typed))
+    })
 }
 
 /// The `ScalarVariable`s in `order`. Each `<Real>` carries the attributes of FMI 2.0.5
@@ -227,54 +216,41 @@ fn write_variables(
     order: &Order,
 ) -> io::Result<()> {
     let variables = info.variables;
-    w.create_element("ModelVariables")
-        .write_inner_content(|w| {
-            for &vr in &order.written {
-                let v = &variables[vr];
-                let mut sv: Attributes =
-                    vec![("name", v.name.into()), ("valueReference", vr.to_string())];
-                let description = one_line(v.description());
-                if !description.is_empty() {
-                    sv.push(("description", description));
-                }
-                sv.push(("causality", v.causality.as_str().into()));
-                sv.push(("variability", v.variability.as_str().into()));
-                if let Some(initial) = v.initial {
-                    sv.push(("initial", initial.as_str().into()));
-                }
-                let unit = units.iter().find(|u| u.name == v.unit);
-                let mut typed: Attributes = Vec::new();
-                if let Some(u) = unit {
-                    typed.push(("declaredType", u.type_name.clone()));
-                    typed.push(("unit", u.name.into()));
-                    if let Some(d) = &u.display {
-                        typed.push(("displayUnit", d.name.clone()));
-                    }
-                }
-                if let Some(min) = v.min {
-                    typed.push(("min", real(min)));
-                }
-                if let Some(max) = v.max {
-                    typed.push(("max", real(max)));
-                }
-                if let Some(start) = v.start {
-                    typed.push(("start", real(start)));
-                }
-                if let Some(state) = state_of(variables, vr) {
-                    typed.push(("derivative", order.index[state].to_string()));
-                }
-                w.create_element("ScalarVariable")
-                    .with_attributes(pairs(&sv))
-                    .write_inner_content(|w| {
-                        w.create_element("Real")
-                            .with_attributes(pairs(&typed))
-                            .write_empty()?;
-                        Ok(())
-                    })?;
+    write_each(w, "ModelVariables", &order.written, |w, &vr| {
+        let v = &variables[vr];
+        let mut sv: Attributes = vec![("name", v.name.into()), ("valueReference", vr.to_string())];
+        let description = one_line(v.description());
+        if !description.is_empty() {
+            sv.push(("description", description));
+        }
+        sv.push(("causality", v.causality.as_str().into()));
+        sv.push(("variability", v.variability.as_str().into()));
+        if let Some(initial) = v.initial {
+            sv.push(("initial", initial.as_str().into()));
+        }
+        let unit = units.iter().find(|u| u.name == v.unit);
+        let mut typed: Attributes = Vec::new();
+        if let Some(u) = unit {
+            typed.push(("declaredType", u.type_name.clone()));
+            typed.push(("unit", u.name.into()));
+            if let Some(d) = &u.display {
+                typed.push(("displayUnit", d.name.clone()));
             }
-            Ok(())
-        })?;
-    Ok(())
+        }
+        if let Some(min) = v.min {
+            typed.push(("min", real(min)));
+        }
+        if let Some(max) = v.max {
+            typed.push(("max", real(max)));
+        }
+        if let Some(start) = v.start {
+            typed.push(("start", real(start)));
+        }
+        if let Some(state) = state_of(variables, vr) {
+            typed.push(("derivative", order.index[state].to_string()));
+        }
+        write_holding(w, ("ScalarVariable", &sv), ("Real", &typed))
+    })
 }
 
 /// One list of `<ModelStructure>` in the order given, each `<Unknown>` by `ScalarVariable`
@@ -289,26 +265,23 @@ fn write_unknowns(
     if unknowns.is_empty() {
         return Ok(());
     }
-    w.create_element(element).write_inner_content(|w| {
-        for u in unknowns {
-            let mut dependencies: Vec<(usize, &str)> = (u.dependencies.iter())
-                .map(|d| (order.index[d.known], d.kind.as_str()))
-                .collect();
-            dependencies.sort_unstable();
-            let (indices, kinds): (Vec<String>, Vec<&str>) = (dependencies.into_iter())
-                .map(|(i, kind)| (i.to_string(), kind))
-                .unzip();
-            w.create_element("Unknown")
-                .with_attributes(pairs(&vec![
-                    ("index", order.index[u.vr].to_string()),
-                    ("dependencies", indices.join(" ")),
-                    ("dependenciesKind", kinds.join(" ")),
-                ]))
-                .write_empty()?;
-        }
+    write_each(w, element, unknowns, |w, u| {
+        let mut dependencies: Vec<(usize, &str)> = (u.dependencies.iter())
+            .map(|d| (order.index[d.known], d.kind.as_str()))
+            .collect();
+        dependencies.sort_unstable();
+        let (indices, kinds): (Vec<String>, Vec<&str>) = (dependencies.into_iter())
+            .map(|(i, kind)| (i.to_string(), kind))
+            .unzip();
+        w.create_element("Unknown")
+            .with_attributes(pairs(&vec![
+                ("index", order.index[u.vr].to_string()),
+                ("dependencies", indices.join(" ")),
+                ("dependenciesKind", kinds.join(" ")),
+            ]))
+            .write_empty()?;
         Ok(())
-    })?;
-    Ok(())
+    })
 }
 
 /// `<Outputs>` in value-reference order, `<Derivatives>` in the states' order (the order

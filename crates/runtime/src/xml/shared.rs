@@ -152,6 +152,35 @@ pub(super) fn writer() -> io::Result<Writer<Vec<u8>>> {
     Ok(w)
 }
 
+/// `<element>` holding what `write` writes of each item.
+pub(super) fn write_each<T>(
+    w: &mut Writer<Vec<u8>>,
+    element: &str,
+    items: impl IntoIterator<Item = T>,
+    mut write: impl FnMut(&mut Writer<Vec<u8>>, T) -> io::Result<()>,
+) -> io::Result<()> {
+    w.create_element(element)
+        .write_inner_content(|w| items.into_iter().try_for_each(|item| write(w, item)))?;
+    Ok(())
+}
+
+/// `<outer>` holding one empty `<inner>`.
+pub(super) fn write_holding(
+    w: &mut Writer<Vec<u8>>,
+    (outer, outer_attributes): (&str, &Attributes),
+    (inner, inner_attributes): (&str, &Attributes),
+) -> io::Result<()> {
+    w.create_element(outer)
+        .with_attributes(pairs(outer_attributes))
+        .write_inner_content(|w| {
+            w.create_element(inner)
+                .with_attributes(pairs(inner_attributes))
+                .write_empty()?;
+            Ok(())
+        })?;
+    Ok(())
+}
+
 /// The document a writer wrote, as text ending with a line break.
 pub(super) fn finish(name: &str, written: io::Result<Vec<u8>>) -> Result<String, String> {
     let bytes = written.map_err(|e| format!("{name}: {e}"))?;
@@ -164,35 +193,31 @@ pub(super) fn write_units(w: &mut Writer<Vec<u8>>, units: &[UnitInfo]) -> io::Re
     if units.is_empty() {
         return Ok(());
     }
-    w.create_element("UnitDefinitions")
-        .write_inner_content(|w| {
-            for u in units {
-                w.create_element("Unit")
-                    .with_attribute(("name", u.name))
-                    .write_inner_content(|w| {
-                        let exponents: Attributes = u
-                            .base
-                            .exponents()
-                            .into_iter()
-                            .map(|(k, e)| (k, e.to_string()))
-                            .collect();
-                        w.create_element("BaseUnit")
-                            .with_attributes(pairs(&exponents))
-                            .write_empty()?;
-                        if let Some(d) = &u.display {
-                            w.create_element("DisplayUnit")
-                                .with_attributes(pairs(&vec![
-                                    ("name", d.name.clone()),
-                                    ("factor", real(d.factor)),
-                                ]))
-                                .write_empty()?;
-                        }
-                        Ok(())
-                    })?;
-            }
-            Ok(())
-        })?;
-    Ok(())
+    write_each(w, "UnitDefinitions", units, |w, u| {
+        w.create_element("Unit")
+            .with_attribute(("name", u.name))
+            .write_inner_content(|w| {
+                let exponents: Attributes = u
+                    .base
+                    .exponents()
+                    .into_iter()
+                    .map(|(k, e)| (k, e.to_string()))
+                    .collect();
+                w.create_element("BaseUnit")
+                    .with_attributes(pairs(&exponents))
+                    .write_empty()?;
+                if let Some(d) = &u.display {
+                    w.create_element("DisplayUnit")
+                        .with_attributes(pairs(&vec![
+                            ("name", d.name.clone()),
+                            ("factor", real(d.factor)),
+                        ]))
+                        .write_empty()?;
+                }
+                Ok(())
+            })?;
+        Ok(())
+    })
 }
 
 pub(super) fn write_log_categories(
@@ -202,15 +227,12 @@ pub(super) fn write_log_categories(
     if categories.is_empty() {
         return Ok(());
     }
-    w.create_element("LogCategories").write_inner_content(|w| {
-        for &(name, description) in categories {
-            w.create_element("Category")
-                .with_attributes([("name", name), ("description", description)])
-                .write_empty()?;
-        }
+    write_each(w, "LogCategories", categories, |w, &(name, description)| {
+        w.create_element("Category")
+            .with_attributes([("name", name), ("description", description)])
+            .write_empty()?;
         Ok(())
-    })?;
-    Ok(())
+    })
 }
 
 pub(super) fn write_default_experiment(w: &mut Writer<Vec<u8>>, e: &Experiment) -> io::Result<()> {

@@ -38,12 +38,7 @@ crate::mechanism! {
 }
 
 impl Mechanism for Swing {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 20.0,
-        step: 0.01,
-        tolerance: 1e-8,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(20.0, 0.01, 1e-8);
 
     fn calculate(v: &mut SwingValues<f64>) -> Result<(), String> {
         v.omega_0 = (v.g / v.l).sqrt();
@@ -148,6 +143,14 @@ pub(super) fn find<'a>(elements: &'a [(usize, Element)], name: &str) -> Vec<&'a 
         .collect()
 }
 
+/// The `name` attribute of each `<element>`.
+pub(super) fn names<'a>(elements: &'a [(usize, Element)], element: &str) -> Vec<&'a str> {
+    find(elements, element)
+        .into_iter()
+        .map(|e| e.get("name").unwrap())
+        .collect()
+}
+
 /// The elements of a model description of either standard, checked to be one document
 /// whose top-level elements come in the order both schemas give them.
 pub(super) fn parse_in_schema_order(xml: &str) -> Vec<(usize, Element)> {
@@ -243,24 +246,9 @@ fn units_types_and_display_units() {
     let xml = swing();
     // Every unit once, in order of first use, with its base-unit exponents.
     let elements = parse_back(&xml);
-    let units: Vec<&str> = find(&elements, "Unit")
-        .iter()
-        .map(|u| u.get("name").unwrap())
-        .collect();
     assert_eq!(
-        units,
-        [
-            "kg",
-            "m",
-            "m/s2",
-            "N.m.s/rad",
-            "m/s",
-            "rad",
-            "rad/s",
-            "rad/s2",
-            "N",
-            "1"
-        ]
+        names(&elements, "Unit").join(" "),
+        "kg m m/s2 N.m.s/rad m/s rad rad/s rad/s2 N 1"
     );
     assert!(xml.contains(
         "    <Unit name=\"N.m.s/rad\">\n      <BaseUnit kg=\"1\" m=\"2\" s=\"-1\" rad=\"-1\"/>\n    </Unit>"
@@ -316,13 +304,19 @@ fn every_real_has_the_unit_and_display_unit_of_its_type() {
     assert_eq!(reals, Swing::VARIABLES.len());
 }
 
+/// The `ScalarVariable`s and their `<Real>`s, in the same order (the `<Real>`s of the
+/// `SimpleType`s come first, and are left out).
+fn variables_and_their_reals(elements: &[(usize, Element)]) -> (Vec<&Element>, Vec<&Element>) {
+    let variables = find(elements, "ScalarVariable");
+    let mut reals = find(elements, "Real");
+    reals.drain(..reals.len() - variables.len());
+    (variables, reals)
+}
+
 #[test]
 fn derivative_attribute_points_at_the_state() {
     let elements = parse_back(&swing());
-    let variables = find(&elements, "ScalarVariable");
-    let reals = find(&elements, "Real");
-    // Reals of the SimpleTypes come first.
-    let reals = &reals[reals.len() - variables.len()..];
+    let (variables, reals) = variables_and_their_reals(&elements);
     let derivative = |name: &str| {
         let i = variables
             .iter()
@@ -345,9 +339,7 @@ fn derivative_attribute_points_at_the_state() {
 #[test]
 fn states_come_before_their_derivatives_with_their_value_references() {
     let elements = parse_back(&swing());
-    let variables = find(&elements, "ScalarVariable");
-    let reals = find(&elements, "Real");
-    let reals = &reals[reals.len() - variables.len()..];
+    let (variables, reals) = variables_and_their_reals(&elements);
     for (i, real) in reals.iter().enumerate() {
         if let Some(state) = real.get("derivative") {
             let state: usize = state.parse().unwrap();

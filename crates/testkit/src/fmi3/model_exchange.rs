@@ -17,6 +17,10 @@ pub struct DiscreteStates {
     pub next_event_time: f64,
 }
 
+/// The getters of one array of the Model Exchange values (states, derivatives, event
+/// indicators, nominals).
+type ArrayGetter = unsafe extern "C" fn(fmi3Instance, *mut fmi3Float64, usize) -> fmi3Status;
+
 impl<M: Mechanism> Fmi3Harness<M> {
     pub fn set_time(&mut self, t: f64) -> fmi3Status {
         self.time = t;
@@ -30,47 +34,36 @@ impl<M: Mechanism> Fmi3Harness<M> {
     }
 
     pub fn continuous_states(&mut self) -> Result<Vec<f64>, fmi3Status> {
-        let mut x = vec![f64::NAN; M::STATES.len()];
-        // SAFETY: live instance, an array of the given length.
-        let status = unsafe {
-            functions::fmi3GetContinuousStates::<M>(self.instance, x.as_mut_ptr(), x.len())
-        };
-        ok(status, x)
+        self.array(functions::fmi3GetContinuousStates::<M>, M::STATES.len())
     }
 
     pub fn derivatives(&mut self) -> Result<Vec<f64>, fmi3Status> {
-        let mut dx = vec![f64::NAN; M::STATES.len()];
-        // SAFETY: live instance, an array of the given length.
-        let status = unsafe {
-            functions::fmi3GetContinuousStateDerivatives::<M>(
-                self.instance,
-                dx.as_mut_ptr(),
-                dx.len(),
-            )
-        };
-        ok(status, dx)
+        self.array(
+            functions::fmi3GetContinuousStateDerivatives::<M>,
+            M::STATES.len(),
+        )
     }
 
     pub fn event_indicators(&mut self) -> Result<Vec<f64>, fmi3Status> {
-        let mut z = vec![f64::NAN; M::EVENT_INDICATORS.len()];
-        // SAFETY: live instance, an array of the given length.
-        let status = unsafe {
-            functions::fmi3GetEventIndicators::<M>(self.instance, z.as_mut_ptr(), z.len())
-        };
-        ok(status, z)
+        self.array(
+            functions::fmi3GetEventIndicators::<M>,
+            M::EVENT_INDICATORS.len(),
+        )
     }
 
     pub fn nominals(&mut self) -> Result<Vec<f64>, fmi3Status> {
-        let mut n = vec![f64::NAN; M::STATES.len()];
+        self.array(
+            functions::fmi3GetNominalsOfContinuousStates::<M>,
+            M::STATES.len(),
+        )
+    }
+
+    /// The `len` values a getter of one array fills in.
+    fn array(&mut self, getter: ArrayGetter, len: usize) -> Result<Vec<f64>, fmi3Status> {
+        let mut values = vec![f64::NAN; len];
         // SAFETY: live instance, an array of the given length.
-        let status = unsafe {
-            functions::fmi3GetNominalsOfContinuousStates::<M>(
-                self.instance,
-                n.as_mut_ptr(),
-                n.len(),
-            )
-        };
-        ok(status, n)
+        let status = unsafe { getter(self.instance, values.as_mut_ptr(), values.len()) };
+        ok(status, values)
     }
 
     pub fn number_of_continuous_states(&mut self) -> Result<usize, fmi3Status> {

@@ -5,6 +5,19 @@ use mechfmu::fmi3::ffi::*;
 use mechfmu::fmi3::functions;
 use mechfmu::model::Mechanism;
 
+/// `fmi3GetDirectionalDerivative` and `fmi3GetAdjointDerivative`.
+type DerivativeCall = unsafe extern "C" fn(
+    fmi3Instance,
+    *const fmi3ValueReference,
+    usize,
+    *const fmi3ValueReference,
+    usize,
+    *const fmi3Float64,
+    usize,
+    *mut fmi3Float64,
+    usize,
+) -> fmi3Status;
+
 // These take FMU-state handles as the C API does, unchecked, because tests must be able to
 // pass stale or foreign ones (an FMI 2.0 state among them): the FMU validates every handle.
 #[allow(clippy::not_unsafe_ptr_arg_deref)]
@@ -66,20 +79,8 @@ impl<M: Mechanism> Fmi3Harness<M> {
         seed: &[f64],
         sensitivity: &mut [f64],
     ) -> fmi3Status {
-        // SAFETY: live instance, arrays of the given lengths.
-        unsafe {
-            functions::fmi3GetDirectionalDerivative::<M>(
-                self.instance,
-                unknowns.as_ptr(),
-                unknowns.len(),
-                knowns.as_ptr(),
-                knowns.len(),
-                seed.as_ptr(),
-                seed.len(),
-                sensitivity.as_mut_ptr(),
-                sensitivity.len(),
-            )
-        }
+        let call = functions::fmi3GetDirectionalDerivative::<M>;
+        self.derivative(call, (unknowns, knowns), seed, sensitivity)
     }
 
     /// `fmi3GetAdjointDerivative`, as [`directional_derivative`](Self::directional_derivative).
@@ -90,9 +91,21 @@ impl<M: Mechanism> Fmi3Harness<M> {
         seed: &[f64],
         sensitivity: &mut [f64],
     ) -> fmi3Status {
+        let call = functions::fmi3GetAdjointDerivative::<M>;
+        self.derivative(call, (unknowns, knowns), seed, sensitivity)
+    }
+
+    /// One of the two derivative calls, which share their C signature.
+    fn derivative(
+        &mut self,
+        call: DerivativeCall,
+        (unknowns, knowns): (&[fmi3ValueReference], &[fmi3ValueReference]),
+        seed: &[f64],
+        sensitivity: &mut [f64],
+    ) -> fmi3Status {
         // SAFETY: live instance, arrays of the given lengths.
         unsafe {
-            functions::fmi3GetAdjointDerivative::<M>(
+            call(
                 self.instance,
                 unknowns.as_ptr(),
                 unknowns.len(),

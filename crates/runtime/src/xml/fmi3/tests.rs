@@ -1,13 +1,8 @@
 use super::*;
 use crate::model::{Array, Declaration, Experiment, Scalar};
-use crate::xml::tests::{find, parse_in_schema_order, Element};
+use crate::xml::tests::{find, names, parse_in_schema_order, Element};
 
-const EXPERIMENT: Experiment = Experiment {
-    start: 0.0,
-    stop: 10.0,
-    step: 0.01,
-    tolerance: 1e-6,
-};
+const EXPERIMENT: Experiment = Experiment::until(10.0, 0.01, 1e-6);
 
 crate::mechanism! {
     /// A mass driven by F0 sin(w t) and an input force, against viscous damping.
@@ -259,21 +254,9 @@ fn arrays_have_dimensions_and_a_start_value_per_element() {
          causality=\"calculatedParameter\" variability=\"fixed\" initial=\"calculated\" unit=\"kg2\"/>"
     ));
     let elements = variables(&xml);
-    let types: Vec<&str> = find(&elements, "Float64Type")
-        .iter()
-        .map(|t| t.get("name").unwrap())
-        .collect();
     assert_eq!(
-        types,
-        [
-            "Mass",
-            "TranslationalSpringConstant",
-            "Force",
-            "Length",
-            "Velocity",
-            "Acceleration",
-            "Energy"
-        ]
+        names(&elements, "Float64Type").join(" "),
+        "Mass TranslationalSpringConstant Force Length Velocity Acceleration Energy"
     );
     // Calculated arrays and outputs have no start.
     assert_eq!(float64(&elements, "a").get("start"), None);
