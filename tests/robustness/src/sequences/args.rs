@@ -21,15 +21,20 @@ impl<S: Standard> Sequence<'_, S> {
             return (Target::Null, std::ptr::null_mut());
         }
         if r < 0.07 {
-            let p = if self.rng.chance(0.5) {
-                self.zeros.as_mut_ptr()
-            } else {
-                self.noise.as_mut_ptr()
-            };
-            return (Target::Foreign, p.cast());
+            return (Target::Foreign, self.foreign_memory());
         }
         let i = self.rng.below(self.insts.len());
         (Target::Live(i), self.insts[i].c)
+    }
+
+    /// Memory that is no instance: zeros or noise.
+    pub(crate) fn foreign_memory(&mut self) -> Component {
+        let p = if self.rng.chance(0.5) {
+            self.zeros.as_mut_ptr()
+        } else {
+            self.noise.as_mut_ptr()
+        };
+        p.cast()
     }
 
     pub(crate) fn vr(&mut self) -> u32 {

@@ -436,3 +436,104 @@ pub fn category_index(s: Status) -> usize {
         _ => 4,
     }
 }
+
+/// The part of a [`Standard`] implementation that is the same text in both standards: the
+/// forwarding to the sequence's methods of the standard, and the C calls whose functions
+/// have the same names and arguments in both tables (the derivatives getter's name, which
+/// differs, given).
+macro_rules! standard_c_calls {
+    ($get_derivatives:ident) => {
+        fn clean_instance(seq: &mut Sequence<Self>) {
+            seq.clean_instance();
+        }
+        fn random_call(seq: &mut Sequence<Self>) {
+            seq.random_call();
+        }
+        fn dispatch(
+            seq: &mut Sequence<Self>,
+            function: usize,
+            target: Target,
+            c: Component,
+            legal: bool,
+        ) -> Option<Status> {
+            seq.dispatch(function, target, c, legal)
+        }
+
+        unsafe fn free_instance(fmu: &Self::Fmu, c: Component) {
+            // SAFETY: the caller's promise.
+            unsafe { (fmu.api.free_instance)(c) }
+        }
+        unsafe fn get_fmu_state(fmu: &Self::Fmu, c: Component, slot: *mut FmuState) -> Status {
+            // SAFETY: the caller's promise.
+            unsafe { (fmu.api.get_fmu_state)(c, slot) }
+        }
+        unsafe fn set_fmu_state(fmu: &Self::Fmu, c: Component, state: FmuState) -> Status {
+            // SAFETY: the caller's promise.
+            unsafe { (fmu.api.set_fmu_state)(c, state) }
+        }
+        unsafe fn free_fmu_state(fmu: &Self::Fmu, c: Component, slot: *mut FmuState) -> Status {
+            // SAFETY: the caller's promise.
+            unsafe { (fmu.api.free_fmu_state)(c, slot) }
+        }
+        unsafe fn serialized_size(
+            fmu: &Self::Fmu,
+            c: Component,
+            s: FmuState,
+            n: *mut usize,
+        ) -> Status {
+            // SAFETY: the caller's promise.
+            unsafe { (fmu.api.serialized_fmu_state_size)(c, s, n) }
+        }
+        unsafe fn serialize(
+            fmu: &Self::Fmu,
+            c: Component,
+            s: FmuState,
+            b: *mut u8,
+            n: usize,
+        ) -> Status {
+            // SAFETY: the caller's promise (FMI 2.0's bytes are C chars).
+            unsafe { (fmu.api.serialize_fmu_state)(c, s, b.cast(), n) }
+        }
+        unsafe fn deserialize(
+            fmu: &Self::Fmu,
+            c: Component,
+            b: *const u8,
+            n: usize,
+            slot: *mut FmuState,
+        ) -> Status {
+            // SAFETY: the caller's promise.
+            unsafe { (fmu.api.deserialize_fmu_state)(c, b.cast(), n, slot) }
+        }
+        unsafe fn set_time(fmu: &Self::Fmu, c: Component, t: f64) -> Status {
+            // SAFETY: the caller's promise.
+            unsafe { (fmu.api.set_time)(c, t) }
+        }
+        unsafe fn set_continuous_states(
+            fmu: &Self::Fmu,
+            c: Component,
+            x: *const f64,
+            n: usize,
+        ) -> Status {
+            // SAFETY: the caller's promise.
+            unsafe { (fmu.api.set_continuous_states)(c, x, n) }
+        }
+        unsafe fn get_me_array(
+            fmu: &Self::Fmu,
+            which: $crate::sequences::core::MeArray,
+            c: Component,
+            out: *mut f64,
+            n: usize,
+        ) -> Status {
+            use $crate::sequences::core::MeArray;
+            let g = match which {
+                MeArray::Derivatives => fmu.api.$get_derivatives,
+                MeArray::EventIndicators => fmu.api.get_event_indicators,
+                MeArray::ContinuousStates => fmu.api.get_continuous_states,
+                MeArray::Nominals => fmu.api.get_nominals_of_continuous_states,
+            };
+            // SAFETY: the caller's promise.
+            unsafe { g(c, out, n) }
+        }
+    };
+}
+pub(crate) use standard_c_calls;
