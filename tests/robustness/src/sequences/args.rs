@@ -265,3 +265,12 @@ impl<S: Standard> Sequence<'_, S> {
         }
     }
 }
+
+/// `p`, or NULL where `null`: an out argument handed over or withheld.
+pub(crate) fn null_if<T>(null: bool, p: *mut T) -> *mut T {
+    if null {
+        std::ptr::null_mut()
+    } else {
+        p
+    }
+}

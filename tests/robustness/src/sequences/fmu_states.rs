@@ -6,6 +6,7 @@ use super::core::{Sequence, Standard};
 use super::machine::{Handle, Inst, Snap, Target};
 use super::state_bytes::decode_snap;
 use crate::ffi::{Component, FmuState, Status, ERROR, OK};
+use crate::sequences::args::null_if;
 
 /// What restoring a saved state into an instance must do.
 pub enum Restore {
@@ -37,11 +38,7 @@ impl<S: Standard> Sequence<'_, S> {
                 if null_slot { ", NULL slot pointer" } else { "" }
             )
         });
-        let slot_ptr: *mut FmuState = if null_slot {
-            std::ptr::null_mut()
-        } else {
-            &mut slot
-        };
+        let slot_ptr: *mut FmuState = null_if(null_slot, &mut slot);
         // SAFETY: a valid slot (or NULL) holding NULL or a live state.
         let s = unsafe { S::get_fmu_state(self.fmu, c, slot_ptr) };
         if let (Target::Live(i), OK) = (target, s) {
@@ -109,11 +106,7 @@ impl<S: Standard> Sequence<'_, S> {
             1 => {
                 let mut size = usize::MAX;
                 let null = self.rng.chance(0.05);
-                let size_ptr: *mut usize = if null {
-                    std::ptr::null_mut()
-                } else {
-                    &mut size
-                };
+                let size_ptr: *mut usize = null_if(null, &mut size);
                 // SAFETY: a valid out pointer (or NULL).
                 let s = unsafe { S::serialized_size(self.fmu, c, h, size_ptr) };
                 if s == OK && !null && !(16..1 << 20).contains(&size) {
@@ -149,11 +142,7 @@ impl<S: Standard> Sequence<'_, S> {
         };
         let mut buf = vec![0x77u8; ask + 8];
         let null = self.rng.chance(0.05);
-        let buf_ptr: *mut u8 = if null {
-            std::ptr::null_mut()
-        } else {
-            buf.as_mut_ptr()
-        };
+        let buf_ptr: *mut u8 = null_if(null, buf.as_mut_ptr());
         // SAFETY: `ask` writable bytes (or NULL).
         let s = unsafe { S::serialize(self.fmu, c, h, buf_ptr, ask) };
         if buf[ask..].iter().any(|&b| b != 0x77) {
@@ -194,11 +183,7 @@ impl<S: Standard> Sequence<'_, S> {
                 if null_slot { ", NULL slot pointer" } else { "" }
             )
         });
-        let slot_ptr: *mut FmuState = if null_slot {
-            std::ptr::null_mut()
-        } else {
-            &mut slot
-        };
+        let slot_ptr: *mut FmuState = null_if(null_slot, &mut slot);
         // SAFETY: a valid slot (or NULL) holding a live state, NULL or foreign memory.
         let s = unsafe { S::free_fmu_state(self.fmu, c, slot_ptr) };
         if s == OK {

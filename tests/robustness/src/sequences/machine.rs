@@ -167,6 +167,22 @@ impl Inst {
         self.dx.clear();
         self.event_requested = false;
     }
+
+    /// Reset: Instantiated at time 0 again, what the importer knew of the states gone.
+    pub fn reset(&mut self) {
+        self.restore(&Snap {
+            st: St::Instantiated,
+            time: 0.0,
+            stop: None,
+            ..self.snap()
+        });
+    }
+
+    /// In event mode (an event requested before is being handled).
+    pub fn enter_event_mode(&mut self) {
+        self.st = St::EventMode;
+        self.event_requested = false;
+    }
 }
 
 /// The instance a call is made on.

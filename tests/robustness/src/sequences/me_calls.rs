@@ -6,8 +6,20 @@ use super::core::{MeArray, Sequence, Standard};
 use super::hostile::hostile_f64;
 use super::machine::Target;
 use crate::ffi::{Component, Status, ERROR, OK, WARNING};
+use crate::sequences::args::null_if;
 
 impl<S: Standard> Sequence<'_, S> {
+    /// A step of the event iteration went through: an event counted, and what the
+    /// importer knew of the states gone.
+    pub(crate) fn event_iterated(&mut self, target: Target, legal: bool) {
+        if let (Target::Live(i), true) = (target, legal) {
+            self.stats.events += 1;
+            let inst = &mut self.insts[i];
+            inst.x.clear();
+            inst.dx.clear();
+        }
+    }
+
     /// SetTime: a time ahead of the instance's (an integrator's step when sane), the same,
     /// behind it, huge, tiny or not finite; a finite time is accepted, no other.
     pub(crate) fn set_time_call(
@@ -175,11 +187,7 @@ impl<S: Standard> Sequence<'_, S> {
         });
         // SAFETY: `cap` writable elements (or NULL); a longer `len` is one the FMU
         // must refuse before writing.
-        let out_ptr: *mut f64 = if null {
-            std::ptr::null_mut()
-        } else {
-            out.as_mut_ptr()
-        };
+        let out_ptr: *mut f64 = null_if(null, out.as_mut_ptr());
         let s = unsafe { S::get_me_array(self.fmu, which, c, out_ptr, len) };
         self.check_canaries(name, &out[cap.min(len)..], canary);
         let right = len == n && !(null && n > 0);

@@ -5,6 +5,7 @@
 use super::table::f;
 use super::Fmi2;
 use crate::ffi::*;
+use crate::sequences::args::null_if;
 use crate::sequences::core::{MeArray, Sequence};
 use crate::sequences::fmu_states::Restore;
 use crate::sequences::hostile::hostile_f64;
@@ -203,22 +204,12 @@ impl Sequence<'_, Fmi2> {
             match (function, s) {
                 (f::ENTER_INIT, OK) => inst.st = St::Init,
                 (f::EXIT_INIT, OK | WARNING) => inst.st = inst.kind.initialized(),
-                (f::ENTER_EVENT_MODE, OK) => {
-                    inst.st = St::EventMode;
-                    inst.event_requested = false;
-                }
+                (f::ENTER_EVENT_MODE, OK) => inst.enter_event_mode(),
                 (f::ENTER_CONTINUOUS_TIME_MODE, OK) => inst.st = St::ContinuousTimeMode,
                 // A model failure at initialization: the Error state.
                 (f::EXIT_INIT, _) => inst.st = St::Error,
                 (f::TERMINATE, OK) => inst.st = St::Terminated,
-                (f::RESET, OK) => {
-                    inst.st = St::Instantiated;
-                    inst.time = 0.0;
-                    inst.stop = None;
-                    inst.x.clear();
-                    inst.dx.clear();
-                    inst.event_requested = false;
-                }
+                (f::RESET, OK) => inst.reset(),
                 _ => {}
             }
         }
@@ -233,11 +224,7 @@ impl Sequence<'_, Fmi2> {
         let n = vrs.len();
         let mut out = vec![-7.5e-77f64; n + 4];
         let vp = self.ptr_or_null(&vrs);
-        let op = if self.rng.chance(0.04) {
-            std::ptr::null_mut()
-        } else {
-            out.as_mut_ptr()
-        };
+        let op = null_if(self.rng.chance(0.04), out.as_mut_ptr());
         self.note(|| {
             format!(
                 "{name}({target:?}, vr {vrs:?}{}{})",
@@ -281,36 +268,9 @@ impl Sequence<'_, Fmi2> {
         // SAFETY: arrays of n elements (or NULL).
         let s = unsafe {
             match function {
-                f::GET_INTEGER => (api.get_integer)(
-                    c,
-                    vp,
-                    n,
-                    if null_out {
-                        std::ptr::null_mut()
-                    } else {
-                        ints.as_mut_ptr()
-                    },
-                ),
-                f::GET_BOOLEAN => (api.get_boolean)(
-                    c,
-                    vp,
-                    n,
-                    if null_out {
-                        std::ptr::null_mut()
-                    } else {
-                        ints.as_mut_ptr()
-                    },
-                ),
-                _ => (api.get_string)(
-                    c,
-                    vp,
-                    n,
-                    if null_out {
-                        std::ptr::null_mut()
-                    } else {
-                        strs.as_mut_ptr()
-                    },
-                ),
+                f::GET_INTEGER => (api.get_integer)(c, vp, n, null_if(null_out, ints.as_mut_ptr())),
+                f::GET_BOOLEAN => (api.get_boolean)(c, vp, n, null_if(null_out, ints.as_mut_ptr())),
+                _ => (api.get_string)(c, vp, n, null_if(null_out, strs.as_mut_ptr())),
             }
         };
         if ints[n..].iter().any(|&x| x != 0x5a5a_5a5a) || strs[n..].iter().any(|p| !p.is_null()) {

@@ -4,6 +4,7 @@
 use super::table::f;
 use super::Fmi2;
 use crate::ffi::*;
+use crate::sequences::args::null_if;
 use crate::sequences::core::Sequence;
 use crate::sequences::hostile::hostile_f64;
 use crate::sequences::machine::Target;
@@ -33,11 +34,7 @@ impl Sequence<'_, Fmi2> {
             self.ptr_or_null(&knowns),
             self.ptr_or_null(&dv),
         );
-        let op = if self.rng.chance(0.04) {
-            std::ptr::null_mut()
-        } else {
-            out.as_mut_ptr()
-        };
+        let op = null_if(self.rng.chance(0.04), out.as_mut_ptr());
         self.note(|| {
             format!("{name}({target:?}, unknowns {unknowns:?}, knowns {knowns:?}, dv {dv:?})")
         });
@@ -96,11 +93,7 @@ impl Sequence<'_, Fmi2> {
             unsafe { (api.set_real_input_derivatives)(c, vp, n, opp, xp) }
         } else {
             let mut out = vec![-7.5e-77f64; n + 4];
-            let op = if self.rng.chance(0.04) {
-                std::ptr::null_mut()
-            } else {
-                out.as_mut_ptr()
-            };
+            let op = null_if(self.rng.chance(0.04), out.as_mut_ptr());
             // SAFETY: arrays of n elements (or NULL).
             let s = unsafe { (api.get_real_output_derivatives)(c, vp, n, opp, op) };
             self.check_canaries(name, &out[n..], -7.5e-77);

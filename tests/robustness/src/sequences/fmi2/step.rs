@@ -4,6 +4,7 @@
 use super::table::f;
 use super::Fmi2;
 use crate::ffi::*;
+use crate::sequences::args::null_if;
 use crate::sequences::core::Sequence;
 use crate::sequences::machine::{St, Target};
 
@@ -35,15 +36,7 @@ impl Sequence<'_, Fmi2> {
                 f::GET_STATUS => {
                     (api.get_status)(c, kind, if null { std::ptr::null_mut() } else { &mut st })
                 }
-                f::GET_REAL_STATUS => (api.get_real_status)(
-                    c,
-                    kind,
-                    if null {
-                        std::ptr::null_mut()
-                    } else {
-                        &mut real
-                    },
-                ),
+                f::GET_REAL_STATUS => (api.get_real_status)(c, kind, null_if(null, &mut real)),
                 f::GET_INTEGER_STATUS => (api.get_integer_status)(
                     c,
                     kind,
@@ -54,15 +47,7 @@ impl Sequence<'_, Fmi2> {
                     kind,
                     if null { std::ptr::null_mut() } else { &mut int },
                 ),
-                _ => (api.get_string_status)(
-                    c,
-                    kind,
-                    if null {
-                        std::ptr::null_mut()
-                    } else {
-                        &mut string
-                    },
-                ),
+                _ => (api.get_string_status)(c, kind, null_if(null, &mut string)),
             }
         };
         if s == OK && !null {
@@ -105,16 +90,7 @@ impl Sequence<'_, Fmi2> {
             )
         });
         // SAFETY: a valid out pointer (or NULL).
-        let s = unsafe {
-            (api.new_discrete_states)(
-                c,
-                if null {
-                    std::ptr::null_mut()
-                } else {
-                    &mut info
-                },
-            )
-        };
+        let s = unsafe { (api.new_discrete_states)(c, null_if(null, &mut info)) };
         if let (Target::Live(_), true, true) = (target, legal, null) {
             if s != ERROR {
                 self.fail(format!(
@@ -136,12 +112,7 @@ impl Sequence<'_, Fmi2> {
             {
                 self.fail(format!("{name} returned {} with {info:?}", status_name(s)));
             }
-            if let (Target::Live(i), true) = (target, legal) {
-                self.stats.events += 1;
-                let inst = &mut self.insts[i];
-                inst.x.clear();
-                inst.dx.clear();
-            }
+            self.event_iterated(target, legal);
         }
         s
     }
@@ -184,16 +155,8 @@ impl Sequence<'_, Fmi2> {
             (api.completed_integrator_step)(
                 c,
                 no_prior,
-                if null_event {
-                    std::ptr::null_mut()
-                } else {
-                    &mut event
-                },
-                if null_terminate {
-                    std::ptr::null_mut()
-                } else {
-                    &mut terminate
-                },
+                null_if(null_event, &mut event),
+                null_if(null_terminate, &mut terminate),
             )
         };
         let null = null_event || null_terminate;

@@ -205,21 +205,11 @@ impl Sequence<'_, Fmi3> {
             }
             // A model failure at initialization: the Error state.
             (f::EXIT_INIT, _) => inst.st = St::Error,
-            (f::ENTER_EVENT_MODE, OK) => {
-                inst.st = St::EventMode;
-                inst.event_requested = false;
-            }
+            (f::ENTER_EVENT_MODE, OK) => inst.enter_event_mode(),
             (f::ENTER_CONTINUOUS_TIME_MODE, OK) => inst.st = St::ContinuousTimeMode,
             (f::ENTER_STEP_MODE, OK) => inst.st = St::StepComplete,
             (f::TERMINATE, OK) => inst.st = St::Terminated,
-            (f::RESET, OK) => {
-                inst.st = St::Instantiated;
-                inst.time = 0.0;
-                inst.stop = None;
-                inst.x.clear();
-                inst.dx.clear();
-                inst.event_requested = false;
-            }
+            (f::RESET, OK) => inst.reset(),
             (f::EVALUATE_DISCRETE_STATES, _) if s != OK => self.fail(format!(
                 "{name} in event mode returned {} (there is nothing discrete to evaluate)",
                 status_name(s)

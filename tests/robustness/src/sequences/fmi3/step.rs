@@ -6,6 +6,7 @@ use super::table::f;
 use super::values::Ptr;
 use super::Fmi3;
 use crate::ffi3::*;
+use crate::sequences::args::null_if;
 use crate::sequences::core::{Sequence, Standard};
 use crate::sequences::machine::{St, Target};
 
@@ -53,13 +54,7 @@ impl Sequence<'_, Fmi3> {
         let mut last = [f64::NAN; 2];
         self.note(|| format!("fmi3DoStep({target:?}, t {t:e} (FMU at {time:e}), h {h:e}, NULL booleans {nulls:?}, lastSuccessfulTime {time_ptr:?})"));
         let [event, terminate, early] = &mut flags;
-        let b = |null: bool, p: &mut u8| {
-            if null {
-                std::ptr::null_mut()
-            } else {
-                p as *mut u8
-            }
-        };
+        let b = |null: bool, p: &mut u8| null_if(null, p as *mut u8);
         // SAFETY: valid out pointers (or NULL, or misaligned within `last`).
         let s = unsafe {
             (self.fmu.api.do_step)(
@@ -165,20 +160,10 @@ impl Sequence<'_, Fmi3> {
         let mut flags = [0xa5u8; 5];
         let mut next = f64::NAN;
         self.note(|| format!("{name}({target:?}, NULL out arguments {nulls:?})"));
-        let p = |k: usize, b: &mut u8| {
-            if nulls[k] {
-                std::ptr::null_mut()
-            } else {
-                b as *mut u8
-            }
-        };
+        let p = |k: usize, b: &mut u8| null_if(nulls[k], b as *mut u8);
         let [a, b, cc, d, e] = &mut flags;
         let (a, b, cc, d, e) = (p(0, a), p(1, b), p(2, cc), p(3, d), p(4, e));
-        let next_p = if nulls[5] {
-            std::ptr::null_mut()
-        } else {
-            &mut next as *mut f64
-        };
+        let next_p = null_if(nulls[5], &mut next as *mut f64);
         // SAFETY: valid out pointers or NULL.
         let s = unsafe {
             (self.fmu.api.update_discrete_states)(
@@ -201,12 +186,7 @@ impl Sequence<'_, Fmi3> {
                     status_name(s)
                 ));
             }
-            if let (Target::Live(i), true) = (target, legal) {
-                self.stats.events += 1;
-                let inst = &mut self.insts[i];
-                inst.x.clear();
-                inst.dx.clear();
-            }
+            self.event_iterated(target, legal);
         }
         s
     }
@@ -225,16 +205,8 @@ impl Sequence<'_, Fmi3> {
         let null_terminate = !self.sane && self.rng.chance(0.04);
         let (mut event, mut terminate) = (0xa5u8, 0xa5u8);
         self.note(|| format!("{name}({target:?}, noSetFMUStatePriorToCurrentPoint {no_prior}, NULL {null_event} {null_terminate})"));
-        let ep = if null_event {
-            std::ptr::null_mut()
-        } else {
-            &mut event as *mut u8
-        };
-        let tp = if null_terminate {
-            std::ptr::null_mut()
-        } else {
-            &mut terminate as *mut u8
-        };
+        let ep = null_if(null_event, &mut event as *mut u8);
+        let tp = null_if(null_terminate, &mut terminate as *mut u8);
         // SAFETY: valid out pointers (or NULL).
         let s =
             unsafe { (self.fmu.api.completed_integrator_step)(c, no_prior, ep.cast(), tp.cast()) };
@@ -274,11 +246,7 @@ impl Sequence<'_, Fmi3> {
         let name = FUNCTION_NAMES_FMI3[function];
         let null = self.rng.chance(0.1);
         let mut n = usize::MAX;
-        let p = if null {
-            std::ptr::null_mut()
-        } else {
-            &mut n as *mut usize
-        };
+        let p = null_if(null, &mut n as *mut usize);
         self.note(|| format!("{name}({target:?}{})", if null { ", NULL" } else { "" }));
         let (g, expected) = if function == f::GET_NUMBER_OF_CONTINUOUS_STATES {
             (self.fmu.api.get_number_of_continuous_states, self.model.nx)
