@@ -3,7 +3,7 @@
 //! function (see the module documentation of [`sequences`](super)), then the teardown that
 //! frees everything it made.
 
-use super::machine::{Handle, Inst, Kind, Snap, St, Target};
+use super::machine::{Call, Handle, Inst, Kind, Snap, St, Target};
 use super::model::Model;
 use super::stats::Stats;
 use crate::ffi::{Component, FmuState, Status, ERROR, OK, WARNING};
@@ -48,6 +48,10 @@ pub enum MeArray {
 /// C calls the shared machinery makes through either standard's functions.
 pub trait Standard: Sized {
     type Fmu: 'static;
+    /// The FMU's name, and what the sequences know of its model (from its
+    /// modelDescription.xml).
+    fn fmu_name(fmu: &Self::Fmu) -> &str;
+    fn model(fmu: &Self::Fmu) -> Model;
     /// What a sequence of this standard keeps besides the shared state.
     type Extra: Default;
     /// The functions' names, by index.
@@ -81,13 +85,7 @@ pub trait Standard: Sized {
     fn random_call(seq: &mut Sequence<Self>);
     /// Calls `function` with generated arguments and checks what only it promises; its
     /// status (`None` for the free instance function, which returns none).
-    fn dispatch(
-        seq: &mut Sequence<Self>,
-        function: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Option<Status>;
+    fn dispatch(seq: &mut Sequence<Self>, call: Call) -> Option<Status>;
 
     // The C calls, each with its pointers as the caller gives them.
     /// # Safety
@@ -255,7 +253,7 @@ impl<'a, S: Standard> Sequence<'a, S> {
             _ => None,
         };
         let legal = before.is_none_or(|(kind, st, _)| S::allowed(function, kind, st));
-        let status = S::dispatch(self, function, target, c, legal)?;
+        let status = S::dispatch(self, Call::new(function, target, c, legal))?;
         self.stats.calls += 1;
         self.stats.statuses[(status as usize).min(5)] += 1;
         let name = S::NAMES[function];
@@ -451,12 +449,9 @@ macro_rules! standard_c_calls {
         }
         fn dispatch(
             seq: &mut Sequence<Self>,
-            function: usize,
-            target: Target,
-            c: Component,
-            legal: bool,
+            call: $crate::sequences::machine::Call,
         ) -> Option<Status> {
-            seq.dispatch(function, target, c, legal)
+            seq.dispatch(call)
         }
 
         unsafe fn free_instance(fmu: &Self::Fmu, c: Component) {

@@ -3,7 +3,7 @@
 //! buffers and bytes; the oracle follows what each handle holds.
 
 use super::core::{Sequence, Standard};
-use super::machine::{Handle, Inst, Snap, Target};
+use super::machine::{Call, Handle, Inst, Snap, Target};
 use super::state_bytes::decode_snap;
 use crate::ffi::{Component, FmuState, Status, ERROR, OK};
 use crate::sequences::args::null_if;
@@ -20,12 +20,8 @@ pub enum Restore {
 
 impl<S: Standard> Sequence<'_, S> {
     /// GetFMUState: a fresh slot, or one holding a live state (which is then overwritten).
-    pub(crate) fn get_fmu_state_call(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-    ) -> Status {
+    pub(crate) fn get_fmu_state_call(&mut self, call: Call) -> Status {
+        let (function, target, c, _) = call.parts();
         let name = S::NAMES[function];
         let reuse = (!self.handles.is_empty() && self.rng.chance(0.3))
             .then(|| self.rng.below(self.handles.len()));
@@ -65,13 +61,11 @@ impl<S: Standard> Sequence<'_, S> {
     /// state into an instance must do.
     pub(crate) fn state_handle_call(
         &mut self,
-        function: usize,
+        call: Call,
         which: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
         restore: impl Fn(&Snap, &Inst) -> Restore,
     ) -> Status {
+        let (function, target, c, legal) = call.parts();
         let name = S::NAMES[function];
         let (k, h) = self.state_handle();
         self.note(|| format!("{name}({target:?}, state {k:?})"));
@@ -166,13 +160,8 @@ impl<S: Standard> Sequence<'_, S> {
 
     /// FreeFMUState of a handle of this sequence, NULL or foreign memory, through a valid
     /// slot or NULL.
-    pub(crate) fn free_fmu_state_call(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn free_fmu_state_call(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let name = S::NAMES[function];
         let (k, h) = self.state_handle();
         let mut slot = h;

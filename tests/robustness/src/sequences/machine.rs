@@ -185,6 +185,32 @@ impl Inst {
     }
 }
 
+/// A call about to be made: the function (its index in the standard's table), the
+/// instance it is made on, and whether the oracle's state machine allows it there.
+#[derive(Clone, Copy, Debug)]
+pub struct Call {
+    function: usize,
+    target: Target,
+    c: Component,
+    legal: bool,
+}
+
+impl Call {
+    pub fn new(function: usize, target: Target, c: Component, legal: bool) -> Call {
+        Call {
+            function,
+            target,
+            c,
+            legal,
+        }
+    }
+
+    /// The function, target, instance pointer and legality, to bind by name.
+    pub fn parts(self) -> (usize, Target, Component, bool) {
+        (self.function, self.target, self.c, self.legal)
+    }
+}
+
 /// The instance a call is made on.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Target {

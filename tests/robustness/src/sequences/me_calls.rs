@@ -4,8 +4,8 @@
 
 use super::core::{MeArray, Sequence, Standard};
 use super::hostile::hostile_f64;
-use super::machine::Target;
-use crate::ffi::{Component, Status, ERROR, OK, WARNING};
+use super::machine::{Call, Target};
+use crate::ffi::{Status, ERROR, OK, WARNING};
 use crate::sequences::args::null_if;
 
 impl<S: Standard> Sequence<'_, S> {
@@ -22,13 +22,8 @@ impl<S: Standard> Sequence<'_, S> {
 
     /// SetTime: a time ahead of the instance's (an integrator's step when sane), the same,
     /// behind it, huge, tiny or not finite; a finite time is accepted, no other.
-    pub(crate) fn set_time_call(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn set_time_call(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let name = S::NAMES[function];
         let time = match target {
             Target::Live(i) => self.insts[i].time,
@@ -71,13 +66,8 @@ impl<S: Standard> Sequence<'_, S> {
     /// SetContinuousStates: from what the importer knows of the instance (an Euler step
     /// from the last states read, those states, or the start values), perturbed, with a
     /// hostile element, a wrong length or NULL sometimes.
-    pub(crate) fn set_continuous_states_call(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn set_continuous_states_call(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let name = S::NAMES[function];
         let n = self.model.nx;
         let len = self.array_len(n);
@@ -160,14 +150,8 @@ impl<S: Standard> Sequence<'_, S> {
     /// One of the four array getters (`which`): a wrong length or NULL refused, nothing
     /// written past the elements, finite values (nominals > 0), the states given back
     /// bit for bit, the same numbers as the variables they are.
-    pub(crate) fn me_array_call(
-        &mut self,
-        function: usize,
-        which: MeArray,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn me_array_call(&mut self, call: Call, which: MeArray) -> Status {
+        let (function, target, c, legal) = call.parts();
         let name = S::NAMES[function];
         let n = if which == MeArray::EventIndicators {
             self.model.ni

@@ -7,12 +7,13 @@ use crate::ffi::*;
 use crate::sequences::args::null_if;
 use crate::sequences::core::Sequence;
 use crate::sequences::hostile::hostile_f64;
-use crate::sequences::machine::Target;
+use crate::sequences::machine::Call;
 
 impl Sequence<'_, Fmi2> {
     /// fmi2GetDirectionalDerivative: never NaN with fmi2OK, nothing written past the
     /// unknowns.
-    pub(crate) fn directional_derivative(&mut self, target: Target, c: Component) -> Status {
+    pub(crate) fn directional_derivative(&mut self, call: Call) -> Status {
+        let (_, target, c, _) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[f::DIRECTIONAL_DERIVATIVE];
         let unknowns = self.vrs();
@@ -49,12 +50,8 @@ impl Sequence<'_, Fmi2> {
 
     /// fmi2SetRealInputDerivatives and fmi2GetRealOutputDerivatives: of an input or
     /// output half the time, with orders and values sane and hostile.
-    pub(crate) fn input_output_derivatives(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-    ) -> Status {
+    pub(crate) fn input_output_derivatives(&mut self, call: Call) -> Status {
+        let (function, target, c, _) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let mut vrs = self.vrs();

@@ -10,7 +10,7 @@ mod table;
 pub use table::allowed;
 
 use super::core::{standard_c_calls, Sequence, Standard};
-use super::machine::{Kind, St, Target};
+use super::machine::{Kind, St};
 use super::model::Model;
 use crate::ffi::*;
 use crate::fmu::Fmu;
@@ -19,11 +19,7 @@ use table::f;
 /// FMI 2.0 (`fmi2Functions.h`).
 pub enum Fmi2 {}
 
-impl<'a> Sequence<'a, Fmi2> {
-    pub fn fmi2(fmu: &'a Fmu, seed: u64, trace: bool) -> Self {
-        Sequence::new(fmu, Model::fmi2(&fmu.md), seed, trace)
-    }
-
+impl Sequence<'_, Fmi2> {
     pub(crate) fn check_platform(&mut self) {
         // SAFETY: no arguments.
         let (p, v) = unsafe {
@@ -134,6 +130,12 @@ impl<'a> Sequence<'a, Fmi2> {
 
 impl Standard for Fmi2 {
     type Fmu = Fmu;
+    fn fmu_name(fmu: &Fmu) -> &str {
+        fmu.name()
+    }
+    fn model(fmu: &Fmu) -> Model {
+        Model::fmi2(&fmu.md)
+    }
     type Extra = ();
     const NAMES: &'static [&'static str] = &FUNCTION_NAMES;
     const FREE_INSTANCE: usize = f::FREE_INSTANCE;

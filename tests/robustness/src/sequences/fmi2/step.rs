@@ -6,16 +6,12 @@ use super::Fmi2;
 use crate::ffi::*;
 use crate::sequences::args::null_if;
 use crate::sequences::core::Sequence;
-use crate::sequences::machine::{St, Target};
+use crate::sequences::machine::{Call, St, Target};
 
 impl Sequence<'_, Fmi2> {
     /// The status getters: a value that is one with fmi2OK.
-    pub(crate) fn status_getter(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-    ) -> Status {
+    pub(crate) fn status_getter(&mut self, call: Call) -> Status {
+        let (function, target, c, _) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let kind: StatusKind = *self.rng.pick(&[0, 1, 2, 3, 3, 2, 4, u32::MAX]);
@@ -73,12 +69,8 @@ impl Sequence<'_, Fmi2> {
 
     /// fmi2NewDiscreteStates: a NULL fmi2EventInfo refused, its booleans fmi2True or
     /// fmi2False and a finite next event time.
-    pub(crate) fn new_discrete_states(
-        &mut self,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn new_discrete_states(&mut self, call: Call) -> Status {
+        let (_, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[f::NEW_DISCRETE_STATES];
         let null = !self.sane && self.rng.chance(0.05);
@@ -119,12 +111,8 @@ impl Sequence<'_, Fmi2> {
 
     /// fmi2CompletedIntegratorStep: NULL out pointers refused, its booleans fmi2True or
     /// fmi2False.
-    pub(crate) fn completed_integrator_step(
-        &mut self,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn completed_integrator_step(&mut self, call: Call) -> Status {
+        let (_, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[f::COMPLETED_INTEGRATOR_STEP];
         let no_prior: Boolean = if self.sane {
@@ -183,7 +171,8 @@ impl Sequence<'_, Fmi2> {
     /// fmi2DoStep with sane and hostile communication points and step sizes: after
     /// fmi2OK the values are numbers; after fmi2Discard, fmi2Terminated is true and
     /// fmi2LastSuccessfulTime lies in the step.
-    pub(crate) fn do_step(&mut self, target: Target, c: Component, legal: bool) -> Status {
+    pub(crate) fn do_step(&mut self, call: Call) -> Status {
+        let (_, target, c, legal) = call.parts();
         let e = self.fmu.md.experiment.clone();
         let (time, stop) = match target {
             Target::Live(i) => (self.insts[i].time, self.insts[i].stop),

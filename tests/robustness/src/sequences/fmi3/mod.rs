@@ -23,11 +23,7 @@ use table::f;
 /// FMI 3.0 (`fmi3Functions.h`).
 pub enum Fmi3 {}
 
-impl<'a> Sequence<'a, Fmi3> {
-    pub fn fmi3(fmu: &'a Fmu3, seed: u64, trace: bool) -> Self {
-        Sequence::new(fmu, Model::fmi3(&fmu.md), seed, trace)
-    }
-
+impl Sequence<'_, Fmi3> {
     /// fmi3GetVersion, the one function without an instance.
     fn check_version(&mut self) {
         // SAFETY: no arguments.
@@ -153,6 +149,12 @@ impl<'a> Sequence<'a, Fmi3> {
 
 impl Standard for Fmi3 {
     type Fmu = Fmu3;
+    fn fmu_name(fmu: &Fmu3) -> &str {
+        fmu.name()
+    }
+    fn model(fmu: &Fmu3) -> Model {
+        Model::fmi3(&fmu.md)
+    }
     type Extra = Extra;
     const NAMES: &'static [&'static str] = &FUNCTION_NAMES_FMI3;
     const FREE_INSTANCE: usize = f::FREE_INSTANCE;

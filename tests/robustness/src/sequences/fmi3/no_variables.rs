@@ -7,18 +7,13 @@ use super::values::{backed, Ptr};
 use super::Fmi3;
 use crate::ffi3::*;
 use crate::sequences::core::Sequence;
-use crate::sequences::machine::Target;
+use crate::sequences::machine::{Call, Target};
 
 impl Sequence<'_, Fmi3> {
     /// A getter of a type the FMU has no variables of (Float32, the integers, Boolean,
     /// String, Binary): only a call asking for nothing succeeds, and nothing is written.
-    pub(crate) fn get_other_type(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Instance,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn get_other_type(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES_FMI3[function];
         let (vrs, nvr, n, vp, op) = self.no_variables_args();
@@ -59,13 +54,8 @@ impl Sequence<'_, Fmi3> {
 
     /// A setter of a type the FMU has no variables of: only a call setting nothing
     /// succeeds. The values are bytes of every kind (booleans other than 0 and 1 too).
-    pub(crate) fn set_other_type(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Instance,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn set_other_type(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES_FMI3[function];
         let (vrs, nvr, n, vp, xp) = self.no_variables_args();

@@ -8,7 +8,7 @@ use super::Fmi3;
 use crate::ffi3::*;
 use crate::sequences::args::null_if;
 use crate::sequences::core::{Sequence, Standard};
-use crate::sequences::machine::{St, Target};
+use crate::sequences::machine::{Call, St, Target};
 
 /// Every byte an FMU writes for a boolean is 0 or 1; `0xa5` is left where it wrote none.
 fn boolean(b: u8) -> bool {
@@ -18,7 +18,8 @@ fn boolean(b: u8) -> bool {
 impl Sequence<'_, Fmi3> {
     /// fmi3DoStep: sane and hostile communication points and step sizes (as FMI 2.0's),
     /// out arguments NULL or misaligned sometimes (refused).
-    pub(crate) fn do_step(&mut self, target: Target, c: Instance, legal: bool) -> Status {
+    pub(crate) fn do_step(&mut self, call: Call) -> Status {
+        let (_, target, c, legal) = call.parts();
         let e = self.model.experiment.clone();
         let (time, stop) = match target {
             Target::Live(i) => (self.insts[i].time, self.insts[i].stop),
@@ -149,12 +150,8 @@ impl Sequence<'_, Fmi3> {
 
     /// fmi3UpdateDiscreteStates: out arguments NULL sometimes (the FMU may skip them or
     /// refuse), booleans 0 or 1, a finite next event time where one is defined.
-    pub(crate) fn update_discrete_states(
-        &mut self,
-        target: Target,
-        c: Instance,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn update_discrete_states(&mut self, call: Call) -> Status {
+        let (_, target, c, legal) = call.parts();
         let name = FUNCTION_NAMES_FMI3[f::UPDATE_DISCRETE_STATES];
         let nulls: [bool; 6] = std::array::from_fn(|_| !self.sane && self.rng.chance(0.05));
         let mut flags = [0xa5u8; 5];
@@ -193,12 +190,8 @@ impl Sequence<'_, Fmi3> {
 
     /// fmi3CompletedIntegratorStep: NULL out pointers refused, booleans 0 or 1, no event
     /// asked by an FMU that says it needs no completed integrator steps.
-    pub(crate) fn completed_integrator_step(
-        &mut self,
-        target: Target,
-        c: Instance,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn completed_integrator_step(&mut self, call: Call) -> Status {
+        let (_, target, c, legal) = call.parts();
         let name = FUNCTION_NAMES_FMI3[f::COMPLETED_INTEGRATOR_STEP];
         let no_prior = self.sane || self.rng.chance(0.5);
         let null_event = !self.sane && self.rng.chance(0.04);
@@ -236,13 +229,8 @@ impl Sequence<'_, Fmi3> {
 
     /// fmi3GetNumberOfContinuousStates, fmi3GetNumberOfEventIndicators: the
     /// modelDescription's count (of elements), NULL refused.
-    pub(crate) fn get_number_of(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Instance,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn get_number_of(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let name = FUNCTION_NAMES_FMI3[function];
         let null = self.rng.chance(0.1);
         let mut n = usize::MAX;
