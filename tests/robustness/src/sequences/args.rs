@@ -14,6 +14,25 @@ use std::ffi::CString;
 pub const SANE_NAMES: [&str; 4] = ["instance", "Oscillator", "x%s%n%d %p", "ünïcødé name"];
 
 impl<S: Standard> Sequence<'_, S> {
+    /// The oracle's time and stop time of the instance (time 0 and none for no instance).
+    pub(crate) fn time_and_stop(&self, target: Target) -> (f64, Option<f64>) {
+        match target {
+            Target::Live(i) => (self.insts[i].time, self.insts[i].stop),
+            _ => (0.0, None),
+        }
+    }
+
+    /// The time a step starts at: mostly the instance's, sometimes off it by a rounding, a
+    /// second or a millisecond, or one of `hostile`.
+    pub(crate) fn step_start(&mut self, time: f64, hostile: &[f64]) -> f64 {
+        match self.rng.below(20) {
+            0..=15 => time,
+            16 => time * (1.0 + 1e-13) + 1e-300,
+            17 => time + *self.rng.pick(&[1.0, -1.0, 1e-3, -1e-3]),
+            _ => *self.rng.pick(hostile),
+        }
+    }
+
     /// The instance of a call: mostly a live one, sometimes NULL or foreign memory.
     pub(crate) fn target(&mut self) -> (Target, Component) {
         let r = self.rng.unit();

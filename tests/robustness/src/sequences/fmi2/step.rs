@@ -174,10 +174,7 @@ impl Sequence<'_, Fmi2> {
     pub(crate) fn do_step(&mut self, call: Call) -> Status {
         let (_, target, c, legal) = call.parts();
         let e = self.fmu.md.experiment.clone();
-        let (time, stop) = match target {
-            Target::Live(i) => (self.insts[i].time, self.insts[i].stop),
-            _ => (0.0, None),
-        };
+        let (time, stop) = self.time_and_stop(target);
         let h = match self.rng.below(20) {
             0..=8 => e.step,
             9..=11 => self.rng.log_uniform(1e-6, 1.0),
@@ -205,19 +202,15 @@ impl Sequence<'_, Fmi2> {
             16 => self.rng.log_uniform(1.0, 10.0),
             _ => e.step,
         };
-        let t = match self.rng.below(20) {
-            0..=15 => time,
-            16 => time * (1.0 + 1e-13) + 1e-300,
-            17 => time + *self.rng.pick(&[1.0, -1.0, 1e-3, -1e-3]),
-            _ => *self.rng.pick(&[
-                f64::NAN,
-                f64::INFINITY,
-                f64::NEG_INFINITY,
-                0.0,
-                -time,
-                1e308,
-            ]),
-        };
+        let hostile = [
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            0.0,
+            -time,
+            1e308,
+        ];
+        let t = self.step_start(time, &hostile);
         let no_prior: Boolean = *self.rng.pick(&[0, 1, 2]);
         self.note(|| format!("fmi2DoStep({target:?}, t {t:e} (FMU at {time:e}), h {h:e}, noSetFMUStatePriorToCurrentPoint {no_prior})"));
         // SAFETY: scalar arguments.

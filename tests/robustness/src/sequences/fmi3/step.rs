@@ -21,10 +21,7 @@ impl Sequence<'_, Fmi3> {
     pub(crate) fn do_step(&mut self, call: Call) -> Status {
         let (_, target, c, legal) = call.parts();
         let e = self.model.experiment.clone();
-        let (time, stop) = match target {
-            Target::Live(i) => (self.insts[i].time, self.insts[i].stop),
-            _ => (0.0, None),
-        };
+        let (time, stop) = self.time_and_stop(target);
         let h = match self.rng.below(20) {
             0..=9 => e.step,
             10..=12 => self.rng.log_uniform(1e-6, 1.0),
@@ -40,12 +37,7 @@ impl Sequence<'_, Fmi3> {
             16 => self.rng.log_uniform(1.0, 10.0),
             _ => e.step,
         };
-        let t = match self.rng.below(20) {
-            0..=15 => time,
-            16 => time * (1.0 + 1e-13) + 1e-300,
-            17 => time + *self.rng.pick(&[1.0, -1.0, 1e-3, -1e-3]),
-            _ => *self.rng.pick(&[f64::NAN, f64::INFINITY, 0.0, -time, 1e308]),
-        };
+        let t = self.step_start(time, &[f64::NAN, f64::INFINITY, 0.0, -time, 1e308]);
         let no_prior = self.rng.chance(0.5);
         // Booleans are bytes, never misaligned: NULL or not. The time: NULL or misaligned
         // (within `last`) sometimes.
