@@ -14,6 +14,15 @@ use std::ffi::CString;
 pub const SANE_NAMES: [&str; 4] = ["instance", "Oscillator", "x%s%n%d %p", "ünïcødé name"];
 
 impl<S: Standard> Sequence<'_, S> {
+    /// A seed or input derivative: mostly within [-1, 1), hostile sometimes.
+    pub(crate) fn derivative_value(&mut self) -> f64 {
+        if self.rng.chance(0.8) {
+            self.rng.unit() * 2.0 - 1.0
+        } else {
+            hostile_f64(&mut self.rng)
+        }
+    }
+
     /// The oracle's time and stop time of the instance (time 0 and none for no instance).
     pub(crate) fn time_and_stop(&self, target: Target) -> (f64, Option<f64>) {
         match target {

@@ -18,16 +18,7 @@ impl Sequence<'_, Fmi2> {
         let name = FUNCTION_NAMES[f::DIRECTIONAL_DERIVATIVE];
         let unknowns = self.vrs();
         let knowns = self.vrs();
-        let dv: Vec<f64> = knowns
-            .iter()
-            .map(|_| {
-                if self.rng.chance(0.8) {
-                    self.rng.unit() * 2.0 - 1.0
-                } else {
-                    hostile_f64(&mut self.rng)
-                }
-            })
-            .collect();
+        let dv: Vec<f64> = knowns.iter().map(|_| self.derivative_value()).collect();
         let n = unknowns.len();
         let mut out = vec![-7.5e-77f64; n + 4];
         let (up, kp, dp) = (

@@ -9,7 +9,6 @@ use super::values::{backed, Ptr};
 use super::Fmi3;
 use crate::ffi3::*;
 use crate::sequences::core::Sequence;
-use crate::sequences::hostile::hostile_f64;
 use crate::sequences::machine::{Call, Target};
 
 const CANARY: f64 = -7.5e-77;
@@ -45,13 +44,7 @@ impl Sequence<'_, Fmi3> {
             self.array_len(nu)
         };
         let mut seed: Vec<f64> = (0..backed(n_seed) + 1)
-            .map(|_| {
-                if self.rng.chance(0.8) {
-                    self.rng.unit() * 2.0 - 1.0
-                } else {
-                    hostile_f64(&mut self.rng)
-                }
-            })
+            .map(|_| self.derivative_value())
             .collect();
         let cap = backed(n_sens);
         let mut out = vec![CANARY; cap + 4];
