@@ -61,6 +61,8 @@ pub trait Standard: Sized {
     /// An importer's integrator step: get the states, the derivatives, set the time, the
     /// states, complete the step; then sometimes the event indicators (the last).
     const ME_STEP: [usize; 6];
+    /// GetNominalsOfContinuousStates, the one Model Exchange array getter not in a step.
+    const GET_NOMINALS: usize;
 
     fn status_name(s: Status) -> String;
     /// The standard's state table: whether an instance of `kind` in `st` may call

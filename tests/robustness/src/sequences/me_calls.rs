@@ -9,6 +9,23 @@ use crate::ffi::{Status, ERROR, OK, WARNING};
 use crate::sequences::args::null_if;
 
 impl<S: Standard> Sequence<'_, S> {
+    /// The Model Exchange calls both standards share (SetTime, SetContinuousStates, the
+    /// array getters), made with their checks; `None` for any other function.
+    pub(crate) fn shared_me_call(&mut self, call: Call) -> Option<Status> {
+        let [states, derivatives, set_time, set_states, _, indicators] = S::ME_STEP;
+        let function = call.parts().0;
+        let s = match function {
+            _ if function == set_time => self.set_time_call(call),
+            _ if function == set_states => self.set_continuous_states_call(call),
+            _ if function == derivatives => self.me_array_call(call, MeArray::Derivatives),
+            _ if function == indicators => self.me_array_call(call, MeArray::EventIndicators),
+            _ if function == states => self.me_array_call(call, MeArray::ContinuousStates),
+            _ if function == S::GET_NOMINALS => self.me_array_call(call, MeArray::Nominals),
+            _ => return None,
+        };
+        Some(s)
+    }
+
     /// A step of the event iteration went through: an event counted, and what the
     /// importer knew of the states gone.
     pub(crate) fn event_iterated(&mut self, target: Target, legal: bool) {

@@ -6,7 +6,7 @@ use super::table::f;
 use super::Fmi2;
 use crate::ffi::*;
 use crate::sequences::args::null_if;
-use crate::sequences::core::{MeArray, Sequence};
+use crate::sequences::core::Sequence;
 use crate::sequences::fmu_states::Restore;
 use crate::sequences::hostile::hostile_f64;
 use crate::sequences::machine::{Call, St, Target};
@@ -15,6 +15,9 @@ use std::ffi::CString;
 impl Sequence<'_, Fmi2> {
     pub(crate) fn dispatch(&mut self, call: Call) -> Option<Status> {
         let (function, target, c, _) = call.parts();
+        if let Some(s) = self.shared_me_call(call) {
+            return Some(s);
+        }
         let s = match function {
             f::SET_DEBUG_LOGGING => self.set_debug_logging_call(call),
             f::FREE_INSTANCE => {
@@ -52,12 +55,6 @@ impl Sequence<'_, Fmi2> {
             | f::GET_INTEGER_STATUS
             | f::GET_BOOLEAN_STATUS
             | f::GET_STRING_STATUS => self.status_getter(call),
-            f::SET_TIME => self.set_time_call(call),
-            f::SET_CONTINUOUS_STATES => self.set_continuous_states_call(call),
-            f::GET_DERIVATIVES => self.me_array_call(call, MeArray::Derivatives),
-            f::GET_EVENT_INDICATORS => self.me_array_call(call, MeArray::EventIndicators),
-            f::GET_CONTINUOUS_STATES => self.me_array_call(call, MeArray::ContinuousStates),
-            f::GET_NOMINALS => self.me_array_call(call, MeArray::Nominals),
             f::NEW_DISCRETE_STATES => self.new_discrete_states(call),
             f::COMPLETED_INTEGRATOR_STEP => self.completed_integrator_step(call),
             _ => unreachable!("function {function}"),

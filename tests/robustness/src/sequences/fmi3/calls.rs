@@ -6,7 +6,7 @@
 use super::table::f;
 use super::Fmi3;
 use crate::ffi3::*;
-use crate::sequences::core::{MeArray, Sequence};
+use crate::sequences::core::Sequence;
 use crate::sequences::fmu_states::Restore;
 use crate::sequences::hostile::hostile_f64;
 use crate::sequences::machine::{Call, Inst, Kind, Snap, St, Target};
@@ -18,6 +18,9 @@ impl Sequence<'_, Fmi3> {
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES_FMI3[function];
         let live = matches!(target, Target::Live(_)) && legal;
+        if let Some(s) = self.shared_me_call(call) {
+            return Some(s);
+        }
         let s = match function {
             f::SET_DEBUG_LOGGING => {
                 let on = self.rng.chance(0.5);
@@ -105,12 +108,6 @@ impl Sequence<'_, Fmi3> {
             f::GET_NUMBER_OF_EVENT_INDICATORS | f::GET_NUMBER_OF_CONTINUOUS_STATES => {
                 self.get_number_of(call)
             }
-            f::SET_TIME => self.set_time_call(call),
-            f::SET_CONTINUOUS_STATES => self.set_continuous_states_call(call),
-            f::GET_DERIVATIVES => self.me_array_call(call, MeArray::Derivatives),
-            f::GET_EVENT_INDICATORS => self.me_array_call(call, MeArray::EventIndicators),
-            f::GET_CONTINUOUS_STATES => self.me_array_call(call, MeArray::ContinuousStates),
-            f::GET_NOMINALS => self.me_array_call(call, MeArray::Nominals),
             _ if f::unsupported(function) => self.unsupported(call),
             _ => unreachable!("function {function}"),
         };

@@ -167,6 +167,7 @@ impl Standard for Fmi3 {
         f::COMPLETED_INTEGRATOR_STEP,
         f::GET_EVENT_INDICATORS,
     ];
+    const GET_NOMINALS: usize = f::GET_NOMINALS;
 
     fn status_name(s: Status) -> String {
         status_name(s)
