@@ -155,13 +155,7 @@ fn parameters_after_initialization_follow_their_variability() {
                 }
             }
         }
-        assert_eq!(
-            inst.do_step(e.start + e.step, e.step),
-            OK,
-            "{}: {}",
-            fmu.name(),
-            inst.log_tail()
-        );
+        step_ok(&mut inst, &fmu, e.start + e.step, e.step);
     }
 }
 
@@ -193,13 +187,7 @@ fn non_finite_inputs_are_refused_and_never_reach_a_step() {
                 checked += 1;
             }
             // The next step runs on the last valid input.
-            assert_eq!(
-                inst.do_step(e.start + e.step, e.step),
-                OK,
-                "{}: {}",
-                fmu.name(),
-                inst.log_tail()
-            );
+            step_ok(&mut inst, &fmu, e.start + e.step, e.step);
             // A finite input so large the model's values overflow, at once or a few steps
             // on (an Oscillator pushed by F = f64::MAX gains 1e306 m/s per 0.01 s: finite,
             // and right, for a while): every step succeeds with no value NaN, until one is
@@ -247,13 +235,7 @@ fn non_finite_inputs_are_refused_and_never_reach_a_step() {
             // after a discarded one, from a reset.
             if s == ERROR {
                 assert_eq!(inst.set_real(&[input.vr], &[held]), OK);
-                assert_eq!(
-                    inst.do_step(t, e.step),
-                    OK,
-                    "{}: {}",
-                    fmu.name(),
-                    inst.log_tail()
-                );
+                step_ok(&mut inst, &fmu, t, e.step);
             } else {
                 assert_eq!(inst.reset(), OK);
                 inst.initialize(&[]).unwrap();
@@ -263,6 +245,18 @@ fn non_finite_inputs_are_refused_and_never_reach_a_step() {
         }
     }
     println!("{checked} non-finite or overflowing inputs refused");
+}
+
+/// One step that must succeed, the log in the message otherwise.
+#[track_caller]
+fn step_ok(inst: &mut Instance, fmu: &Fmu, t: f64, h: f64) {
+    assert_eq!(
+        inst.do_step(t, h),
+        OK,
+        "{}: {}",
+        fmu.name(),
+        inst.log_tail()
+    );
 }
 
 /// A value different from `v`'s start, within its bounds.

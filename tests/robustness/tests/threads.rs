@@ -16,6 +16,33 @@ use mechfmu_robustness::scenarios::{fingerprint, fingerprint3, me_fingerprint, m
 const CS_JOBS: usize = 8;
 const JOBS: usize = 12;
 
+/// The [`JOBS`] runs of `job` one after the other, then 3 rounds of all of them in as
+/// many threads at once, each bit-identical to its sequential run (`instance` says which
+/// run differed); the sequential runs.
+fn sequential_then_in_threads(
+    job: impl Fn(usize) -> Vec<u64> + Copy + Send + Sync,
+    instance: impl Fn(usize) -> String,
+) -> Vec<Vec<u64>> {
+    let sequential: Vec<Vec<u64>> = (0..JOBS).map(job).collect();
+    for round in 0..3 {
+        let parallel: Vec<Vec<u64>> = std::thread::scope(|s| {
+            let handles: Vec<_> = (0..JOBS).map(|i| s.spawn(move || job(i))).collect();
+            handles
+                .into_iter()
+                .map(|h| h.join().expect("a thread panicked"))
+                .collect()
+        });
+        for i in 0..JOBS {
+            assert!(
+                parallel[i] == sequential[i],
+                "round {round}: {} instance {i} in a thread differs from its sequential run",
+                instance(i)
+            );
+        }
+    }
+    sequential
+}
+
 #[test]
 fn two_binaries_twelve_threads_match_sequential_runs() {
     let paths = required_fmu_paths();
@@ -44,28 +71,14 @@ fn two_binaries_twelve_threads_match_sequential_runs() {
         }
         .unwrap_or_else(|e| panic!("{} (job {i}): {e}", fmu.name()))
     };
-    let sequential: Vec<Vec<u64>> = (0..JOBS).map(job).collect();
-    for round in 0..3 {
-        let parallel: Vec<Vec<u64>> = std::thread::scope(|s| {
-            let handles: Vec<_> = (0..JOBS).map(|i| s.spawn(move || job(i))).collect();
-            handles
-                .into_iter()
-                .map(|h| h.join().expect("a thread panicked"))
-                .collect()
-        });
-        for i in 0..JOBS {
-            assert!(
-                parallel[i] == sequential[i],
-                "round {round}: {} {} instance {i} in a thread differs from its sequential run",
-                fmus[i % 2].name(),
-                if i < CS_JOBS {
-                    "Co-Simulation"
-                } else {
-                    "Model Exchange"
-                }
-            );
-        }
-    }
+    let sequential = sequential_then_in_threads(job, |i| {
+        let kind = if i < CS_JOBS {
+            "Co-Simulation"
+        } else {
+            "Model Exchange"
+        };
+        format!("{} {kind}", fmus[i % 2].name())
+    });
     // The runs differ from each other (tolerances, step sizes, lengths), so equality
     // means something.
     assert_ne!(sequential[0], sequential[2]);
@@ -105,23 +118,7 @@ fn two_fmi3_binaries_twelve_threads_match_sequential_runs() {
         }
         .unwrap_or_else(|e| panic!("{} (job {i}): {e}", fmu.name()))
     };
-    let sequential: Vec<Vec<u64>> = (0..JOBS).map(job).collect();
-    for round in 0..3 {
-        let parallel: Vec<Vec<u64>> = std::thread::scope(|s| {
-            let handles: Vec<_> = (0..JOBS).map(|i| s.spawn(move || job(i))).collect();
-            handles
-                .into_iter()
-                .map(|h| h.join().expect("a thread panicked"))
-                .collect()
-        });
-        for i in 0..JOBS {
-            assert!(
-                parallel[i] == sequential[i],
-                "round {round}: {} FMI 3.0 instance {i} in a thread differs from its sequential run",
-                fmus[i % 2].name()
-            );
-        }
-    }
+    let sequential = sequential_then_in_threads(job, |i| format!("{} FMI 3.0", fmus[i % 2].name()));
     // The runs differ from each other, so equality means something.
     for (x, y) in [(0, 2), (1, 3), (0, 4), (8, 10), (9, 11)] {
         assert_ne!(sequential[x], sequential[y], "jobs {x} and {y}");

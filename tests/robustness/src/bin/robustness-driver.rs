@@ -15,6 +15,7 @@
 //! Exit status: 0 success, 1 a check failed (the failure on stderr), 2 bad usage.
 
 use mechfmu_robustness::fmu::{fmi_version, Fmu, Fmu3};
+use mechfmu_robustness::sequences::{Fmi2, Fmi3};
 use mechfmu_robustness::{scenarios, sequences};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -60,8 +61,12 @@ fn main() -> ExitCode {
             let count = number("--count", 1000);
             let (announce, trace) = (flag("--announce"), flag("--trace"));
             let (stats, failures) = match &fmu {
-                Loaded::Fmi2(fmu) => sequences::run_many(fmu, first, count, announce, trace),
-                Loaded::Fmi3(fmu) => sequences::run_many3(fmu, first, count, announce, trace),
+                Loaded::Fmi2(fmu) => {
+                    sequences::run_many::<Fmi2>(fmu, first, count, announce, trace)
+                }
+                Loaded::Fmi3(fmu) => {
+                    sequences::run_many::<Fmi3>(fmu, first, count, announce, trace)
+                }
             };
             println!("summary {}: {stats}", fmu.name());
             for f in failures.iter().take(20) {

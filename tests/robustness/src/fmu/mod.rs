@@ -121,6 +121,20 @@ impl Drop for Unpacked {
     }
 }
 
+/// `fmu`'s modelDescription.xml parsed, its binary unpacked and the functions loaded from
+/// it (the errors naming the FMU).
+fn unpack_and_load<M, A>(
+    fmu: &Path,
+    parse: fn(&str) -> Result<M, String>,
+    load: fn(&Library) -> Result<A, String>,
+) -> Result<(M, Unpacked, A), String> {
+    let xml = archive::model_description(fmu)?;
+    let md = parse(&xml).map_err(|e| format!("{}: {e}", fmu.display()))?;
+    let unpacked = Unpacked::new(fmu)?;
+    let api = load(&unpacked.library).map_err(|e| format!("{}: {e}", fmu.display()))?;
+    Ok((md, unpacked, api))
+}
+
 /// An FMI 2.0 FMU unpacked into a private temporary directory and loaded.
 pub struct Fmu {
     pub md: ModelDescription,
@@ -133,10 +147,7 @@ impl Fmu {
     /// Unpacks `fmu` (modelDescription.xml and this machine's binary) and loads the
     /// binary, resolving all 44 functions.
     pub fn load(fmu: &Path) -> Result<Fmu, String> {
-        let xml = archive::model_description(fmu)?;
-        let md = ModelDescription::parse(&xml).map_err(|e| format!("{}: {e}", fmu.display()))?;
-        let unpacked = Unpacked::new(fmu)?;
-        let api = Api::load(&unpacked.library).map_err(|e| format!("{}: {e}", fmu.display()))?;
+        let (md, unpacked, api) = unpack_and_load(fmu, ModelDescription::parse, Api::load)?;
         Ok(Fmu {
             md,
             api,
@@ -164,17 +175,15 @@ pub struct Fmu3 {
     /// hostile importer's way to the other standard's instances and FMU states.
     pub fmi2: Option<(Api, String)>,
     pub path: PathBuf,
-    unpacked: Unpacked,
+    /// Held for its lifetime: the binary stays loaded, the directory is removed on drop.
+    _unpacked: Unpacked,
 }
 
 impl Fmu3 {
     /// Unpacks `fmu` (modelDescription.xml and this machine's binary) and loads the
     /// binary, resolving all 75 functions.
     pub fn load(fmu: &Path) -> Result<Fmu3, String> {
-        let xml = archive::model_description(fmu)?;
-        let md = ModelDescription3::parse(&xml).map_err(|e| format!("{}: {e}", fmu.display()))?;
-        let unpacked = Unpacked::new(fmu)?;
-        let api = Api3::load(&unpacked.library).map_err(|e| format!("{}: {e}", fmu.display()))?;
+        let (md, unpacked, api) = unpack_and_load(fmu, ModelDescription3::parse, Api3::load)?;
         let sibling = fmu
             .parent()
             .and_then(Path::parent)
@@ -191,16 +200,11 @@ impl Fmu3 {
             api,
             fmi2,
             path: fmu.to_path_buf(),
-            unpacked,
+            _unpacked: unpacked,
         })
     }
 
     pub fn name(&self) -> &str {
         &self.md.model_identifier
-    }
-
-    /// The unpacked binary.
-    pub fn binary(&self) -> PathBuf {
-        self.unpacked.binary.clone()
     }
 }

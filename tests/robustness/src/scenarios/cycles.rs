@@ -44,20 +44,11 @@ pub fn cycles(fmu: &Fmu, count: usize) -> Result<u64, String> {
         }
         // An FMU state, through its bytes and back.
         let api = *fmu.api;
-        let mut state: FmuState = std::ptr::null_mut();
-        let mut size = 0usize;
+        let (mut state, bytes, mut copy) =
+            state_through_bytes(&inst).map_err(|m| fail(m, &inst))?;
         // SAFETY: valid pointers; the states made here are freed below.
         unsafe {
-            if (api.get_fmu_state)(inst.c, &mut state) != OK
-                || (api.serialized_fmu_state_size)(inst.c, state, &mut size) != OK
-            {
-                return Err(fail("fmi2GetFMUstate/fmi2SerializedFMUstateSize", &inst));
-            }
-            let mut bytes = vec![0u8; size];
-            let mut copy: FmuState = std::ptr::null_mut();
-            if (api.serialize_fmu_state)(inst.c, state, bytes.as_mut_ptr().cast(), size) != OK
-                || (api.deserialize_fmu_state)(inst.c, bytes.as_ptr().cast(), size, &mut copy) != OK
-                || (api.set_fmu_state)(inst.c, copy) != OK
+            if (api.set_fmu_state)(inst.c, copy) != OK
                 || (api.free_fmu_state)(inst.c, &mut copy) != OK
                 || (api.free_fmu_state)(inst.c, &mut state) != OK
             {
@@ -140,22 +131,9 @@ pub fn me_cycle(fmu: &Fmu, cycle: usize, cs_state: &[u8]) -> Result<u64, String>
         me.step(&mut inst).map_err(|m| fail(&m, &inst))?;
     }
     let api = *fmu.api;
+    let (mut state, _, mut copy) = state_through_bytes(&inst).map_err(|m| fail(m, &inst))?;
     // SAFETY: valid pointers; the states made here are freed below.
     unsafe {
-        let mut state: FmuState = std::ptr::null_mut();
-        let mut size = 0usize;
-        if (api.get_fmu_state)(inst.c, &mut state) != OK
-            || (api.serialized_fmu_state_size)(inst.c, state, &mut size) != OK
-        {
-            return Err(fail("fmi2GetFMUstate/fmi2SerializedFMUstateSize", &inst));
-        }
-        let mut bytes = vec![0u8; size];
-        let mut copy: FmuState = std::ptr::null_mut();
-        if (api.serialize_fmu_state)(inst.c, state, bytes.as_mut_ptr().cast(), size) != OK
-            || (api.deserialize_fmu_state)(inst.c, bytes.as_ptr().cast(), size, &mut copy) != OK
-        {
-            return Err(fail("fmi2SerializeFMUstate/fmi2DeSerializeFMUstate", &inst));
-        }
         let (saved_x, saved_n) = (me.x.clone(), me.n);
         for _ in 0..2 {
             me.step(&mut inst).map_err(|m| fail(&m, &inst))?;
@@ -220,4 +198,29 @@ pub fn me_cycle(fmu: &Fmu, cycle: usize, cs_state: &[u8]) -> Result<u64, String>
     }
     drop(inst);
     Ok(calls + 2)
+}
+
+/// An FMU state of `inst`, its bytes, and the state deserialized from them (GetFMUstate,
+/// SerializedFMUstateSize, SerializeFMUstate, DeSerializeFMUstate); the caller frees both
+/// states. The failed calls' names otherwise.
+fn state_through_bytes(inst: &Instance) -> Result<(FmuState, Vec<u8>, FmuState), &'static str> {
+    let api = *inst.fmu.api;
+    let mut state: FmuState = std::ptr::null_mut();
+    let mut size = 0usize;
+    // SAFETY: a live instance, valid pointers, a buffer of `size` bytes.
+    unsafe {
+        if (api.get_fmu_state)(inst.c, &mut state) != OK
+            || (api.serialized_fmu_state_size)(inst.c, state, &mut size) != OK
+        {
+            return Err("fmi2GetFMUstate/fmi2SerializedFMUstateSize");
+        }
+        let mut bytes = vec![0u8; size];
+        let mut copy: FmuState = std::ptr::null_mut();
+        if (api.serialize_fmu_state)(inst.c, state, bytes.as_mut_ptr().cast(), size) != OK
+            || (api.deserialize_fmu_state)(inst.c, bytes.as_ptr().cast(), size, &mut copy) != OK
+        {
+            return Err("fmi2SerializeFMUstate/fmi2DeSerializeFMUstate");
+        }
+        Ok((state, bytes, copy))
+    }
 }

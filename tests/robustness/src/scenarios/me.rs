@@ -159,6 +159,31 @@ impl MeIntegrator {
         Ok(me)
     }
 
+    /// `steps` steps from an initialized instance: the bits of the states every 10 steps
+    /// and of `all_values` every 100; then the number of events, whether the FMU ended the
+    /// simulation, and the final time. A run to compare across threads.
+    pub fn fingerprint<T: ModelExchangeInstance>(
+        inst: &mut T,
+        h: f64,
+        steps: u64,
+        all_values: impl Fn(&mut T) -> Vec<f64>,
+    ) -> Result<Vec<u64>, String> {
+        let mut me = MeIntegrator::start(inst, h)?;
+        let mut out = vec![];
+        for n in 0..steps {
+            me.step(inst)
+                .map_err(|m| format!("step {n} (t = {}): {m}", me.time()))?;
+            if n % 10 == 9 {
+                out.extend(me.x.iter().map(|x| x.to_bits()));
+            }
+            if n % 100 == 99 {
+                out.extend(all_values(inst).iter().map(|x| x.to_bits()));
+            }
+        }
+        out.extend([me.events, me.terminated as u64, me.time().to_bits()]);
+        Ok(out)
+    }
+
     /// The time of step `n`.
     pub fn time(&self) -> f64 {
         self.t0 + self.n as f64 * self.h

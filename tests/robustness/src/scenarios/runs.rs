@@ -33,20 +33,7 @@ pub fn me_fingerprint(fmu: &Fmu, tol: f64, steps: u64, h: f64) -> Result<Vec<u64
     {
         return Err(format!("initialization: {}", inst.log_tail()));
     }
-    let mut me = MeIntegrator::start(&mut inst, h)?;
-    let mut out = vec![];
-    for n in 0..steps {
-        me.step(&mut inst)
-            .map_err(|m| format!("step {n} (t = {}): {m}", me.time()))?;
-        if n % 10 == 9 {
-            out.extend(me.x.iter().map(|x| x.to_bits()));
-        }
-        if n % 100 == 99 {
-            out.extend(inst.all_values().iter().map(|x| x.to_bits()));
-        }
-    }
-    out.extend([me.events, me.terminated as u64, me.time().to_bits()]);
-    Ok(out)
+    MeIntegrator::fingerprint(&mut inst, h, steps, Instance::all_values)
 }
 
 /// What a long run measured.

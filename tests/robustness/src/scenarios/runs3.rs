@@ -35,17 +35,7 @@ pub fn fingerprint3(
     let mut inst = Instance3::new_cs(fmu, "thread", event_mode_used, false)
         .map_err(|m| format!("fmi3InstantiateCoSimulation: {m:?}"))?;
     let e = fmu.md.experiment.clone();
-    if inst.enter_init(Some(tol), e.start, None) != OK {
-        return Err(format!("initialization: {}", inst.log_tail()));
-    }
-    for (vr, x) in pushed_inputs3(fmu) {
-        if inst.set_float64(&[vr], &x) != OK {
-            return Err(format!("initialization: {}", inst.log_tail()));
-        }
-    }
-    if inst.exit_init() != OK {
-        return Err(format!("initialization: {}", inst.log_tail()));
-    }
+    initialize(&mut inst, tol, e.start, fmu)?;
     let mut out = vec![];
     let h = 1e-3;
     for n in 0..steps {
@@ -89,29 +79,23 @@ pub fn me_fingerprint3(fmu: &Fmu3, tol: f64, steps: u64, h: f64) -> Result<Vec<u
     let mut inst = Instance3::new_me(fmu, "me-thread")
         .map_err(|m| format!("fmi3InstantiateModelExchange: {m:?}"))?;
     let e = fmu.md.experiment.clone();
-    if inst.enter_init(Some(tol), e.start, None) != OK {
-        return Err(format!("initialization: {}", inst.log_tail()));
+    initialize(&mut inst, tol, e.start, fmu)?;
+    MeIntegrator::fingerprint(&mut inst, h, steps, Instance3::all_values)
+}
+
+/// Initialization with relative tolerance `tol` from `start` and the [`pushed_inputs3`].
+fn initialize(inst: &mut Instance3, tol: f64, start: f64, fmu: &Fmu3) -> Result<(), String> {
+    let fail = |inst: &Instance3| Err(format!("initialization: {}", inst.log_tail()));
+    if inst.enter_init(Some(tol), start, None) != OK {
+        return fail(inst);
     }
     for (vr, x) in pushed_inputs3(fmu) {
         if inst.set_float64(&[vr], &x) != OK {
-            return Err(format!("initialization: {}", inst.log_tail()));
+            return fail(inst);
         }
     }
     if inst.exit_init() != OK {
-        return Err(format!("initialization: {}", inst.log_tail()));
+        return fail(inst);
     }
-    let mut me = MeIntegrator::start(&mut inst, h)?;
-    let mut out = vec![];
-    for n in 0..steps {
-        me.step(&mut inst)
-            .map_err(|m| format!("step {n} (t = {}): {m}", me.time()))?;
-        if n % 10 == 9 {
-            out.extend(me.x.iter().map(|x| x.to_bits()));
-        }
-        if n % 100 == 99 {
-            out.extend(inst.all_values().iter().map(|x| x.to_bits()));
-        }
-    }
-    out.extend([me.events, me.terminated as u64, me.time().to_bits()]);
-    Ok(out)
+    Ok(())
 }

@@ -4,13 +4,14 @@
 use crate::ffi::*;
 use crate::ffi3::boolean_out;
 use crate::fmu::{Fmu, Fmu3};
+use crate::sequences::{run_many, Fmi2, Fmi3};
 
 /// Every function, called right and wrong, with and without a logger: for the check that
 /// an FMU prints nothing. Returns the number of calls.
 pub fn tour(fmu: &Fmu) -> Result<u64, String> {
     let mut calls = 0;
     // Random sequences cover every function in every state, with hostile arguments.
-    let (stats, failures) = crate::sequences::run_many(fmu, 0x5117_0000, 300, false, false);
+    let (stats, failures) = run_many::<Fmi2>(fmu, 0x5117_0000, 300, false, false);
     if let Some(f) = failures.first() {
         return Err(f.clone());
     }
@@ -135,7 +136,7 @@ pub fn tour(fmu: &Fmu) -> Result<u64, String> {
 /// The same for an FMI 3.0 FMU: random sequences, then a scripted run of both interface
 /// types with no logger, right and wrong. Returns the number of calls.
 pub fn tour3(fmu: &Fmu3) -> Result<u64, String> {
-    let (stats, failures) = crate::sequences::run_many3(fmu, 0x5117_0000, 300, false, false);
+    let (stats, failures) = run_many::<Fmi3>(fmu, 0x5117_0000, 300, false, false);
     if let Some(f) = failures.first() {
         return Err(f.clone());
     }

@@ -14,6 +14,34 @@ use std::ffi::CString;
 pub const SANE_NAMES: [&str; 4] = ["instance", "Oscillator", "x%s%n%d %p", "ünïcødé name"];
 
 impl<S: Standard> Sequence<'_, S> {
+    /// A seed or input derivative: mostly within [-1, 1), hostile sometimes.
+    pub(crate) fn derivative_value(&mut self) -> f64 {
+        if self.rng.chance(0.8) {
+            self.rng.unit() * 2.0 - 1.0
+        } else {
+            hostile_f64(&mut self.rng)
+        }
+    }
+
+    /// The oracle's time and stop time of the instance (time 0 and none for no instance).
+    pub(crate) fn time_and_stop(&self, target: Target) -> (f64, Option<f64>) {
+        match target {
+            Target::Live(i) => (self.insts[i].time, self.insts[i].stop),
+            _ => (0.0, None),
+        }
+    }
+
+    /// The time a step starts at: mostly the instance's, sometimes off it by a rounding, a
+    /// second or a millisecond, or one of `hostile`.
+    pub(crate) fn step_start(&mut self, time: f64, hostile: &[f64]) -> f64 {
+        match self.rng.below(20) {
+            0..=15 => time,
+            16 => time * (1.0 + 1e-13) + 1e-300,
+            17 => time + *self.rng.pick(&[1.0, -1.0, 1e-3, -1e-3]),
+            _ => *self.rng.pick(hostile),
+        }
+    }
+
     /// The instance of a call: mostly a live one, sometimes NULL or foreign memory.
     pub(crate) fn target(&mut self) -> (Target, Component) {
         let r = self.rng.unit();
@@ -21,15 +49,20 @@ impl<S: Standard> Sequence<'_, S> {
             return (Target::Null, std::ptr::null_mut());
         }
         if r < 0.07 {
-            let p = if self.rng.chance(0.5) {
-                self.zeros.as_mut_ptr()
-            } else {
-                self.noise.as_mut_ptr()
-            };
-            return (Target::Foreign, p.cast());
+            return (Target::Foreign, self.foreign_memory());
         }
         let i = self.rng.below(self.insts.len());
         (Target::Live(i), self.insts[i].c)
+    }
+
+    /// Memory that is no instance: zeros or noise.
+    pub(crate) fn foreign_memory(&mut self) -> Component {
+        let p = if self.rng.chance(0.5) {
+            self.zeros.as_mut_ptr()
+        } else {
+            self.noise.as_mut_ptr()
+        };
+        p.cast()
     }
 
     pub(crate) fn vr(&mut self) -> u32 {
@@ -258,5 +291,14 @@ impl<S: Standard> Sequence<'_, S> {
                 None => break,
             }
         }
+    }
+}
+
+/// `p`, or NULL where `null`: an out argument handed over or withheld.
+pub(crate) fn null_if<T>(null: bool, p: *mut T) -> *mut T {
+    if null {
+        std::ptr::null_mut()
+    } else {
+        p
     }
 }

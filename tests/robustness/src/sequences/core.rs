@@ -3,7 +3,7 @@
 //! function (see the module documentation of [`sequences`](super)), then the teardown that
 //! frees everything it made.
 
-use super::machine::{Handle, Inst, Kind, Snap, St, Target};
+use super::machine::{Call, Handle, Inst, Kind, Snap, St, Target};
 use super::model::Model;
 use super::stats::Stats;
 use crate::ffi::{Component, FmuState, Status, ERROR, OK, WARNING};
@@ -48,6 +48,10 @@ pub enum MeArray {
 /// C calls the shared machinery makes through either standard's functions.
 pub trait Standard: Sized {
     type Fmu: 'static;
+    /// The FMU's name, and what the sequences know of its model (from its
+    /// modelDescription.xml).
+    fn fmu_name(fmu: &Self::Fmu) -> &str;
+    fn model(fmu: &Self::Fmu) -> Model;
     /// What a sequence of this standard keeps besides the shared state.
     type Extra: Default;
     /// The functions' names, by index.
@@ -57,6 +61,8 @@ pub trait Standard: Sized {
     /// An importer's integrator step: get the states, the derivatives, set the time, the
     /// states, complete the step; then sometimes the event indicators (the last).
     const ME_STEP: [usize; 6];
+    /// GetNominalsOfContinuousStates, the one Model Exchange array getter not in a step.
+    const GET_NOMINALS: usize;
 
     fn status_name(s: Status) -> String;
     /// The standard's state table: whether an instance of `kind` in `st` may call
@@ -81,13 +87,7 @@ pub trait Standard: Sized {
     fn random_call(seq: &mut Sequence<Self>);
     /// Calls `function` with generated arguments and checks what only it promises; its
     /// status (`None` for the free instance function, which returns none).
-    fn dispatch(
-        seq: &mut Sequence<Self>,
-        function: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Option<Status>;
+    fn dispatch(seq: &mut Sequence<Self>, call: Call) -> Option<Status>;
 
     // The C calls, each with its pointers as the caller gives them.
     /// # Safety
@@ -255,7 +255,7 @@ impl<'a, S: Standard> Sequence<'a, S> {
             _ => None,
         };
         let legal = before.is_none_or(|(kind, st, _)| S::allowed(function, kind, st));
-        let status = S::dispatch(self, function, target, c, legal)?;
+        let status = S::dispatch(self, Call::new(function, target, c, legal))?;
         self.stats.calls += 1;
         self.stats.statuses[(status as usize).min(5)] += 1;
         let name = S::NAMES[function];
@@ -436,3 +436,101 @@ pub fn category_index(s: Status) -> usize {
         _ => 4,
     }
 }
+
+/// The part of a [`Standard`] implementation that is the same text in both standards: the
+/// forwarding to the sequence's methods of the standard, and the C calls whose functions
+/// have the same names and arguments in both tables (the derivatives getter's name, which
+/// differs, given).
+macro_rules! standard_c_calls {
+    ($get_derivatives:ident) => {
+        fn clean_instance(seq: &mut Sequence<Self>) {
+            seq.clean_instance();
+        }
+        fn random_call(seq: &mut Sequence<Self>) {
+            seq.random_call();
+        }
+        fn dispatch(
+            seq: &mut Sequence<Self>,
+            call: $crate::sequences::machine::Call,
+        ) -> Option<Status> {
+            seq.dispatch(call)
+        }
+
+        unsafe fn free_instance(fmu: &Self::Fmu, c: Component) {
+            // SAFETY: the caller's promise.
+            unsafe { (fmu.api.free_instance)(c) }
+        }
+        unsafe fn get_fmu_state(fmu: &Self::Fmu, c: Component, slot: *mut FmuState) -> Status {
+            // SAFETY: the caller's promise.
+            unsafe { (fmu.api.get_fmu_state)(c, slot) }
+        }
+        unsafe fn set_fmu_state(fmu: &Self::Fmu, c: Component, state: FmuState) -> Status {
+            // SAFETY: the caller's promise.
+            unsafe { (fmu.api.set_fmu_state)(c, state) }
+        }
+        unsafe fn free_fmu_state(fmu: &Self::Fmu, c: Component, slot: *mut FmuState) -> Status {
+            // SAFETY: the caller's promise.
+            unsafe { (fmu.api.free_fmu_state)(c, slot) }
+        }
+        unsafe fn serialized_size(
+            fmu: &Self::Fmu,
+            c: Component,
+            s: FmuState,
+            n: *mut usize,
+        ) -> Status {
+            // SAFETY: the caller's promise.
+            unsafe { (fmu.api.serialized_fmu_state_size)(c, s, n) }
+        }
+        unsafe fn serialize(
+            fmu: &Self::Fmu,
+            c: Component,
+            s: FmuState,
+            b: *mut u8,
+            n: usize,
+        ) -> Status {
+            // SAFETY: the caller's promise (FMI 2.0's bytes are C chars).
+            unsafe { (fmu.api.serialize_fmu_state)(c, s, b.cast(), n) }
+        }
+        unsafe fn deserialize(
+            fmu: &Self::Fmu,
+            c: Component,
+            b: *const u8,
+            n: usize,
+            slot: *mut FmuState,
+        ) -> Status {
+            // SAFETY: the caller's promise.
+            unsafe { (fmu.api.deserialize_fmu_state)(c, b.cast(), n, slot) }
+        }
+        unsafe fn set_time(fmu: &Self::Fmu, c: Component, t: f64) -> Status {
+            // SAFETY: the caller's promise.
+            unsafe { (fmu.api.set_time)(c, t) }
+        }
+        unsafe fn set_continuous_states(
+            fmu: &Self::Fmu,
+            c: Component,
+            x: *const f64,
+            n: usize,
+        ) -> Status {
+            // SAFETY: the caller's promise.
+            unsafe { (fmu.api.set_continuous_states)(c, x, n) }
+        }
+        unsafe fn get_me_array(
+            fmu: &Self::Fmu,
+            which: $crate::sequences::core::MeArray,
+            c: Component,
+            out: *mut f64,
+            n: usize,
+        ) -> Status {
+            use $crate::sequences::core::MeArray;
+            let g = match which {
+                MeArray::Derivatives => fmu.api.$get_derivatives,
+                MeArray::EventIndicators => fmu.api.get_event_indicators,
+                MeArray::ContinuousStates => fmu.api.get_continuous_states,
+                MeArray::Nominals => fmu.api.get_nominals_of_continuous_states,
+            };
+            // SAFETY: the caller's promise.
+            unsafe { g(c, out, n) }
+        }
+    };
+}
+pub(crate) use standard_c_calls;

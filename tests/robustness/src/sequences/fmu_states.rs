@@ -3,9 +3,10 @@
 //! buffers and bytes; the oracle follows what each handle holds.
 
 use super::core::{Sequence, Standard};
-use super::machine::{Handle, Inst, Snap, Target};
+use super::machine::{Call, Handle, Inst, Snap, Target};
 use super::state_bytes::decode_snap;
 use crate::ffi::{Component, FmuState, Status, ERROR, OK};
+use crate::sequences::args::null_if;
 
 /// What restoring a saved state into an instance must do.
 pub enum Restore {
@@ -19,12 +20,8 @@ pub enum Restore {
 
 impl<S: Standard> Sequence<'_, S> {
     /// GetFMUState: a fresh slot, or one holding a live state (which is then overwritten).
-    pub(crate) fn get_fmu_state_call(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-    ) -> Status {
+    pub(crate) fn get_fmu_state_call(&mut self, call: Call) -> Status {
+        let (function, target, c, _) = call.parts();
         let name = S::NAMES[function];
         let reuse = (!self.handles.is_empty() && self.rng.chance(0.3))
             .then(|| self.rng.below(self.handles.len()));
@@ -37,11 +34,7 @@ impl<S: Standard> Sequence<'_, S> {
                 if null_slot { ", NULL slot pointer" } else { "" }
             )
         });
-        let slot_ptr: *mut FmuState = if null_slot {
-            std::ptr::null_mut()
-        } else {
-            &mut slot
-        };
+        let slot_ptr: *mut FmuState = null_if(null_slot, &mut slot);
         // SAFETY: a valid slot (or NULL) holding NULL or a live state.
         let s = unsafe { S::get_fmu_state(self.fmu, c, slot_ptr) };
         if let (Target::Live(i), OK) = (target, s) {
@@ -68,13 +61,11 @@ impl<S: Standard> Sequence<'_, S> {
     /// state into an instance must do.
     pub(crate) fn state_handle_call(
         &mut self,
-        function: usize,
+        call: Call,
         which: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
         restore: impl Fn(&Snap, &Inst) -> Restore,
     ) -> Status {
+        let (function, target, c, legal) = call.parts();
         let name = S::NAMES[function];
         let (k, h) = self.state_handle();
         self.note(|| format!("{name}({target:?}, state {k:?})"));
@@ -109,11 +100,7 @@ impl<S: Standard> Sequence<'_, S> {
             1 => {
                 let mut size = usize::MAX;
                 let null = self.rng.chance(0.05);
-                let size_ptr: *mut usize = if null {
-                    std::ptr::null_mut()
-                } else {
-                    &mut size
-                };
+                let size_ptr: *mut usize = null_if(null, &mut size);
                 // SAFETY: a valid out pointer (or NULL).
                 let s = unsafe { S::serialized_size(self.fmu, c, h, size_ptr) };
                 if s == OK && !null && !(16..1 << 20).contains(&size) {
@@ -149,11 +136,7 @@ impl<S: Standard> Sequence<'_, S> {
         };
         let mut buf = vec![0x77u8; ask + 8];
         let null = self.rng.chance(0.05);
-        let buf_ptr: *mut u8 = if null {
-            std::ptr::null_mut()
-        } else {
-            buf.as_mut_ptr()
-        };
+        let buf_ptr: *mut u8 = null_if(null, buf.as_mut_ptr());
         // SAFETY: `ask` writable bytes (or NULL).
         let s = unsafe { S::serialize(self.fmu, c, h, buf_ptr, ask) };
         if buf[ask..].iter().any(|&b| b != 0x77) {
@@ -177,13 +160,8 @@ impl<S: Standard> Sequence<'_, S> {
 
     /// FreeFMUState of a handle of this sequence, NULL or foreign memory, through a valid
     /// slot or NULL.
-    pub(crate) fn free_fmu_state_call(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn free_fmu_state_call(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let name = S::NAMES[function];
         let (k, h) = self.state_handle();
         let mut slot = h;
@@ -194,11 +172,7 @@ impl<S: Standard> Sequence<'_, S> {
                 if null_slot { ", NULL slot pointer" } else { "" }
             )
         });
-        let slot_ptr: *mut FmuState = if null_slot {
-            std::ptr::null_mut()
-        } else {
-            &mut slot
-        };
+        let slot_ptr: *mut FmuState = null_if(null_slot, &mut slot);
         // SAFETY: a valid slot (or NULL) holding a live state, NULL or foreign memory.
         let s = unsafe { S::free_fmu_state(self.fmu, c, slot_ptr) };
         if s == OK {

@@ -167,6 +167,48 @@ impl Inst {
         self.dx.clear();
         self.event_requested = false;
     }
+
+    /// Reset: Instantiated at time 0 again, what the importer knew of the states gone.
+    pub fn reset(&mut self) {
+        self.restore(&Snap {
+            st: St::Instantiated,
+            time: 0.0,
+            stop: None,
+            ..self.snap()
+        });
+    }
+
+    /// In event mode (an event requested before is being handled).
+    pub fn enter_event_mode(&mut self) {
+        self.st = St::EventMode;
+        self.event_requested = false;
+    }
+}
+
+/// A call about to be made: the function (its index in the standard's table), the
+/// instance it is made on, and whether the oracle's state machine allows it there.
+#[derive(Clone, Copy, Debug)]
+pub struct Call {
+    function: usize,
+    target: Target,
+    c: Component,
+    legal: bool,
+}
+
+impl Call {
+    pub fn new(function: usize, target: Target, c: Component, legal: bool) -> Call {
+        Call {
+            function,
+            target,
+            c,
+            legal,
+        }
+    }
+
+    /// The function, target, instance pointer and legality, to bind by name.
+    pub fn parts(self) -> (usize, Target, Component, bool) {
+        (self.function, self.target, self.c, self.legal)
+    }
 }
 
 /// The instance a call is made on.

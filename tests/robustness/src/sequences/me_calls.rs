@@ -4,19 +4,43 @@
 
 use super::core::{MeArray, Sequence, Standard};
 use super::hostile::hostile_f64;
-use super::machine::Target;
-use crate::ffi::{Component, Status, ERROR, OK, WARNING};
+use super::machine::{Call, Target};
+use crate::ffi::{Status, ERROR, OK, WARNING};
+use crate::sequences::args::null_if;
 
 impl<S: Standard> Sequence<'_, S> {
+    /// The Model Exchange calls both standards share (SetTime, SetContinuousStates, the
+    /// array getters), made with their checks; `None` for any other function.
+    pub(crate) fn shared_me_call(&mut self, call: Call) -> Option<Status> {
+        let [states, derivatives, set_time, set_states, _, indicators] = S::ME_STEP;
+        let function = call.parts().0;
+        let s = match function {
+            _ if function == set_time => self.set_time_call(call),
+            _ if function == set_states => self.set_continuous_states_call(call),
+            _ if function == derivatives => self.me_array_call(call, MeArray::Derivatives),
+            _ if function == indicators => self.me_array_call(call, MeArray::EventIndicators),
+            _ if function == states => self.me_array_call(call, MeArray::ContinuousStates),
+            _ if function == S::GET_NOMINALS => self.me_array_call(call, MeArray::Nominals),
+            _ => return None,
+        };
+        Some(s)
+    }
+
+    /// A step of the event iteration went through: an event counted, and what the
+    /// importer knew of the states gone.
+    pub(crate) fn event_iterated(&mut self, target: Target, legal: bool) {
+        if let (Target::Live(i), true) = (target, legal) {
+            self.stats.events += 1;
+            let inst = &mut self.insts[i];
+            inst.x.clear();
+            inst.dx.clear();
+        }
+    }
+
     /// SetTime: a time ahead of the instance's (an integrator's step when sane), the same,
     /// behind it, huge, tiny or not finite; a finite time is accepted, no other.
-    pub(crate) fn set_time_call(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn set_time_call(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let name = S::NAMES[function];
         let time = match target {
             Target::Live(i) => self.insts[i].time,
@@ -59,13 +83,8 @@ impl<S: Standard> Sequence<'_, S> {
     /// SetContinuousStates: from what the importer knows of the instance (an Euler step
     /// from the last states read, those states, or the start values), perturbed, with a
     /// hostile element, a wrong length or NULL sometimes.
-    pub(crate) fn set_continuous_states_call(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn set_continuous_states_call(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let name = S::NAMES[function];
         let n = self.model.nx;
         let len = self.array_len(n);
@@ -148,14 +167,8 @@ impl<S: Standard> Sequence<'_, S> {
     /// One of the four array getters (`which`): a wrong length or NULL refused, nothing
     /// written past the elements, finite values (nominals > 0), the states given back
     /// bit for bit, the same numbers as the variables they are.
-    pub(crate) fn me_array_call(
-        &mut self,
-        function: usize,
-        which: MeArray,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn me_array_call(&mut self, call: Call, which: MeArray) -> Status {
+        let (function, target, c, legal) = call.parts();
         let name = S::NAMES[function];
         let n = if which == MeArray::EventIndicators {
             self.model.ni
@@ -175,11 +188,7 @@ impl<S: Standard> Sequence<'_, S> {
         });
         // SAFETY: `cap` writable elements (or NULL); a longer `len` is one the FMU
         // must refuse before writing.
-        let out_ptr: *mut f64 = if null {
-            std::ptr::null_mut()
-        } else {
-            out.as_mut_ptr()
-        };
+        let out_ptr: *mut f64 = null_if(null, out.as_mut_ptr());
         let s = unsafe { S::get_me_array(self.fmu, which, c, out_ptr, len) };
         self.check_canaries(name, &out[cap.min(len)..], canary);
         let right = len == n && !(null && n > 0);

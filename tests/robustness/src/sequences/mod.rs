@@ -84,18 +84,15 @@ pub use machine::{Kind, St};
 pub use state_bytes::{fix_checksum, fnv, layout, mutate_semantically, Layout};
 pub use stats::Stats;
 
-use crate::fmu::{Fmu, Fmu3};
-
-/// Runs `count` sequences with seeds `first..first + count`, each made by `sequence`;
+/// Runs `count` sequences of `fmu` (of standard `S`) with seeds `first..first + count`;
 /// prints `begin <seed>` before each (so a crash can be attributed) when `announce`.
 /// Returns the statistics and the failures (each naming its seed).
-fn run<'a, S: Standard>(
-    name: &str,
+pub fn run_many<S: Standard>(
+    fmu: &S::Fmu,
     first: u64,
     count: u64,
     announce: bool,
     trace: bool,
-    sequence: impl Fn(u64) -> Sequence<'a, S>,
 ) -> (Stats, Vec<String>) {
     let mut stats = Stats::default();
     let mut failures = vec![];
@@ -104,9 +101,9 @@ fn run<'a, S: Standard>(
             println!("begin {seed}");
         }
         if trace {
-            println!("sequence seed {seed} on {name}");
+            println!("sequence seed {seed} on {}", S::fmu_name(fmu));
         }
-        match sequence(seed).run() {
+        match Sequence::<S>::new(fmu, S::model(fmu), seed, trace).run() {
             Ok(s) => stats.add(&s),
             Err(f) => {
                 stats.sequences += 1;
@@ -115,30 +112,4 @@ fn run<'a, S: Standard>(
         }
     }
     (stats, failures)
-}
-
-/// FMI 2.0 sequences of `fmu` (see [`run`]).
-pub fn run_many(
-    fmu: &Fmu,
-    first: u64,
-    count: u64,
-    announce: bool,
-    trace: bool,
-) -> (Stats, Vec<String>) {
-    run(fmu.name(), first, count, announce, trace, |seed| {
-        Sequence::fmi2(fmu, seed, trace)
-    })
-}
-
-/// FMI 3.0 sequences of `fmu` (see [`run`]).
-pub fn run_many3(
-    fmu: &Fmu3,
-    first: u64,
-    count: u64,
-    announce: bool,
-    trace: bool,
-) -> (Stats, Vec<String>) {
-    run(fmu.name(), first, count, announce, trace, |seed| {
-        Sequence::fmi3(fmu, seed, trace)
-    })
 }

@@ -5,88 +5,66 @@
 use super::table::f;
 use super::Fmi2;
 use crate::ffi::*;
-use crate::sequences::core::{MeArray, Sequence};
+use crate::sequences::args::null_if;
+use crate::sequences::core::Sequence;
 use crate::sequences::fmu_states::Restore;
 use crate::sequences::hostile::hostile_f64;
-use crate::sequences::machine::{St, Target};
+use crate::sequences::machine::{Call, St, Target};
 use std::ffi::CString;
 
 impl Sequence<'_, Fmi2> {
-    pub(crate) fn dispatch(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Option<Status> {
+    pub(crate) fn dispatch(&mut self, call: Call) -> Option<Status> {
+        let (function, target, c, _) = call.parts();
+        if let Some(s) = self.shared_me_call(call) {
+            return Some(s);
+        }
         let s = match function {
-            f::SET_DEBUG_LOGGING => self.set_debug_logging_call(function, target, c, legal),
+            f::SET_DEBUG_LOGGING => self.set_debug_logging_call(call),
             f::FREE_INSTANCE => {
-                self.free_instance_call(function, target, c, legal);
+                self.free_instance_call(call);
                 return None;
             }
-            f::SETUP_EXPERIMENT => self.setup_experiment_call(function, target, c, legal),
+            f::SETUP_EXPERIMENT => self.setup_experiment_call(call),
             f::ENTER_INIT
             | f::EXIT_INIT
             | f::TERMINATE
             | f::RESET
             | f::CANCEL_STEP
             | f::ENTER_EVENT_MODE
-            | f::ENTER_CONTINUOUS_TIME_MODE => self.life_cycle_call(function, target, c, legal),
-            f::GET_REAL => self.get_real_call(function, target, c),
-            f::GET_INTEGER | f::GET_BOOLEAN | f::GET_STRING => {
-                self.get_other_type_call(function, target, c, legal)
-            }
-            f::SET_REAL => self.set_real_call(function, target, c, legal),
-            f::SET_INTEGER | f::SET_BOOLEAN | f::SET_STRING => {
-                self.set_other_type_call(function, target, c, legal)
-            }
-            f::GET_FMU_STATE => self.get_fmu_state_call(function, target, c),
-            f::SET_FMU_STATE => self.state_handle_call(function, 0, target, c, legal, restore),
-            f::SERIALIZED_SIZE => self.state_handle_call(function, 1, target, c, legal, restore),
-            f::SERIALIZE => self.state_handle_call(function, 2, target, c, legal, restore),
-            f::FREE_FMU_STATE => self.free_fmu_state_call(function, target, c, legal),
+            | f::ENTER_CONTINUOUS_TIME_MODE => self.life_cycle_call(call),
+            f::GET_REAL => self.get_real_call(call),
+            f::GET_INTEGER | f::GET_BOOLEAN | f::GET_STRING => self.get_other_type_call(call),
+            f::SET_REAL => self.set_real_call(call),
+            f::SET_INTEGER | f::SET_BOOLEAN | f::SET_STRING => self.set_other_type_call(call),
+            f::GET_FMU_STATE => self.get_fmu_state_call(call),
+            f::SET_FMU_STATE => self.state_handle_call(call, 0, restore),
+            f::SERIALIZED_SIZE => self.state_handle_call(call, 1, restore),
+            f::SERIALIZE => self.state_handle_call(call, 2, restore),
+            f::FREE_FMU_STATE => self.free_fmu_state_call(call),
             f::DESERIALIZE => {
                 let bytes = self.serialized_bytes();
                 self.deserialize_call(function, target, c, bytes)
             }
-            f::DIRECTIONAL_DERIVATIVE => self.directional_derivative(target, c),
+            f::DIRECTIONAL_DERIVATIVE => self.directional_derivative(call),
             f::SET_INPUT_DERIVATIVES | f::GET_OUTPUT_DERIVATIVES => {
-                self.input_output_derivatives(function, target, c)
+                self.input_output_derivatives(call)
             }
-            f::DO_STEP => self.do_step(target, c, legal),
+            f::DO_STEP => self.do_step(call),
             f::GET_STATUS
             | f::GET_REAL_STATUS
             | f::GET_INTEGER_STATUS
             | f::GET_BOOLEAN_STATUS
-            | f::GET_STRING_STATUS => self.status_getter(function, target, c),
-            f::SET_TIME => self.set_time_call(function, target, c, legal),
-            f::SET_CONTINUOUS_STATES => self.set_continuous_states_call(function, target, c, legal),
-            f::GET_DERIVATIVES => {
-                self.me_array_call(function, MeArray::Derivatives, target, c, legal)
-            }
-            f::GET_EVENT_INDICATORS => {
-                self.me_array_call(function, MeArray::EventIndicators, target, c, legal)
-            }
-            f::GET_CONTINUOUS_STATES => {
-                self.me_array_call(function, MeArray::ContinuousStates, target, c, legal)
-            }
-            f::GET_NOMINALS => self.me_array_call(function, MeArray::Nominals, target, c, legal),
-            f::NEW_DISCRETE_STATES => self.new_discrete_states(target, c, legal),
-            f::COMPLETED_INTEGRATOR_STEP => self.completed_integrator_step(target, c, legal),
+            | f::GET_STRING_STATUS => self.status_getter(call),
+            f::NEW_DISCRETE_STATES => self.new_discrete_states(call),
+            f::COMPLETED_INTEGRATOR_STEP => self.completed_integrator_step(call),
             _ => unreachable!("function {function}"),
         };
         Some(s)
     }
 
     /// SetDebugLogging with categories drawn sane or hostile; the oracle's categories follow.
-    fn set_debug_logging_call(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    fn set_debug_logging_call(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let on: Boolean = *self.rng.pick(&[0, 1, 2, -1]);
@@ -114,7 +92,8 @@ impl Sequence<'_, Fmi2> {
 
     /// FreeInstance; a live instance freed legally leaves the sequence, its logger checked a
     /// last time.
-    fn free_instance_call(&mut self, function: usize, target: Target, c: Component, legal: bool) {
+    fn free_instance_call(&mut self, call: Call) {
+        let (function, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         self.note(|| format!("{name}({target:?})"));
@@ -132,13 +111,8 @@ impl Sequence<'_, Fmi2> {
     }
 
     /// SetupExperiment with a tolerance, start and stop time drawn sane or hostile.
-    fn setup_experiment_call(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    fn setup_experiment_call(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let e = self.fmu.md.experiment.clone();
@@ -178,13 +152,8 @@ impl Sequence<'_, Fmi2> {
 
     /// A function of the instance's life cycle without arguments (initialization, terminate,
     /// reset, cancel, the Model Exchange modes); the oracle's state follows.
-    fn life_cycle_call(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    fn life_cycle_call(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         self.note(|| format!("{name}({target:?})"));
@@ -203,22 +172,12 @@ impl Sequence<'_, Fmi2> {
             match (function, s) {
                 (f::ENTER_INIT, OK) => inst.st = St::Init,
                 (f::EXIT_INIT, OK | WARNING) => inst.st = inst.kind.initialized(),
-                (f::ENTER_EVENT_MODE, OK) => {
-                    inst.st = St::EventMode;
-                    inst.event_requested = false;
-                }
+                (f::ENTER_EVENT_MODE, OK) => inst.enter_event_mode(),
                 (f::ENTER_CONTINUOUS_TIME_MODE, OK) => inst.st = St::ContinuousTimeMode,
                 // A model failure at initialization: the Error state.
                 (f::EXIT_INIT, _) => inst.st = St::Error,
                 (f::TERMINATE, OK) => inst.st = St::Terminated,
-                (f::RESET, OK) => {
-                    inst.st = St::Instantiated;
-                    inst.time = 0.0;
-                    inst.stop = None;
-                    inst.x.clear();
-                    inst.dx.clear();
-                    inst.event_requested = false;
-                }
+                (f::RESET, OK) => inst.reset(),
                 _ => {}
             }
         }
@@ -226,18 +185,15 @@ impl Sequence<'_, Fmi2> {
     }
 
     /// GetReal: nothing written past the values asked, no NaN with OK or Warning.
-    fn get_real_call(&mut self, function: usize, target: Target, c: Component) -> Status {
+    fn get_real_call(&mut self, call: Call) -> Status {
+        let (function, target, c, _) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let vrs = self.vrs();
         let n = vrs.len();
         let mut out = vec![-7.5e-77f64; n + 4];
         let vp = self.ptr_or_null(&vrs);
-        let op = if self.rng.chance(0.04) {
-            std::ptr::null_mut()
-        } else {
-            out.as_mut_ptr()
-        };
+        let op = null_if(self.rng.chance(0.04), out.as_mut_ptr());
         self.note(|| {
             format!(
                 "{name}({target:?}, vr {vrs:?}{}{})",
@@ -262,13 +218,8 @@ impl Sequence<'_, Fmi2> {
 
     /// GetInteger, GetBoolean or GetString, of types this FMU has no variables of: nothing
     /// written past the values asked, no OK for a value reference.
-    fn get_other_type_call(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    fn get_other_type_call(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let vrs = self.vrs();
@@ -281,36 +232,9 @@ impl Sequence<'_, Fmi2> {
         // SAFETY: arrays of n elements (or NULL).
         let s = unsafe {
             match function {
-                f::GET_INTEGER => (api.get_integer)(
-                    c,
-                    vp,
-                    n,
-                    if null_out {
-                        std::ptr::null_mut()
-                    } else {
-                        ints.as_mut_ptr()
-                    },
-                ),
-                f::GET_BOOLEAN => (api.get_boolean)(
-                    c,
-                    vp,
-                    n,
-                    if null_out {
-                        std::ptr::null_mut()
-                    } else {
-                        ints.as_mut_ptr()
-                    },
-                ),
-                _ => (api.get_string)(
-                    c,
-                    vp,
-                    n,
-                    if null_out {
-                        std::ptr::null_mut()
-                    } else {
-                        strs.as_mut_ptr()
-                    },
-                ),
+                f::GET_INTEGER => (api.get_integer)(c, vp, n, null_if(null_out, ints.as_mut_ptr())),
+                f::GET_BOOLEAN => (api.get_boolean)(c, vp, n, null_if(null_out, ints.as_mut_ptr())),
+                _ => (api.get_string)(c, vp, n, null_if(null_out, strs.as_mut_ptr())),
             }
         };
         if ints[n..].iter().any(|&x| x != 0x5a5a_5a5a) || strs[n..].iter().any(|p| !p.is_null()) {
@@ -325,13 +249,8 @@ impl Sequence<'_, Fmi2> {
     }
 
     /// SetReal: in continuous-time mode only continuous inputs are accepted.
-    fn set_real_call(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    fn set_real_call(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let vrs = self.vrs();
@@ -362,13 +281,8 @@ impl Sequence<'_, Fmi2> {
 
     /// SetInteger, SetBoolean or SetString, of types this FMU has no variables of: no OK for a
     /// value reference.
-    fn set_other_type_call(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    fn set_other_type_call(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let vrs = self.vrs();

@@ -4,28 +4,21 @@
 use super::table::f;
 use super::Fmi2;
 use crate::ffi::*;
+use crate::sequences::args::null_if;
 use crate::sequences::core::Sequence;
 use crate::sequences::hostile::hostile_f64;
-use crate::sequences::machine::Target;
+use crate::sequences::machine::Call;
 
 impl Sequence<'_, Fmi2> {
     /// fmi2GetDirectionalDerivative: never NaN with fmi2OK, nothing written past the
     /// unknowns.
-    pub(crate) fn directional_derivative(&mut self, target: Target, c: Component) -> Status {
+    pub(crate) fn directional_derivative(&mut self, call: Call) -> Status {
+        let (_, target, c, _) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[f::DIRECTIONAL_DERIVATIVE];
         let unknowns = self.vrs();
         let knowns = self.vrs();
-        let dv: Vec<f64> = knowns
-            .iter()
-            .map(|_| {
-                if self.rng.chance(0.8) {
-                    self.rng.unit() * 2.0 - 1.0
-                } else {
-                    hostile_f64(&mut self.rng)
-                }
-            })
-            .collect();
+        let dv: Vec<f64> = knowns.iter().map(|_| self.derivative_value()).collect();
         let n = unknowns.len();
         let mut out = vec![-7.5e-77f64; n + 4];
         let (up, kp, dp) = (
@@ -33,11 +26,7 @@ impl Sequence<'_, Fmi2> {
             self.ptr_or_null(&knowns),
             self.ptr_or_null(&dv),
         );
-        let op = if self.rng.chance(0.04) {
-            std::ptr::null_mut()
-        } else {
-            out.as_mut_ptr()
-        };
+        let op = null_if(self.rng.chance(0.04), out.as_mut_ptr());
         self.note(|| {
             format!("{name}({target:?}, unknowns {unknowns:?}, knowns {knowns:?}, dv {dv:?})")
         });
@@ -52,12 +41,8 @@ impl Sequence<'_, Fmi2> {
 
     /// fmi2SetRealInputDerivatives and fmi2GetRealOutputDerivatives: of an input or
     /// output half the time, with orders and values sane and hostile.
-    pub(crate) fn input_output_derivatives(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-    ) -> Status {
+    pub(crate) fn input_output_derivatives(&mut self, call: Call) -> Status {
+        let (function, target, c, _) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let mut vrs = self.vrs();
@@ -96,11 +81,7 @@ impl Sequence<'_, Fmi2> {
             unsafe { (api.set_real_input_derivatives)(c, vp, n, opp, xp) }
         } else {
             let mut out = vec![-7.5e-77f64; n + 4];
-            let op = if self.rng.chance(0.04) {
-                std::ptr::null_mut()
-            } else {
-                out.as_mut_ptr()
-            };
+            let op = null_if(self.rng.chance(0.04), out.as_mut_ptr());
             // SAFETY: arrays of n elements (or NULL).
             let s = unsafe { (api.get_real_output_derivatives)(c, vp, n, opp, op) };
             self.check_canaries(name, &out[n..], -7.5e-77);

@@ -9,8 +9,8 @@ mod table;
 
 pub use table::allowed;
 
-use super::core::{MeArray, Sequence, Standard};
-use super::machine::{Kind, St, Target};
+use super::core::{standard_c_calls, Sequence, Standard};
+use super::machine::{Kind, St};
 use super::model::Model;
 use crate::ffi::*;
 use crate::fmu::Fmu;
@@ -19,11 +19,7 @@ use table::f;
 /// FMI 2.0 (`fmi2Functions.h`).
 pub enum Fmi2 {}
 
-impl<'a> Sequence<'a, Fmi2> {
-    pub fn fmi2(fmu: &'a Fmu, seed: u64, trace: bool) -> Self {
-        Sequence::new(fmu, Model::fmi2(&fmu.md), seed, trace)
-    }
-
+impl Sequence<'_, Fmi2> {
     pub(crate) fn check_platform(&mut self) {
         // SAFETY: no arguments.
         let (p, v) = unsafe {
@@ -134,6 +130,12 @@ impl<'a> Sequence<'a, Fmi2> {
 
 impl Standard for Fmi2 {
     type Fmu = Fmu;
+    fn fmu_name(fmu: &Fmu) -> &str {
+        fmu.name()
+    }
+    fn model(fmu: &Fmu) -> Model {
+        Model::fmi2(&fmu.md)
+    }
     type Extra = ();
     const NAMES: &'static [&'static str] = &FUNCTION_NAMES;
     const FREE_INSTANCE: usize = f::FREE_INSTANCE;
@@ -146,6 +148,7 @@ impl Standard for Fmi2 {
         f::COMPLETED_INTEGRATOR_STEP,
         f::GET_EVENT_INDICATORS,
     ];
+    const GET_NOMINALS: usize = f::GET_NOMINALS;
 
     fn status_name(s: Status) -> String {
         status_name(s)
@@ -185,80 +188,8 @@ impl Standard for Fmi2 {
     fn instantiate(seq: &mut Sequence<Self>) {
         seq.instantiate();
     }
-    fn clean_instance(seq: &mut Sequence<Self>) {
-        seq.clean_instance();
-    }
-    fn random_call(seq: &mut Sequence<Self>) {
-        seq.random_call();
-    }
-    fn dispatch(
-        seq: &mut Sequence<Self>,
-        function: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Option<Status> {
-        seq.dispatch(function, target, c, legal)
-    }
+    standard_c_calls!(get_derivatives);
 
-    unsafe fn free_instance(fmu: &Fmu, c: Component) {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.free_instance)(c) }
-    }
-    unsafe fn get_fmu_state(fmu: &Fmu, c: Component, slot: *mut FmuState) -> Status {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.get_fmu_state)(c, slot) }
-    }
-    unsafe fn set_fmu_state(fmu: &Fmu, c: Component, state: FmuState) -> Status {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.set_fmu_state)(c, state) }
-    }
-    unsafe fn free_fmu_state(fmu: &Fmu, c: Component, slot: *mut FmuState) -> Status {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.free_fmu_state)(c, slot) }
-    }
-    unsafe fn serialized_size(fmu: &Fmu, c: Component, s: FmuState, n: *mut usize) -> Status {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.serialized_fmu_state_size)(c, s, n) }
-    }
-    unsafe fn serialize(fmu: &Fmu, c: Component, s: FmuState, b: *mut u8, n: usize) -> Status {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.serialize_fmu_state)(c, s, b.cast(), n) }
-    }
-    unsafe fn deserialize(
-        fmu: &Fmu,
-        c: Component,
-        b: *const u8,
-        n: usize,
-        slot: *mut FmuState,
-    ) -> Status {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.deserialize_fmu_state)(c, b.cast(), n, slot) }
-    }
-    unsafe fn set_time(fmu: &Fmu, c: Component, t: f64) -> Status {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.set_time)(c, t) }
-    }
-    unsafe fn set_continuous_states(fmu: &Fmu, c: Component, x: *const f64, n: usize) -> Status {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.set_continuous_states)(c, x, n) }
-    }
-    unsafe fn get_me_array(
-        fmu: &Fmu,
-        which: MeArray,
-        c: Component,
-        out: *mut f64,
-        n: usize,
-    ) -> Status {
-        let g = match which {
-            MeArray::Derivatives => fmu.api.get_derivatives,
-            MeArray::EventIndicators => fmu.api.get_event_indicators,
-            MeArray::ContinuousStates => fmu.api.get_continuous_states,
-            MeArray::Nominals => fmu.api.get_nominals_of_continuous_states,
-        };
-        // SAFETY: the caller's promise.
-        unsafe { g(c, out, n) }
-    }
     unsafe fn get_values(fmu: &Fmu, c: Component, vrs: &[u32], out: &mut [f64]) -> Status {
         assert_eq!(vrs.len(), out.len());
         // SAFETY: a live instance (the caller's promise), arrays of vrs.len() elements.

@@ -4,17 +4,14 @@
 use super::table::f;
 use super::Fmi2;
 use crate::ffi::*;
+use crate::sequences::args::null_if;
 use crate::sequences::core::Sequence;
-use crate::sequences::machine::{St, Target};
+use crate::sequences::machine::{Call, St, Target};
 
 impl Sequence<'_, Fmi2> {
     /// The status getters: a value that is one with fmi2OK.
-    pub(crate) fn status_getter(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Component,
-    ) -> Status {
+    pub(crate) fn status_getter(&mut self, call: Call) -> Status {
+        let (function, target, c, _) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
         let kind: StatusKind = *self.rng.pick(&[0, 1, 2, 3, 3, 2, 4, u32::MAX]);
@@ -35,15 +32,7 @@ impl Sequence<'_, Fmi2> {
                 f::GET_STATUS => {
                     (api.get_status)(c, kind, if null { std::ptr::null_mut() } else { &mut st })
                 }
-                f::GET_REAL_STATUS => (api.get_real_status)(
-                    c,
-                    kind,
-                    if null {
-                        std::ptr::null_mut()
-                    } else {
-                        &mut real
-                    },
-                ),
+                f::GET_REAL_STATUS => (api.get_real_status)(c, kind, null_if(null, &mut real)),
                 f::GET_INTEGER_STATUS => (api.get_integer_status)(
                     c,
                     kind,
@@ -54,15 +43,7 @@ impl Sequence<'_, Fmi2> {
                     kind,
                     if null { std::ptr::null_mut() } else { &mut int },
                 ),
-                _ => (api.get_string_status)(
-                    c,
-                    kind,
-                    if null {
-                        std::ptr::null_mut()
-                    } else {
-                        &mut string
-                    },
-                ),
+                _ => (api.get_string_status)(c, kind, null_if(null, &mut string)),
             }
         };
         if s == OK && !null {
@@ -88,12 +69,8 @@ impl Sequence<'_, Fmi2> {
 
     /// fmi2NewDiscreteStates: a NULL fmi2EventInfo refused, its booleans fmi2True or
     /// fmi2False and a finite next event time.
-    pub(crate) fn new_discrete_states(
-        &mut self,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn new_discrete_states(&mut self, call: Call) -> Status {
+        let (_, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[f::NEW_DISCRETE_STATES];
         let null = !self.sane && self.rng.chance(0.05);
@@ -105,16 +82,7 @@ impl Sequence<'_, Fmi2> {
             )
         });
         // SAFETY: a valid out pointer (or NULL).
-        let s = unsafe {
-            (api.new_discrete_states)(
-                c,
-                if null {
-                    std::ptr::null_mut()
-                } else {
-                    &mut info
-                },
-            )
-        };
+        let s = unsafe { (api.new_discrete_states)(c, null_if(null, &mut info)) };
         if let (Target::Live(_), true, true) = (target, legal, null) {
             if s != ERROR {
                 self.fail(format!(
@@ -136,24 +104,15 @@ impl Sequence<'_, Fmi2> {
             {
                 self.fail(format!("{name} returned {} with {info:?}", status_name(s)));
             }
-            if let (Target::Live(i), true) = (target, legal) {
-                self.stats.events += 1;
-                let inst = &mut self.insts[i];
-                inst.x.clear();
-                inst.dx.clear();
-            }
+            self.event_iterated(target, legal);
         }
         s
     }
 
     /// fmi2CompletedIntegratorStep: NULL out pointers refused, its booleans fmi2True or
     /// fmi2False.
-    pub(crate) fn completed_integrator_step(
-        &mut self,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn completed_integrator_step(&mut self, call: Call) -> Status {
+        let (_, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[f::COMPLETED_INTEGRATOR_STEP];
         let no_prior: Boolean = if self.sane {
@@ -184,16 +143,8 @@ impl Sequence<'_, Fmi2> {
             (api.completed_integrator_step)(
                 c,
                 no_prior,
-                if null_event {
-                    std::ptr::null_mut()
-                } else {
-                    &mut event
-                },
-                if null_terminate {
-                    std::ptr::null_mut()
-                } else {
-                    &mut terminate
-                },
+                null_if(null_event, &mut event),
+                null_if(null_terminate, &mut terminate),
             )
         };
         let null = null_event || null_terminate;
@@ -220,12 +171,10 @@ impl Sequence<'_, Fmi2> {
     /// fmi2DoStep with sane and hostile communication points and step sizes: after
     /// fmi2OK the values are numbers; after fmi2Discard, fmi2Terminated is true and
     /// fmi2LastSuccessfulTime lies in the step.
-    pub(crate) fn do_step(&mut self, target: Target, c: Component, legal: bool) -> Status {
+    pub(crate) fn do_step(&mut self, call: Call) -> Status {
+        let (_, target, c, legal) = call.parts();
         let e = self.fmu.md.experiment.clone();
-        let (time, stop) = match target {
-            Target::Live(i) => (self.insts[i].time, self.insts[i].stop),
-            _ => (0.0, None),
-        };
+        let (time, stop) = self.time_and_stop(target);
         let h = match self.rng.below(20) {
             0..=8 => e.step,
             9..=11 => self.rng.log_uniform(1e-6, 1.0),
@@ -253,19 +202,15 @@ impl Sequence<'_, Fmi2> {
             16 => self.rng.log_uniform(1.0, 10.0),
             _ => e.step,
         };
-        let t = match self.rng.below(20) {
-            0..=15 => time,
-            16 => time * (1.0 + 1e-13) + 1e-300,
-            17 => time + *self.rng.pick(&[1.0, -1.0, 1e-3, -1e-3]),
-            _ => *self.rng.pick(&[
-                f64::NAN,
-                f64::INFINITY,
-                f64::NEG_INFINITY,
-                0.0,
-                -time,
-                1e308,
-            ]),
-        };
+        let hostile = [
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            0.0,
+            -time,
+            1e308,
+        ];
+        let t = self.step_start(time, &hostile);
         let no_prior: Boolean = *self.rng.pick(&[0, 1, 2]);
         self.note(|| format!("fmi2DoStep({target:?}, t {t:e} (FMU at {time:e}), h {h:e}, noSetFMUStatePriorToCurrentPoint {no_prior})"));
         // SAFETY: scalar arguments.

@@ -6,23 +6,21 @@
 use super::table::f;
 use super::Fmi3;
 use crate::ffi3::*;
-use crate::sequences::core::{MeArray, Sequence};
+use crate::sequences::core::Sequence;
 use crate::sequences::fmu_states::Restore;
 use crate::sequences::hostile::hostile_f64;
-use crate::sequences::machine::{Inst, Kind, Snap, St, Target};
+use crate::sequences::machine::{Call, Inst, Kind, Snap, St, Target};
 use crate::sequences::state_bytes::{forge_state, forge_token};
 
 impl Sequence<'_, Fmi3> {
-    pub(crate) fn dispatch(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Instance,
-        legal: bool,
-    ) -> Option<Status> {
+    pub(crate) fn dispatch(&mut self, call: Call) -> Option<Status> {
+        let (function, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES_FMI3[function];
         let live = matches!(target, Target::Live(_)) && legal;
+        if let Some(s) = self.shared_me_call(call) {
+            return Some(s);
+        }
         let s = match function {
             f::SET_DEBUG_LOGGING => {
                 let on = self.rng.chance(0.5);
@@ -56,19 +54,19 @@ impl Sequence<'_, Fmi3> {
                 }
                 return None;
             }
-            f::ENTER_INIT => self.enter_initialization_mode(target, c, legal),
+            f::ENTER_INIT => self.enter_initialization_mode(call),
             f::EXIT_INIT
             | f::ENTER_EVENT_MODE
             | f::TERMINATE
             | f::RESET
             | f::EVALUATE_DISCRETE_STATES
             | f::ENTER_CONTINUOUS_TIME_MODE
-            | f::ENTER_STEP_MODE => self.mode_change(function, target, c, legal),
-            f::GET_FLOAT64 => self.get_float64(target, c, legal),
-            f::SET_FLOAT64 => self.set_float64(target, c, legal),
-            f::GET_FLOAT32..=f::GET_BINARY => self.get_other_type(function, target, c, legal),
-            f::SET_FLOAT32..=f::SET_BINARY => self.set_other_type(function, target, c, legal),
-            f::GET_FMU_STATE => self.get_fmu_state_call(function, target, c),
+            | f::ENTER_STEP_MODE => self.mode_change(call),
+            f::GET_FLOAT64 => self.get_float64(call),
+            f::SET_FLOAT64 => self.set_float64(call),
+            f::GET_FLOAT32..=f::GET_BINARY => self.get_other_type(call),
+            f::SET_FLOAT32..=f::SET_BINARY => self.set_other_type(call),
+            f::GET_FMU_STATE => self.get_fmu_state_call(call),
             f::SET_FMU_STATE if self.extra.other.is_some() && self.rng.chance(0.1) => {
                 let state = self
                     .extra
@@ -86,10 +84,10 @@ impl Sequence<'_, Fmi3> {
                 }
                 s
             }
-            f::SET_FMU_STATE => self.state_handle_call(function, 0, target, c, legal, restore),
-            f::SERIALIZED_SIZE => self.state_handle_call(function, 1, target, c, legal, restore),
-            f::SERIALIZE => self.state_handle_call(function, 2, target, c, legal, restore),
-            f::FREE_FMU_STATE => self.free_fmu_state_call(function, target, c, legal),
+            f::SET_FMU_STATE => self.state_handle_call(call, 0, restore),
+            f::SERIALIZED_SIZE => self.state_handle_call(call, 1, restore),
+            f::SERIALIZE => self.state_handle_call(call, 2, restore),
+            f::FREE_FMU_STATE => self.free_fmu_state_call(call),
             f::DESERIALIZE => {
                 let (bytes, snap) = self.serialized_bytes3();
                 let foreign = snap.is_some_and(|s| s.other_standard);
@@ -102,29 +100,15 @@ impl Sequence<'_, Fmi3> {
                 }
                 s
             }
-            f::DIRECTIONAL_DERIVATIVE | f::ADJOINT_DERIVATIVE => {
-                self.directional_or_adjoint(function, target, c, legal)
-            }
-            f::GET_OUTPUT_DERIVATIVES => self.output_derivatives(target, c, legal),
-            f::DO_STEP => self.do_step(target, c, legal),
-            f::UPDATE_DISCRETE_STATES => self.update_discrete_states(target, c, legal),
-            f::COMPLETED_INTEGRATOR_STEP => self.completed_integrator_step(target, c, legal),
+            f::DIRECTIONAL_DERIVATIVE | f::ADJOINT_DERIVATIVE => self.directional_or_adjoint(call),
+            f::GET_OUTPUT_DERIVATIVES => self.output_derivatives(call),
+            f::DO_STEP => self.do_step(call),
+            f::UPDATE_DISCRETE_STATES => self.update_discrete_states(call),
+            f::COMPLETED_INTEGRATOR_STEP => self.completed_integrator_step(call),
             f::GET_NUMBER_OF_EVENT_INDICATORS | f::GET_NUMBER_OF_CONTINUOUS_STATES => {
-                self.get_number_of(function, target, c, legal)
+                self.get_number_of(call)
             }
-            f::SET_TIME => self.set_time_call(function, target, c, legal),
-            f::SET_CONTINUOUS_STATES => self.set_continuous_states_call(function, target, c, legal),
-            f::GET_DERIVATIVES => {
-                self.me_array_call(function, MeArray::Derivatives, target, c, legal)
-            }
-            f::GET_EVENT_INDICATORS => {
-                self.me_array_call(function, MeArray::EventIndicators, target, c, legal)
-            }
-            f::GET_CONTINUOUS_STATES => {
-                self.me_array_call(function, MeArray::ContinuousStates, target, c, legal)
-            }
-            f::GET_NOMINALS => self.me_array_call(function, MeArray::Nominals, target, c, legal),
-            _ if f::unsupported(function) => self.unsupported(function, target, c),
+            _ if f::unsupported(function) => self.unsupported(call),
             _ => unreachable!("function {function}"),
         };
         Some(s)
@@ -132,7 +116,8 @@ impl Sequence<'_, Fmi3> {
 
     /// fmi3EnterInitializationMode with the experiment's tolerance, start and stop time,
     /// sane and hostile.
-    fn enter_initialization_mode(&mut self, target: Target, c: Instance, legal: bool) -> Status {
+    fn enter_initialization_mode(&mut self, call: Call) -> Status {
+        let (_, target, c, legal) = call.parts();
         let e = self.model.experiment.clone();
         let tol_defined = self.rng.chance(0.8);
         let tol = match self.rng.below(6) {
@@ -171,7 +156,8 @@ impl Sequence<'_, Fmi3> {
     }
 
     /// A call of the instance alone that moves its state machine: the oracle moves with it.
-    fn mode_change(&mut self, function: usize, target: Target, c: Instance, legal: bool) -> Status {
+    fn mode_change(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES_FMI3[function];
         self.note(|| format!("{name}({target:?})"));
@@ -205,21 +191,11 @@ impl Sequence<'_, Fmi3> {
             }
             // A model failure at initialization: the Error state.
             (f::EXIT_INIT, _) => inst.st = St::Error,
-            (f::ENTER_EVENT_MODE, OK) => {
-                inst.st = St::EventMode;
-                inst.event_requested = false;
-            }
+            (f::ENTER_EVENT_MODE, OK) => inst.enter_event_mode(),
             (f::ENTER_CONTINUOUS_TIME_MODE, OK) => inst.st = St::ContinuousTimeMode,
             (f::ENTER_STEP_MODE, OK) => inst.st = St::StepComplete,
             (f::TERMINATE, OK) => inst.st = St::Terminated,
-            (f::RESET, OK) => {
-                inst.st = St::Instantiated;
-                inst.time = 0.0;
-                inst.stop = None;
-                inst.x.clear();
-                inst.dx.clear();
-                inst.event_requested = false;
-            }
+            (f::RESET, OK) => inst.reset(),
             (f::EVALUATE_DISCRETE_STATES, _) if s != OK => self.fail(format!(
                 "{name} in event mode returned {} (there is nothing discrete to evaluate)",
                 status_name(s)
@@ -232,7 +208,8 @@ impl Sequence<'_, Fmi3> {
     /// Clocks, intervals and shifts, per-element dependencies, configuration mode, model
     /// partitions: called with NULL arguments (the FMU must refuse before reading them),
     /// always fmi3Error.
-    fn unsupported(&mut self, function: usize, target: Target, c: Instance) -> Status {
+    fn unsupported(&mut self, call: Call) -> Status {
+        let (function, target, c, _) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES_FMI3[function];
         self.note(|| format!("{name}({target:?}, NULL arguments)"));

@@ -9,8 +9,7 @@ use super::values::{backed, Ptr};
 use super::Fmi3;
 use crate::ffi3::*;
 use crate::sequences::core::Sequence;
-use crate::sequences::hostile::hostile_f64;
-use crate::sequences::machine::Target;
+use crate::sequences::machine::{Call, Target};
 
 const CANARY: f64 = -7.5e-77;
 
@@ -18,13 +17,8 @@ impl Sequence<'_, Fmi3> {
     /// fmi3GetDirectionalDerivative or fmi3GetAdjointDerivative: wrong counts, value
     /// references that are no variable, time among the unknowns (it is a known only) or
     /// hand-overs refused; never NaN with OK, nothing written past the sensitivities.
-    pub(crate) fn directional_or_adjoint(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Instance,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn directional_or_adjoint(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let name = FUNCTION_NAMES_FMI3[function];
         let mut unknowns = self.vrs();
         let mut knowns = self.vrs();
@@ -50,13 +44,7 @@ impl Sequence<'_, Fmi3> {
             self.array_len(nu)
         };
         let mut seed: Vec<f64> = (0..backed(n_seed) + 1)
-            .map(|_| {
-                if self.rng.chance(0.8) {
-                    self.rng.unit() * 2.0 - 1.0
-                } else {
-                    hostile_f64(&mut self.rng)
-                }
-            })
+            .map(|_| self.derivative_value())
             .collect();
         let cap = backed(n_sens);
         let mut out = vec![CANARY; cap + 4];
@@ -115,12 +103,8 @@ impl Sequence<'_, Fmi3> {
 
     /// fmi3GetOutputDerivatives: of an output half the time, an order per variable (sane
     /// and hostile), `nValues` its elements; never NaN with OK.
-    pub(crate) fn output_derivatives(
-        &mut self,
-        target: Target,
-        c: Instance,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn output_derivatives(&mut self, call: Call) -> Status {
+        let (_, target, c, legal) = call.parts();
         let name = FUNCTION_NAMES_FMI3[f::GET_OUTPUT_DERIVATIVES];
         let mut vrs = self.vrs();
         if self.rng.chance(0.5) {

@@ -12,7 +12,7 @@ mod values;
 
 pub use instantiate::OtherStandard;
 
-use super::core::{MeArray, Sequence, Standard};
+use super::core::{standard_c_calls, Sequence, Standard};
 use super::machine::{Kind, St, Target};
 use super::model::Model;
 use crate::ffi::{Component, FmuState, Status};
@@ -23,11 +23,7 @@ use table::f;
 /// FMI 3.0 (`fmi3Functions.h`).
 pub enum Fmi3 {}
 
-impl<'a> Sequence<'a, Fmi3> {
-    pub fn fmi3(fmu: &'a Fmu3, seed: u64, trace: bool) -> Self {
-        Sequence::new(fmu, Model::fmi3(&fmu.md), seed, trace)
-    }
-
+impl Sequence<'_, Fmi3> {
     /// fmi3GetVersion, the one function without an instance.
     fn check_version(&mut self) {
         // SAFETY: no arguments.
@@ -52,12 +48,7 @@ impl<'a> Sequence<'a, Fmi3> {
             return (Target::Null, std::ptr::null_mut());
         }
         if r < 0.05 {
-            let p = if self.rng.chance(0.5) {
-                self.zeros.as_mut_ptr()
-            } else {
-                self.noise.as_mut_ptr()
-            };
-            return (Target::Foreign, p.cast());
+            return (Target::Foreign, self.foreign_memory());
         }
         let i = self.rng.below(self.insts.len());
         if r < 0.065 {
@@ -158,6 +149,12 @@ impl<'a> Sequence<'a, Fmi3> {
 
 impl Standard for Fmi3 {
     type Fmu = Fmu3;
+    fn fmu_name(fmu: &Fmu3) -> &str {
+        fmu.name()
+    }
+    fn model(fmu: &Fmu3) -> Model {
+        Model::fmi3(&fmu.md)
+    }
     type Extra = Extra;
     const NAMES: &'static [&'static str] = &FUNCTION_NAMES_FMI3;
     const FREE_INSTANCE: usize = f::FREE_INSTANCE;
@@ -170,6 +167,7 @@ impl Standard for Fmi3 {
         f::COMPLETED_INTEGRATOR_STEP,
         f::GET_EVENT_INDICATORS,
     ];
+    const GET_NOMINALS: usize = f::GET_NOMINALS;
 
     fn status_name(s: Status) -> String {
         status_name(s)
@@ -197,80 +195,8 @@ impl Standard for Fmi3 {
     fn instantiate(seq: &mut Sequence<Self>) {
         seq.instantiate(None);
     }
-    fn clean_instance(seq: &mut Sequence<Self>) {
-        seq.clean_instance();
-    }
-    fn random_call(seq: &mut Sequence<Self>) {
-        seq.random_call();
-    }
-    fn dispatch(
-        seq: &mut Sequence<Self>,
-        function: usize,
-        target: Target,
-        c: Component,
-        legal: bool,
-    ) -> Option<Status> {
-        seq.dispatch(function, target, c, legal)
-    }
+    standard_c_calls!(get_continuous_state_derivatives);
 
-    unsafe fn free_instance(fmu: &Fmu3, c: Component) {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.free_instance)(c) }
-    }
-    unsafe fn get_fmu_state(fmu: &Fmu3, c: Component, slot: *mut FmuState) -> Status {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.get_fmu_state)(c, slot) }
-    }
-    unsafe fn set_fmu_state(fmu: &Fmu3, c: Component, state: FmuState) -> Status {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.set_fmu_state)(c, state) }
-    }
-    unsafe fn free_fmu_state(fmu: &Fmu3, c: Component, slot: *mut FmuState) -> Status {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.free_fmu_state)(c, slot) }
-    }
-    unsafe fn serialized_size(fmu: &Fmu3, c: Component, s: FmuState, n: *mut usize) -> Status {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.serialized_fmu_state_size)(c, s, n) }
-    }
-    unsafe fn serialize(fmu: &Fmu3, c: Component, s: FmuState, b: *mut u8, n: usize) -> Status {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.serialize_fmu_state)(c, s, b, n) }
-    }
-    unsafe fn deserialize(
-        fmu: &Fmu3,
-        c: Component,
-        b: *const u8,
-        n: usize,
-        slot: *mut FmuState,
-    ) -> Status {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.deserialize_fmu_state)(c, b, n, slot) }
-    }
-    unsafe fn set_time(fmu: &Fmu3, c: Component, t: f64) -> Status {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.set_time)(c, t) }
-    }
-    unsafe fn set_continuous_states(fmu: &Fmu3, c: Component, x: *const f64, n: usize) -> Status {
-        // SAFETY: the caller's promise.
-        unsafe { (fmu.api.set_continuous_states)(c, x, n) }
-    }
-    unsafe fn get_me_array(
-        fmu: &Fmu3,
-        which: MeArray,
-        c: Component,
-        out: *mut f64,
-        n: usize,
-    ) -> Status {
-        let g = match which {
-            MeArray::Derivatives => fmu.api.get_continuous_state_derivatives,
-            MeArray::EventIndicators => fmu.api.get_event_indicators,
-            MeArray::ContinuousStates => fmu.api.get_continuous_states,
-            MeArray::Nominals => fmu.api.get_nominals_of_continuous_states,
-        };
-        // SAFETY: the caller's promise.
-        unsafe { g(c, out, n) }
-    }
     unsafe fn get_values(fmu: &Fmu3, c: Component, vrs: &[u32], out: &mut [f64]) -> Status {
         // SAFETY: a live instance (the caller's promise), arrays of their lengths.
         unsafe { (fmu.api.get_float64)(c, vrs.as_ptr(), vrs.len(), out.as_mut_ptr(), out.len()) }

@@ -3,50 +3,28 @@
 //! hostile; only a call asking for nothing succeeds, and nothing is written.
 
 use super::table::f;
-use super::values::backed;
+use super::values::{backed, Ptr};
 use super::Fmi3;
 use crate::ffi3::*;
 use crate::sequences::core::Sequence;
-use crate::sequences::machine::Target;
+use crate::sequences::machine::{Call, Target};
 
 impl Sequence<'_, Fmi3> {
     /// A getter of a type the FMU has no variables of (Float32, the integers, Boolean,
     /// String, Binary): only a call asking for nothing succeeds, and nothing is written.
-    pub(crate) fn get_other_type(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Instance,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn get_other_type(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES_FMI3[function];
-        let mut vrs = if self.rng.chance(0.2) {
-            vec![]
-        } else {
-            self.vrs()
-        };
-        let n = if self.rng.chance(0.2) {
-            0
-        } else {
-            self.n_values(vrs.len())
-        };
+        let (vrs, nvr, n, vp, op) = self.no_variables_args();
         let cap = backed(n);
-        let (vp, op) = (self.ptr(), self.ptr());
-        let nvr = vrs.len();
-        vrs.push(0);
         // Room for `cap` values of any type (8 bytes at most; Binary's sizes and pointers
         // in two halves), one more for a misaligned pointer, untouched if nothing is written.
         let mut buf = vec![0x5a5a_5a5a_5a5a_5a5au64; 2 * cap + 2];
         let out = op.of_mut(buf.as_mut_ptr());
         let second = op.of_mut(buf[cap + 1..].as_mut_ptr());
         let vp_ = vp.of(vrs.as_ptr());
-        self.note(|| {
-            format!(
-                "{name}({target:?}, vr {:?} ({vp:?}), nValues {n} ({op:?}))",
-                &vrs[..nvr]
-            )
-        });
+        self.note_no_variables(name, target, &vrs[..nvr], vp, n, op);
         // SAFETY: `nvr` value references and room for `cap` values (or NULL, or misaligned
         // within the buffers); a longer `n` is one the FMU must refuse before writing.
         let s = unsafe {
@@ -76,29 +54,12 @@ impl Sequence<'_, Fmi3> {
 
     /// A setter of a type the FMU has no variables of: only a call setting nothing
     /// succeeds. The values are bytes of every kind (booleans other than 0 and 1 too).
-    pub(crate) fn set_other_type(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Instance,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn set_other_type(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES_FMI3[function];
-        let mut vrs = if self.rng.chance(0.2) {
-            vec![]
-        } else {
-            self.vrs()
-        };
-        let n = if self.rng.chance(0.2) {
-            0
-        } else {
-            self.n_values(vrs.len())
-        };
+        let (vrs, nvr, n, vp, xp) = self.no_variables_args();
         let cap = backed(n);
-        let (vp, xp) = (self.ptr(), self.ptr());
-        let nvr = vrs.len();
-        vrs.push(0);
         let mut buf: Vec<u64> = (0..2 * cap + 2).map(|_| self.rng.next_u64()).collect();
         if matches!(function, f::SET_STRING | f::SET_BINARY) {
             // Pointers to strings (or NULL), to bytes; Binary's sizes in the second half.
@@ -114,12 +75,7 @@ impl Sequence<'_, Fmi3> {
         let values = xp.of(buf.as_ptr());
         let second = xp.of(buf[cap + 1..].as_ptr());
         let vp_ = vp.of(vrs.as_ptr());
-        self.note(|| {
-            format!(
-                "{name}({target:?}, vr {:?} ({vp:?}), nValues {n} ({xp:?}))",
-                &vrs[..nvr]
-            )
-        });
+        self.note_no_variables(name, target, &vrs[..nvr], vp, n, xp);
         // SAFETY: `nvr` value references and `cap` values (or NULL, or misaligned within
         // the buffer; strings NUL-terminated or NULL); a longer `n` is one the FMU must
         // refuse before reading.
@@ -141,6 +97,39 @@ impl Sequence<'_, Fmi3> {
         };
         self.check_no_variables(name, target, legal, nvr, n, s);
         s
+    }
+
+    /// The arguments of a get or set of a type without variables: value references (none a
+    /// fifth of the time), their count, nValues (0 a fifth of the time) and the kinds of the
+    /// two array pointers; a 0 pushed past the value references, so their pointer is never
+    /// dangling.
+    fn no_variables_args(&mut self) -> (Vec<u32>, usize, usize, Ptr, Ptr) {
+        let mut vrs = if self.rng.chance(0.2) {
+            vec![]
+        } else {
+            self.vrs()
+        };
+        let n = if self.rng.chance(0.2) {
+            0
+        } else {
+            self.n_values(vrs.len())
+        };
+        let (vp, values) = (self.ptr(), self.ptr());
+        let nvr = vrs.len();
+        vrs.push(0);
+        (vrs, nvr, n, vp, values)
+    }
+
+    fn note_no_variables(
+        &mut self,
+        name: &str,
+        target: Target,
+        vrs: &[u32],
+        vp: Ptr,
+        n: usize,
+        values: Ptr,
+    ) {
+        self.note(|| format!("{name}({target:?}, vr {vrs:?} ({vp:?}), nValues {n} ({values:?}))"));
     }
 
     /// A get or set of a type without variables succeeds when it asks for nothing

@@ -6,8 +6,9 @@ use super::table::f;
 use super::values::Ptr;
 use super::Fmi3;
 use crate::ffi3::*;
+use crate::sequences::args::null_if;
 use crate::sequences::core::{Sequence, Standard};
-use crate::sequences::machine::{St, Target};
+use crate::sequences::machine::{Call, St, Target};
 
 /// Every byte an FMU writes for a boolean is 0 or 1; `0xa5` is left where it wrote none.
 fn boolean(b: u8) -> bool {
@@ -17,12 +18,10 @@ fn boolean(b: u8) -> bool {
 impl Sequence<'_, Fmi3> {
     /// fmi3DoStep: sane and hostile communication points and step sizes (as FMI 2.0's),
     /// out arguments NULL or misaligned sometimes (refused).
-    pub(crate) fn do_step(&mut self, target: Target, c: Instance, legal: bool) -> Status {
+    pub(crate) fn do_step(&mut self, call: Call) -> Status {
+        let (_, target, c, legal) = call.parts();
         let e = self.model.experiment.clone();
-        let (time, stop) = match target {
-            Target::Live(i) => (self.insts[i].time, self.insts[i].stop),
-            _ => (0.0, None),
-        };
+        let (time, stop) = self.time_and_stop(target);
         let h = match self.rng.below(20) {
             0..=9 => e.step,
             10..=12 => self.rng.log_uniform(1e-6, 1.0),
@@ -38,12 +37,7 @@ impl Sequence<'_, Fmi3> {
             16 => self.rng.log_uniform(1.0, 10.0),
             _ => e.step,
         };
-        let t = match self.rng.below(20) {
-            0..=15 => time,
-            16 => time * (1.0 + 1e-13) + 1e-300,
-            17 => time + *self.rng.pick(&[1.0, -1.0, 1e-3, -1e-3]),
-            _ => *self.rng.pick(&[f64::NAN, f64::INFINITY, 0.0, -time, 1e308]),
-        };
+        let t = self.step_start(time, &[f64::NAN, f64::INFINITY, 0.0, -time, 1e308]);
         let no_prior = self.rng.chance(0.5);
         // Booleans are bytes, never misaligned: NULL or not. The time: NULL or misaligned
         // (within `last`) sometimes.
@@ -53,13 +47,7 @@ impl Sequence<'_, Fmi3> {
         let mut last = [f64::NAN; 2];
         self.note(|| format!("fmi3DoStep({target:?}, t {t:e} (FMU at {time:e}), h {h:e}, NULL booleans {nulls:?}, lastSuccessfulTime {time_ptr:?})"));
         let [event, terminate, early] = &mut flags;
-        let b = |null: bool, p: &mut u8| {
-            if null {
-                std::ptr::null_mut()
-            } else {
-                p as *mut u8
-            }
-        };
+        let b = |null: bool, p: &mut u8| null_if(null, p as *mut u8);
         // SAFETY: valid out pointers (or NULL, or misaligned within `last`).
         let s = unsafe {
             (self.fmu.api.do_step)(
@@ -154,31 +142,17 @@ impl Sequence<'_, Fmi3> {
 
     /// fmi3UpdateDiscreteStates: out arguments NULL sometimes (the FMU may skip them or
     /// refuse), booleans 0 or 1, a finite next event time where one is defined.
-    pub(crate) fn update_discrete_states(
-        &mut self,
-        target: Target,
-        c: Instance,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn update_discrete_states(&mut self, call: Call) -> Status {
+        let (_, target, c, legal) = call.parts();
         let name = FUNCTION_NAMES_FMI3[f::UPDATE_DISCRETE_STATES];
         let nulls: [bool; 6] = std::array::from_fn(|_| !self.sane && self.rng.chance(0.05));
         let mut flags = [0xa5u8; 5];
         let mut next = f64::NAN;
         self.note(|| format!("{name}({target:?}, NULL out arguments {nulls:?})"));
-        let p = |k: usize, b: &mut u8| {
-            if nulls[k] {
-                std::ptr::null_mut()
-            } else {
-                b as *mut u8
-            }
-        };
+        let p = |k: usize, b: &mut u8| null_if(nulls[k], b as *mut u8);
         let [a, b, cc, d, e] = &mut flags;
         let (a, b, cc, d, e) = (p(0, a), p(1, b), p(2, cc), p(3, d), p(4, e));
-        let next_p = if nulls[5] {
-            std::ptr::null_mut()
-        } else {
-            &mut next as *mut f64
-        };
+        let next_p = null_if(nulls[5], &mut next as *mut f64);
         // SAFETY: valid out pointers or NULL.
         let s = unsafe {
             (self.fmu.api.update_discrete_states)(
@@ -201,40 +175,23 @@ impl Sequence<'_, Fmi3> {
                     status_name(s)
                 ));
             }
-            if let (Target::Live(i), true) = (target, legal) {
-                self.stats.events += 1;
-                let inst = &mut self.insts[i];
-                inst.x.clear();
-                inst.dx.clear();
-            }
+            self.event_iterated(target, legal);
         }
         s
     }
 
     /// fmi3CompletedIntegratorStep: NULL out pointers refused, booleans 0 or 1, no event
     /// asked by an FMU that says it needs no completed integrator steps.
-    pub(crate) fn completed_integrator_step(
-        &mut self,
-        target: Target,
-        c: Instance,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn completed_integrator_step(&mut self, call: Call) -> Status {
+        let (_, target, c, legal) = call.parts();
         let name = FUNCTION_NAMES_FMI3[f::COMPLETED_INTEGRATOR_STEP];
         let no_prior = self.sane || self.rng.chance(0.5);
         let null_event = !self.sane && self.rng.chance(0.04);
         let null_terminate = !self.sane && self.rng.chance(0.04);
         let (mut event, mut terminate) = (0xa5u8, 0xa5u8);
         self.note(|| format!("{name}({target:?}, noSetFMUStatePriorToCurrentPoint {no_prior}, NULL {null_event} {null_terminate})"));
-        let ep = if null_event {
-            std::ptr::null_mut()
-        } else {
-            &mut event as *mut u8
-        };
-        let tp = if null_terminate {
-            std::ptr::null_mut()
-        } else {
-            &mut terminate as *mut u8
-        };
+        let ep = null_if(null_event, &mut event as *mut u8);
+        let tp = null_if(null_terminate, &mut terminate as *mut u8);
         // SAFETY: valid out pointers (or NULL).
         let s =
             unsafe { (self.fmu.api.completed_integrator_step)(c, no_prior, ep.cast(), tp.cast()) };
@@ -264,21 +221,12 @@ impl Sequence<'_, Fmi3> {
 
     /// fmi3GetNumberOfContinuousStates, fmi3GetNumberOfEventIndicators: the
     /// modelDescription's count (of elements), NULL refused.
-    pub(crate) fn get_number_of(
-        &mut self,
-        function: usize,
-        target: Target,
-        c: Instance,
-        legal: bool,
-    ) -> Status {
+    pub(crate) fn get_number_of(&mut self, call: Call) -> Status {
+        let (function, target, c, legal) = call.parts();
         let name = FUNCTION_NAMES_FMI3[function];
         let null = self.rng.chance(0.1);
         let mut n = usize::MAX;
-        let p = if null {
-            std::ptr::null_mut()
-        } else {
-            &mut n as *mut usize
-        };
+        let p = null_if(null, &mut n as *mut usize);
         self.note(|| format!("{name}({target:?}{})", if null { ", NULL" } else { "" }));
         let (g, expected) = if function == f::GET_NUMBER_OF_CONTINUOUS_STATES {
             (self.fmu.api.get_number_of_continuous_states, self.model.nx)

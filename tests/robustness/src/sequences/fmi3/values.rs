@@ -8,7 +8,7 @@ use super::table::f;
 use super::Fmi3;
 use crate::ffi3::*;
 use crate::sequences::core::Sequence;
-use crate::sequences::machine::{St, Target};
+use crate::sequences::machine::{Call, St, Target};
 
 /// A value no call may write: what is left where an FMU must not write.
 const CANARY: f64 = -7.5e-77;
@@ -89,7 +89,8 @@ impl Sequence<'_, Fmi3> {
         }
     }
 
-    pub(crate) fn get_float64(&mut self, target: Target, c: Instance, legal: bool) -> Status {
+    pub(crate) fn get_float64(&mut self, call: Call) -> Status {
+        let (_, target, c, legal) = call.parts();
         let name = FUNCTION_NAMES_FMI3[f::GET_FLOAT64];
         let mut vrs = self.vrs3();
         let expected = self.model.len_of(&vrs);
@@ -183,7 +184,8 @@ impl Sequence<'_, Fmi3> {
         (vrs, values)
     }
 
-    pub(crate) fn set_float64(&mut self, target: Target, c: Instance, legal: bool) -> Status {
+    pub(crate) fn set_float64(&mut self, call: Call) -> Status {
+        let (_, target, c, legal) = call.parts();
         let name = FUNCTION_NAMES_FMI3[f::SET_FLOAT64];
         let (mut vrs, mut values) = self.values_to_set();
         let expected = self.model.len_of(&vrs);
