@@ -61,25 +61,68 @@ impl Figures {
     }
 }
 
-/// Runs the native measurements of one loaded FMU.
+/// Runs the native measurements of one loaded FMU; with `me_only` (`mechfmu bench
+/// --me-only`) its Model Exchange figures alone, the others left unmeasured (no runs).
 pub fn measure(
     name: &str,
     fmu: PathBuf,
     binary: &Binary,
     effort: Effort,
+    me_only: bool,
     progress: &dyn Fn(&str),
 ) -> Result<Figures, String> {
     let d = &binary.description;
-    let configurations: Vec<(f64, f64)> = STEPS
-        .iter()
-        .flat_map(|&h| TOLERANCES.iter().map(move |&tol| (h, tol)))
-        .collect();
-    let steps = native::step_figures(binary, &configurations, effort, &|what| {
-        progress(&format!("{name}: {what}"))
-    })?;
+    let steps = if me_only {
+        Vec::new()
+    } else {
+        let configurations: Vec<(f64, f64)> = STEPS
+            .iter()
+            .flat_map(|&h| TOLERANCES.iter().map(move |&tol| (h, tol)))
+            .collect();
+        native::step_figures(binary, &configurations, effort, &|what| {
+            progress(&format!("{name}: {what}"))
+        })?
+    };
     let me = model_exchange::figures(binary, effort, &|what| progress(&format!("{name}: {what}")))?;
+    let unmeasured = |n: usize| CallFigures {
+        n,
+        ns: Stat::of(&[]),
+    };
+    let figures = Figures {
+        name: name.to_string(),
+        fmu_bytes: std::fs::metadata(&fmu).map(|m| m.len()).unwrap_or(0),
+        fmu,
+        steps,
+        get_outputs: unmeasured(0),
+        get_many: unmeasured(0),
+        set_inputs: None,
+        default_h: d.step,
+        default_tol: d.tolerance,
+        cycle: Stat::of(&[]),
+        model_exchange: me,
+        instructions: None,
+        me_instructions: None,
+        fmpy: None,
+        simulate_fmu: None,
+    };
+    if me_only {
+        Ok(figures)
+    } else {
+        with_calls(figures, binary, effort, progress)
+    }
+}
+
+/// `figures` with the array calls and the co-simulation cycle measured.
+fn with_calls(
+    figures: Figures,
+    binary: &Binary,
+    effort: Effort,
+    progress: &dyn Fn(&str),
+) -> Result<Figures, String> {
+    let d = &binary.description;
     progress(&format!(
-        "{name}: fmi2GetReal, fmi2SetReal, co-simulation cycle"
+        "{}: fmi2GetReal, fmi2SetReal, co-simulation cycle",
+        figures.name
     ));
     let outputs: Vec<u32> = d.with_causality("output").iter().map(|v| v.vr).collect();
     let many: Vec<u32> = d.variables.iter().take(GET_MANY).map(|v| v.vr).collect();
@@ -95,10 +138,6 @@ pub fn measure(
         })
     };
     Ok(Figures {
-        name: name.to_string(),
-        fmu_bytes: std::fs::metadata(&fmu).map(|m| m.len()).unwrap_or(0),
-        fmu,
-        steps,
         get_outputs: CallFigures {
             n: outputs.len(),
             ns: native::get_real(binary, &outputs, effort)?,
@@ -108,48 +147,8 @@ pub fn measure(
             ns: native::get_real(binary, &many, effort)?,
         },
         set_inputs,
-        default_h: d.step,
-        default_tol: d.tolerance,
         cycle: native::cycle(binary, d.step, d.tolerance, effort)?,
-        model_exchange: me,
-        instructions: None,
-        me_instructions: None,
-        fmpy: None,
-        simulate_fmu: None,
-    })
-}
-
-/// The Model Exchange figures of one loaded FMU alone (`mechfmu bench --me-only`): the
-/// other figures are left unmeasured (no runs).
-pub fn measure_model_exchange(
-    name: &str,
-    fmu: PathBuf,
-    binary: &Binary,
-    effort: Effort,
-    progress: &dyn Fn(&str),
-) -> Result<Figures, String> {
-    let d = &binary.description;
-    let me = model_exchange::figures(binary, effort, &|what| progress(&format!("{name}: {what}")))?;
-    let none = |n: usize| CallFigures {
-        n,
-        ns: Stat::of(&[]),
-    };
-    Ok(Figures {
-        name: name.to_string(),
-        fmu_bytes: std::fs::metadata(&fmu).map(|m| m.len()).unwrap_or(0),
-        fmu,
-        steps: Vec::new(),
-        get_outputs: none(0),
-        get_many: none(0),
-        set_inputs: None,
-        default_h: d.step,
-        default_tol: d.tolerance,
-        cycle: Stat::of(&[]),
-        model_exchange: me,
-        instructions: None,
-        me_instructions: None,
-        fmpy: None,
-        simulate_fmu: None,
+        ..figures
     })
 }
 

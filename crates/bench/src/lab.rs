@@ -113,17 +113,14 @@ fn measure(plan: &Plan, report: &mut Report) -> Result<Vec<Loaded>, String> {
                 "{name}: the binary exports no mechfmu_counters/mechfmu_bench (built without the runtime's `bench` feature: drop --no-build): no split"
             ));
         }
-        let figures = if plan.me_only {
-            figures::measure_model_exchange(
-                name,
-                fmu.clone(),
-                &binary,
-                plan.effort,
-                &progress::show,
-            )?
-        } else {
-            figures::measure(name, fmu.clone(), &binary, plan.effort, &progress::show)?
-        };
+        let figures = figures::measure(
+            name,
+            fmu.clone(),
+            &binary,
+            plan.effort,
+            plan.me_only,
+            &progress::show,
+        )?;
         if binary.fmi3.is_none() {
             report.notes.push(format!(
                 "{name}: the binary exports no FMI 3.0 functions: no fmi3DoStep figures"
