@@ -182,8 +182,7 @@ impl Report {
     fn markdown_work_precision(&self, o: &mut String) {
         if !self.precision.is_empty() {
             let scipy = self.scipy();
-            let mut methods: Vec<&str> = self.precision.iter().map(|p| p.method.as_str()).collect();
-            methods.dedup();
+            let methods = self.precision_methods();
             let _ = writeln!(
                 o,
                 "\n**Work–precision**, Oscillator over 20 s, output every 0.1 s: max error of x, CPU µs per run:\n"
@@ -202,11 +201,7 @@ impl Report {
             for &tol in &precision::TOLERANCES {
                 let _ = write!(o, "| {} |", e(tol));
                 for m in &methods {
-                    match self
-                        .precision
-                        .iter()
-                        .find(|p| p.method == *m && p.tol == tol)
-                    {
+                    match self.precision_point(m, tol) {
                         Some(p) => {
                             let _ =
                                 write!(o, " {} in {} µs |", e(p.error), f(p.cpu.median * 1e6, 0));
@@ -215,15 +210,7 @@ impl Report {
                     }
                 }
                 for method in [NATIVE, FMPY] {
-                    let r = self
-                        .precision
-                        .iter()
-                        .find(|p| p.method == method && p.tol == tol)
-                        .and_then(|p| precision::speedup(p, &scipy))
-                        .map_or("-".into(), |s| {
-                            format!("{}{:.0}×", s.bound.unwrap_or(""), s.ratio)
-                        });
-                    let _ = write!(o, " {r} |");
+                    let _ = write!(o, " {} |", self.speedup_text(method, tol, &scipy));
                 }
                 let _ = writeln!(o);
             }

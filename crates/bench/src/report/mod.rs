@@ -58,6 +58,30 @@ impl Report {
             .collect()
     }
 
+    /// The methods of the work–precision points, in the order they were run.
+    fn precision_methods(&self) -> Vec<&str> {
+        let mut methods: Vec<&str> = self.precision.iter().map(|p| p.method.as_str()).collect();
+        methods.dedup();
+        methods
+    }
+
+    /// The work–precision point of `method` at `tol`, if it ran.
+    fn precision_point(&self, method: &str, tol: f64) -> Option<&Point> {
+        self.precision
+            .iter()
+            .find(|p| p.method == method && p.tol == tol)
+    }
+
+    /// How much faster `method` is at `tol` than scipy's best for the same error, as the
+    /// table and the Markdown write it (`-`: no such point or nothing to compare with).
+    fn speedup_text(&self, method: &str, tol: f64, scipy: &[Point]) -> String {
+        self.precision_point(method, tol)
+            .and_then(|p| precision::speedup(p, scipy))
+            .map_or("-".into(), |s| {
+                format!("{}{:.0}×", s.bound.unwrap_or(""), s.ratio)
+            })
+    }
+
     /// Prints the table, and writes the JSON to `json_path` and the Markdown beside it
     /// (`.md`).
     pub fn write(&self, json_path: &Path) -> Result<(), String> {

@@ -283,8 +283,7 @@ impl Report {
     fn table_work_precision(&self, o: &mut String) {
         if !self.precision.is_empty() {
             let scipy = self.scipy();
-            let mut methods: Vec<&str> = self.precision.iter().map(|p| p.method.as_str()).collect();
-            methods.dedup();
+            let methods = self.precision_methods();
             let _ = writeln!(o, "Work–precision, Oscillator free response over 20 s, output every 0.1 s: max |x - exact|, CPU µs per run");
             let mut header = format!("{:>7}", "tol");
             for m in &methods {
@@ -295,11 +294,7 @@ impl Report {
             for &tol in &precision::TOLERANCES {
                 let mut line = format!("{:>7}", e(tol));
                 for m in &methods {
-                    match self
-                        .precision
-                        .iter()
-                        .find(|p| p.method == *m && p.tol == tol)
-                    {
+                    match self.precision_point(m, tol) {
                         Some(p) => {
                             let _ = write!(
                                 line,
@@ -313,16 +308,12 @@ impl Report {
                         }
                     }
                 }
-                let ratio = |method: &str| {
-                    self.precision
-                        .iter()
-                        .find(|p| p.method == method && p.tol == tol)
-                        .and_then(|p| precision::speedup(p, &scipy))
-                        .map_or("-".into(), |s| {
-                            format!("{}{:.0}×", s.bound.unwrap_or(""), s.ratio)
-                        })
-                };
-                let _ = write!(line, " | {:>7} {:>8}", ratio(NATIVE), ratio(FMPY));
+                let _ = write!(
+                    line,
+                    " | {:>7} {:>8}",
+                    self.speedup_text(NATIVE, tol, &scipy),
+                    self.speedup_text(FMPY, tol, &scipy)
+                );
                 let _ = writeln!(o, "{line}");
             }
             let _ = writeln!(o, "  vs scipy's best: scipy's CPU time for the same error (log–log interpolation along its best");
