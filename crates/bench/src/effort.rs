@@ -32,6 +32,16 @@ impl Effort {
             calls: 20_000,
         }
     }
+
+    /// A probe under valgrind: one run of at most `max_steps` steps, whose instruction count
+    /// repeats (the probe makes its own calls).
+    pub fn probe(max_steps: usize) -> Effort {
+        Effort {
+            runs: 1,
+            max_steps,
+            calls: 0,
+        }
+    }
 }
 
 /// The number of steps of size `h` a run takes: the DefaultExperiment's interval, capped.

@@ -183,12 +183,7 @@ pub fn probe(
     repeat: usize,
     max_steps: usize,
 ) -> Result<(), String> {
-    let effort = Effort {
-        runs: 1,
-        max_steps,
-        calls: 0,
-    };
-    let n = steps_per_run(binary, h, effort);
+    let n = steps_per_run(binary, h, Effort::probe(max_steps));
     let mut inst = Instance::new(binary)?;
     step_run(&mut inst, tol, h, n, true)?;
     for _ in 0..repeat {

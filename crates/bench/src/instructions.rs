@@ -328,12 +328,7 @@ fn probe_co_simulation(
     repeat: usize,
     max_steps: usize,
 ) -> Result<(), String> {
-    let effort = Effort {
-        runs: 1,
-        max_steps,
-        calls: GET_CALLS,
-    };
-    let n = steps_per_run(binary, h, effort);
+    let n = steps_per_run(binary, h, Effort::probe(max_steps));
     let mut inst = Instance::new(binary)?;
     // The same warm-up in every probe, so it cancels in the difference.
     let (_, work) = native::step_run(&mut inst, tol, h, n, true)?;
