@@ -37,6 +37,16 @@ pub fn percent(ratio: f64) -> String {
     }
 }
 
+/// A fraction as a percentage with one decimal (`-`: none).
+pub fn share(fraction: Option<f64>) -> String {
+    fraction.map_or("-".into(), |s| format!("{:.1} %", s * 100.0))
+}
+
+/// A count (instructions) without decimals (`-`: not counted).
+pub fn count(n: Option<f64>) -> String {
+    n.map_or("-".into(), |n| format!("{n:.0}"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,6 +1,6 @@
 //! The benchmark's figures as Markdown tables (for docs/performance.md).
 
-use super::format::{e, f, percent};
+use super::format::{count, e, f, percent, share};
 use super::Report;
 use crate::precision::{self, FMPY, NATIVE};
 use std::fmt::Write as _;
@@ -114,7 +114,7 @@ impl Report {
                         "| {} | {:.0} | {} | {} |",
                         m.name,
                         c.per_step,
-                        c.fmi3_per_step.map_or("-".into(), |n| format!("{n:.0}")),
+                        count(c.fmi3_per_step),
                         c.fmi3_ratio().map_or("-".into(), percent)
                     );
                 }
@@ -170,8 +170,7 @@ impl Report {
                     m.get_many.ns.median,
                     m.cycle.median,
                     m.fmpy.map_or("-".into(), |s| f(s.median, 2)),
-                    m.fmu_share()
-                        .map_or("-".into(), |s| format!("{:.1} %", s * 100.0)),
+                    share(m.fmu_share()),
                     m.fmu_bytes.div_ceil(1024)
                 );
             }

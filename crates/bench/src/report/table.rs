@@ -1,7 +1,7 @@
 //! The benchmark's table on stdout: one section per kind of figure, each with its legend,
 //! then the targets.
 
-use super::format::{e, f, percent, spread};
+use super::format::{count, e, f, percent, share, spread};
 use super::Report;
 use crate::figures::CallFigures;
 use crate::model_exchange::LIMIT_NS;
@@ -206,8 +206,7 @@ impl Report {
                     m.set_inputs.as_ref().map_or("-".into(), call),
                     m.cycle.median,
                     m.fmpy.map_or("-".into(), |s| f(s.median, 2)),
-                    m.fmu_share()
-                        .map_or("-".into(), |s| format!("{:.1} %", s * 100.0)),
+                    share(m.fmu_share()),
                     m.simulate_fmu
                         .map_or("-".into(), |s| format!("{} µs", f(s.median, 2))),
                     m.fmu_bytes.div_ceil(1024)
@@ -249,7 +248,7 @@ impl Report {
                         "{:<18} {:>8.0} {:>8} {:>7} | {:>6.0} {:>5.0} {:>6.0} {:>5.0} {:>5.0} | {:>6.0} {:>7.0} | {:>11.0}",
                         m.name,
                         c.per_step,
-                        c.fmi3_per_step.map_or("-".into(), |n| format!("{n:.0}")),
+                        count(c.fmi3_per_step),
                         c.fmi3_ratio().map_or("-".into(), percent),
                         p.rhs,
                         p.copying,
