@@ -58,28 +58,31 @@ impl Instance {
         })
     }
 
+    /// Calls `function`, one of `self.f`'s that take the component alone.
+    #[inline]
+    fn call(&self, function: unsafe extern "C" fn(fmi2Component) -> fmi2Status) -> fmi2Status {
+        // SAFETY: a live component of the library the function comes from.
+        unsafe { function(self.component) }
+    }
+
     #[inline]
     pub fn reset(&self) -> fmi2Status {
-        // SAFETY: a live component of the library the function comes from.
-        unsafe { (self.f.reset)(self.component) }
+        self.call(self.f.reset)
     }
 
     #[inline]
     pub fn enter_initialization_mode(&self) -> fmi2Status {
-        // SAFETY: as for `reset`.
-        unsafe { (self.f.enter_initialization_mode)(self.component) }
+        self.call(self.f.enter_initialization_mode)
     }
 
     #[inline]
     pub fn exit_initialization_mode(&self) -> fmi2Status {
-        // SAFETY: as for `reset`.
-        unsafe { (self.f.exit_initialization_mode)(self.component) }
+        self.call(self.f.exit_initialization_mode)
     }
 
     #[inline]
     pub fn terminate(&self) -> fmi2Status {
-        // SAFETY: as for `reset`.
-        unsafe { (self.f.terminate)(self.component) }
+        self.call(self.f.terminate)
     }
 
     /// `fmi2SetupExperiment`: a tolerance and a stop time when given.
