@@ -9,7 +9,7 @@
 //! that of the sweep machinery: cases that fail are rows of the results (status and the
 //! FMU's message), not a failure of the command.
 
-use crate::home::python::ensure_venv;
+use crate::home::python::{ensure_venv, exit_status};
 use std::ffi::OsString;
 use std::path::PathBuf;
 use std::process::Command;
@@ -31,9 +31,7 @@ pub fn run(args: Args) -> Result<(), String> {
     if let Ok(exe) = std::env::current_exe() {
         cmd.env(EXE_ENV, exe);
     }
-    let status = cmd
-        .status()
-        .map_err(|e| format!("cannot run {}: {e}", python.display()))?;
+    let status = exit_status(&mut cmd)?;
     match status.code() {
         Some(0) => Ok(()),
         // a request python -m mechfmu_sweep refused: its message (above) names the problem

@@ -21,7 +21,7 @@
 //! be built, the command says why and goes on: the fmi-crate rows then fail.
 
 use crate::build::workspace::{cargo, mechanism_crates, target_directory, MechanismCrate};
-use crate::home::python::ensure_venv;
+use crate::home::python::{ensure_venv, exit_status};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -128,9 +128,7 @@ pub fn run(args: Args) -> Result<(), String> {
     if let Some(path) = &fmi_run {
         command.env(FMI_RUN_ENV, path);
     }
-    let status = command
-        .status()
-        .map_err(|e| format!("cannot run {}: {e}", python.display()))?;
+    let status = exit_status(&mut command)?;
     // the Python side's exit status: 1 after printing a table with FAIL rows (an FMU that
     // cannot be opened is one of them), 3 when the validator itself failed
     match status.code() {

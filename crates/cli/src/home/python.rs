@@ -5,7 +5,7 @@
 //! first use.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, ExitStatus};
 
 /// The venv's interpreter, under the workspace's `target/`.
 pub fn venv_python(workspace: &Path) -> PathBuf {
@@ -80,4 +80,13 @@ fn run(cmd: &mut Command, what: &str) -> Result<(), String> {
     } else {
         Err(format!("could not {what} ({status})"))
     }
+}
+
+/// Runs `command` (the venv's interpreter on one of mechfmu's packages) to its end: its exit
+/// status, or why it could not start.
+pub fn exit_status(command: &mut Command) -> Result<ExitStatus, String> {
+    command.status().map_err(|e| {
+        let program = Path::new(command.get_program());
+        format!("cannot run {}: {e}", program.display())
+    })
 }
