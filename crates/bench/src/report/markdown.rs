@@ -34,11 +34,19 @@ impl Report {
             o,
             "\n**Declared from energies** (Lagrange's equations from `T`, `V`, `Q`; `tests/energies`) against the hand-written equations, instructions (valgrind) per `fmi2DoStep` (h 1e-2, tol 1e-6) and per Model Exchange evaluation:\n"
         );
-        let _ = writeln!(
+        table_head(
             o,
-            "| mechanism | step, by hand | step, from energies | ratio | ME evaluation, by hand | ME evaluation, from energies | ratio |"
+            1,
+            &[
+                "mechanism",
+                "step, by hand",
+                "step, from energies",
+                "ratio",
+                "ME evaluation, by hand",
+                "ME evaluation, from energies",
+                "ratio",
+            ],
         );
-        let _ = writeln!(o, "|---|---:|---:|---:|---:|---:|---:|");
         for e in &self.energies {
             let _ = writeln!(
                 o,
@@ -62,13 +70,26 @@ impl Report {
                 o,
                 "**fmi2DoStep from a native loop**, ns per step and where they go:\n"
             );
-            let _ = writeln!(
-            o,
-            "| mechanism | h | tol | ns/step | fmi3DoStep ns/step | fmi3 vs fmi2 | evals/step | rhs | copy | solver | step | FMI | plumbing (copy+step+FMI) | own (isolated) | overlap lost |"
-        );
-            let _ = writeln!(
+            table_head(
                 o,
-                "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+                3,
+                &[
+                    "mechanism",
+                    "h",
+                    "tol",
+                    "ns/step",
+                    "fmi3DoStep ns/step",
+                    "fmi3 vs fmi2",
+                    "evals/step",
+                    "rhs",
+                    "copy",
+                    "solver",
+                    "step",
+                    "FMI",
+                    "plumbing (copy+step+FMI)",
+                    "own (isolated)",
+                    "overlap lost",
+                ],
             );
             for m in &self.mechanisms {
                 for s in &m.steps {
@@ -105,8 +126,11 @@ impl Report {
                 o,
                 "\n**Instructions** per step (valgrind), h 1e-2, tol 1e-6:\n"
             );
-            let _ = writeln!(o, "| mechanism | fmi2DoStep | fmi3DoStep | fmi3 vs fmi2 |");
-            let _ = writeln!(o, "|---|---:|---:|---:|");
+            table_head(
+                o,
+                1,
+                &["mechanism", "fmi2DoStep", "fmi3DoStep", "fmi3 vs fmi2"],
+            );
             for m in &self.mechanisms {
                 if let Some(c) = &m.instructions {
                     let _ = writeln!(
@@ -129,11 +153,18 @@ impl Report {
                 o,
                 "\n**Model Exchange**, ns per derivative evaluation (`fmi2SetTime` + `fmi2SetContinuousStates` + `fmi2GetDerivatives`) at a new point each, next to the equations alone at the same points:\n"
             );
-            let _ = writeln!(
+            table_head(
                 o,
-                "| mechanism | ME API (ns/eval) | equations alone (ns/eval) | ME overhead (ns/eval) | of which FMI layer | of which simulation's ME code |"
+                1,
+                &[
+                    "mechanism",
+                    "ME API (ns/eval)",
+                    "equations alone (ns/eval)",
+                    "ME overhead (ns/eval)",
+                    "of which FMI layer",
+                    "of which simulation's ME code",
+                ],
             );
-            let _ = writeln!(o, "|---|---:|---:|---:|---:|---:|");
             for m in &self.mechanisms {
                 if let Some(me) = &m.model_exchange {
                     let _ = writeln!(
@@ -155,11 +186,19 @@ impl Report {
     fn markdown_calls(&self, o: &mut String) {
         if self.mechanisms.iter().any(|m| m.get_many.ns.runs > 0) {
             let _ = writeln!(o, "\n**Calls and FMPy** (default step and tolerance):\n");
-            let _ = writeln!(
-            o,
-            "| mechanism | fmi2GetReal outputs (ns) | fmi2GetReal 10 vars (ns) | cycle (ns) | FMPy low-level loop (µs/step) | FMU share | .fmu (KiB) |"
-        );
-            let _ = writeln!(o, "|---|---:|---:|---:|---:|---:|---:|");
+            table_head(
+                o,
+                1,
+                &[
+                    "mechanism",
+                    "fmi2GetReal outputs (ns)",
+                    "fmi2GetReal 10 vars (ns)",
+                    "cycle (ns)",
+                    "FMPy low-level loop (µs/step)",
+                    "FMU share",
+                    ".fmu (KiB)",
+                ],
+            );
             for m in &self.mechanisms {
                 let _ = writeln!(
                     o,
@@ -226,8 +265,7 @@ impl Report {
     /// The targets, met or not.
     fn markdown_targets(&self, o: &mut String) {
         let _ = writeln!(o, "\n**Targets**:\n");
-        let _ = writeln!(o, "| target | limit | measured | met |");
-        let _ = writeln!(o, "|---|---|---|---|");
+        table_head(o, 4, &["target", "limit", "measured", "met"]);
         for t in self.targets() {
             let met = match t.met {
                 Some(true) => "yes",
@@ -236,5 +274,27 @@ impl Report {
             };
             let _ = writeln!(o, "| {} | {} | {} | {met} |", t.what, t.limit, t.value);
         }
+    }
+}
+
+/// A Markdown table's head: the row of `columns` and the rule under it, the first `left`
+/// columns aligned left and the others right.
+fn table_head(o: &mut String, left: usize, columns: &[&str]) {
+    let _ = writeln!(o, "| {} |", columns.join(" | "));
+    let rule: String = (0..columns.len())
+        .map(|i| if i < left { "---|" } else { "---:|" })
+        .collect();
+    let _ = writeln!(o, "|{rule}");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::table_head;
+
+    #[test]
+    fn a_head_has_one_rule_cell_per_column() {
+        let mut o = String::new();
+        table_head(&mut o, 2, &["mechanism", "h", "ns/step"]);
+        assert_eq!(o, "| mechanism | h | ns/step |\n|---|---|---:|\n");
     }
 }
