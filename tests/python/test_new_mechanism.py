@@ -36,6 +36,7 @@ from mechfmu_validate.importers.fmpy import EULER
 MECHFMU = REPO_ROOT / "target" / "release" / "mechfmu"
 DOUBLE_PENDULUM = Path(__file__).parent / "data" / "double_pendulum.rs"
 DOUBLE_PENDULUM_CASES = Path(__file__).parent / "data" / "double_pendulum_cases.py"
+MATH_CALLS = Path(__file__).parent / "data" / "math_calls.rs"
 GANTRY_CRANE = Path(__file__).parent / "data" / "gantry_crane.rs"
 GANTRY_CRANE_TESTS = Path(__file__).parent / "data" / "gantry_crane_test.rs"
 GANTRY_CRANE_CASES = Path(__file__).parent / "data" / "gantry_crane_cases.py"
@@ -161,6 +162,38 @@ def test_user_mechanism_comes_out_as_fmi3_too(double_pendulum):
     for name in ("theta1", "theta2", "E"):
         assert np.array_equal(a[name], b[name]), name
 
+
+def math_calls_y(x):
+    """`MathCalls`' output, from its source's formula."""
+    s, c = np.sin(x), np.cos(x)
+    trigonometry = s + c + s * c + np.tan(x) + np.arcsin(x) + np.arccos(x) + np.arctan(x) + np.arctan2(x, 1.0)
+    hyperbolic = np.sinh(x) + np.cosh(x) + np.tanh(x) + np.arcsinh(x) + np.arccosh(1 + x) + np.arctanh(x)
+    exponential = (np.exp(x) + np.exp2(x) + np.expm1(x) + np.log(x) + np.log1p(x) + np.log2(x) + np.log10(x)
+                   + np.log(x) / np.log(3.0))
+    powers = np.sqrt(x) + np.cbrt(x) + x**1.5 + 10.0**x + x**3 + np.hypot(x, 1.0)
+    others = x * x + 1 + 1 / x + np.abs(x) - np.abs(x) + np.maximum(x, 1.0) + np.minimum(x, 1.0)
+    return trigonometry + hyperbolic + exponential + powers + others
+
+
+def test_every_math_function_links_on_every_platform(double_pendulum, tmp_path):
+    """A mechanism whose output calls every smooth function of `Scalar` builds for every
+    platform: on the Macs its binaries import the C math library (and the forms LLVM fuses
+    calls into, `__sincos_stret`, `__exp10`) from the libSystem stub mechfmu links against.
+    Its output under FMPy is the formula, computed here."""
+    crate = tmp_path / "math_calls"
+    run([MECHFMU, "new", "MathCalls", "--path", crate], cwd=tmp_path)
+    shutil.copy(MATH_CALLS, crate / "src" / "lib.rs")
+    for test in (crate / "tests").glob("*.rs"):
+        test.unlink()
+    run([MECHFMU, "build", "--manifest-path", crate / "Cargo.toml", "--out", crate / "fmu", "--platform", "all"],
+        cwd=tmp_path, env=user_crate_env())
+    fmu = crate / "fmu" / "fmi3" / "MathCalls.fmu"
+    names = zipfile.ZipFile(fmu).namelist()
+    for platform in ("x86_64-darwin", "aarch64-darwin", "x86_64-windows", "aarch64-linux", "x86_64-linux"):
+        assert any(n.startswith(f"binaries/{platform}/") for n in names), (platform, names)
+    result = simulate_fmu(str(fmu), stop_time=1.0, output_interval=0.25, output=["x", "y"])
+    np.testing.assert_allclose(result["x"], 0.5 + 0.1 * result["time"], rtol=1e-12)
+    np.testing.assert_allclose(result["y"], math_calls_y(result["x"]), rtol=1e-13)
 
 # ---------------------------------------------------------------------------------------
 # `mechfmu new --energies`: a cart on a spring carrying a pendulum, declared from T, V, Q
