@@ -23,7 +23,7 @@ use std::process::ExitCode;
 #[command(
     name = "mechfmu",
     version,
-    about = "Turns mechanical models into FMI 2.0 and FMI 3.0 FMUs for Linux, Windows and ARM Linux"
+    about = "Turns mechanical models into FMI 2.0 and FMI 3.0 FMUs for Linux, Windows and macOS, on x86-64 and ARM"
 )]
 struct Cli {
     #[command(subcommand)]

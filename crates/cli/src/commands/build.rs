@@ -18,7 +18,8 @@ pub struct Args {
     #[arg(long)]
     manifest_path: Option<PathBuf>,
     /// The platforms to carry binaries for, comma-separated: x86_64-linux (linux64),
-    /// x86_64-windows (win64), aarch64-linux, or all; a platform whose toolchain is
+    /// x86_64-windows (win64), aarch64-linux, x86_64-darwin (darwin64), aarch64-darwin,
+    /// or all; a platform whose toolchain is
     /// missing is then an error. Default: every platform this machine can build for
     /// (those it cannot are named, with how to install their toolchains).
     #[arg(long, value_name = "PLATFORMS")]
