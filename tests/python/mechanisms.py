@@ -5,8 +5,9 @@ The list is cargo's: every package of the workspace whose Cargo.toml names its m
 expects of one mechanism lives in its crate's ``validation/`` folder, next to its reference
 cases (``cases.py``):
 
-* ``contract.py``: its interface contract (test_contract.py; the FMI 3.0 arrays and the
-  number of event indicators are read from it too), where the mechanism has one;
+* ``contract.toml``: its interface contract (contracts.py reads it; test_contract.py checks the
+  FMU against it, and the FMI 3.0 arrays and the number of event indicators are read from it
+  too), where the mechanism has one;
 * ``expectations.toml``: the rows where an importer's solver does not reach a case's limit
   (``[[limit]]``: case, importer, why) and a parameter sweep run by both engines of
   ``mechfmu sweep`` (``[sweep] parameters``); a mechanism without the file expects neither.
@@ -16,15 +17,14 @@ Adding a mechanism is adding its crate: every test that runs on every mechanism 
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import subprocess
 import tomllib
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
-from types import ModuleType
 
+from contracts import Contract, read_contract
 from mechfmu_validate.importers.fmi_crate import RK4
 from mechfmu_validate.importers.fmpy import CVODE, EULER
 
@@ -68,9 +68,9 @@ class Mechanism:
         return self.validation / "cases.py"
 
     @property
-    def contract(self) -> ModuleType | None:
-        """``validation/contract.py`` as a module of its own, or None."""
-        return _contract(self.validation / "contract.py", self.model)
+    def contract(self) -> Contract | None:
+        """``validation/contract.toml``, or None."""
+        return _contract(self.validation / "contract.toml", self.model)
 
     @property
     def expectations(self) -> Expectations:
@@ -146,13 +146,5 @@ def read_expectations(path: Path) -> Expectations:
 
 
 @cache
-def _contract(path: Path, model: str) -> ModuleType | None:
-    if not path.is_file():
-        return None
-    spec = importlib.util.spec_from_file_location(f"mechfmu_contract_{path.parent.parent.name}", path)
-    assert spec is not None and spec.loader is not None, path
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    if module.MODEL != model:
-        raise ValueError(f"{path}: MODEL = {module.MODEL!r}, the crate's model is {model!r}")
-    return module
+def _contract(path: Path, model: str) -> Contract | None:
+    return read_contract(path, model)

@@ -1,8 +1,7 @@
 """Every FMU against its interface contract (docs/mechanisms/README.md), as FMPy reads it.
 
 The contract of each mechanism is data, next to the mechanism: ``fmus/<crate>/validation/
-contract.py`` (``MODEL``, ``DEFAULT_EXPERIMENT``, ``VARIABLES``, ``MIN_ZERO`` and, where the
-structure is part of it, ``DERIVATIVES``). The Rust side does not read it. One test checks
+contract.toml`` (its format: contracts.py). The Rust side does not read it. One test checks
 every FMU against its file, the same way:
 
 * identity: FMI 2.0, modelName and modelIdentifier, Model Exchange and Co-Simulation
@@ -14,12 +13,8 @@ every FMU against its file, the same way:
   unit exponents of its <UnitDefinitions> entry (written out below for each unit name);
 * min="0" on the variables that must be > 0, and the <Derivatives> where the contract has them.
 
-And FMPy's own ``validate_fmu`` finds no problem in any of them.
-
-A contract's ``VARIABLES`` maps a name to (causality, variability, initial, start, unit). A
-variability is a value or a tuple of the values allowed; initial is None for an input (no
-`initial` attribute), "exact" with the start value given, or "calculated" (no start value);
-unit is the name of a <UnitDefinitions> unit ("1": dimensionless).
+And FMPy's own ``validate_fmu`` finds no problem in any of them; and a contract file with a
+misspelt key or a row of the wrong shape is refused, naming it.
 """
 
 from __future__ import annotations
@@ -28,13 +23,13 @@ import re
 import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
-from types import ModuleType
 
 import pytest
 
 import fmpy
 from fmpy.validation import validate_fmu
 
+from contracts import Contract, read_contract
 from fmutest import REPO_ROOT, fmu_path
 from mechanisms import mechanisms, models
 
@@ -70,14 +65,14 @@ UNIT_DIMS = {
 GUID = re.compile(r"\{?[0-9a-fA-F]{8}-[0-9a-fA-F]{4}-[0-9a-fA-F]{4}-[0-9a-fA-F]{4}-[0-9a-fA-F]{12}\}?")
 
 
-#: model -> its crate's validation/contract.py
+#: model -> its crate's validation/contract.toml
 CONTRACTS = {m.model: m.contract for m in mechanisms() if m.contract is not None}
 
 
 def test_every_mechanism_has_its_contract():
     assert IN_THE_CONTRACT, "no `## N. `Name`` section in docs/mechanisms/README.md"
     missing = [m for m in IN_THE_CONTRACT if m not in CONTRACTS]
-    assert not missing, f"no fmus/<crate>/validation/contract.py for {missing}"
+    assert not missing, f"no fmus/<crate>/validation/contract.toml for {missing}"
 
 
 def _raw_variables(path: Path) -> dict[str, dict[str, str]]:
@@ -87,9 +82,9 @@ def _raw_variables(path: Path) -> dict[str, dict[str, str]]:
     return {sv.get("name"): dict(sv.attrib) for sv in root.iter("ScalarVariable")}
 
 
-def contract_problems(path: Path, contract: ModuleType) -> list[str]:
+def contract_problems(path: Path, contract: Contract) -> list[str]:
     """What the FMU at ``path`` declares differently from ``contract`` (empty: it follows it)."""
-    model = contract.MODEL
+    model = contract.model
     md = fmpy.read_model_description(str(path), validate=False)
     raw = _raw_variables(path)
     problems: list[str] = []
@@ -118,13 +113,13 @@ def contract_problems(path: Path, contract: ModuleType) -> list[str]:
     check(ex is not None, "no <DefaultExperiment>")
     if ex is not None:
         got = tuple(None if v is None else float(v) for v in (ex.startTime, ex.stopTime, ex.stepSize))
-        check(got == tuple(contract.DEFAULT_EXPERIMENT),
-              f"DefaultExperiment (startTime, stopTime, stepSize) = {got}, the contract says {contract.DEFAULT_EXPERIMENT}")
+        check(got == contract.default_experiment,
+              f"DefaultExperiment (startTime, stopTime, stepSize) = {got}, the contract says {contract.default_experiment}")
 
     # the variables
     variables = {v.name: v for v in md.modelVariables}
     units = {u.name: u for u in md.unitDefinitions}
-    for name, (causality, variability, initial, start, unit) in contract.VARIABLES.items():
+    for name, (causality, variability, initial, start, unit) in contract.variables.items():
         v = variables.get(name)
         if v is None:
             problems.append(f"{name}: missing (has {sorted(variables)})")
@@ -171,11 +166,11 @@ def contract_problems(path: Path, contract: ModuleType) -> list[str]:
             check(bu.factor == 1.0 and bu.offset == 0.0, f"{name}: unit {declared!r}: factor {bu.factor}, offset {bu.offset}")
 
     # bounds and structure
-    for name in getattr(contract, "MIN_ZERO", []):
+    for name in contract.min_zero:
         v = variables.get(name)
         check(v is not None and v.min is not None and float(v.min) == 0.0,
               f"{name} must declare min 0 (has {None if v is None else v.min})")
-    derivatives = getattr(contract, "DERIVATIVES", None)
+    derivatives = contract.derivatives
     if derivatives is not None:
         got = {d.variable.derivative.name: d.variable.name for d in md.derivatives}
         check(got == derivatives, f"<Derivatives> (state: derivative) {got}, the contract says {derivatives}")
@@ -186,7 +181,7 @@ def contract_problems(path: Path, contract: ModuleType) -> list[str]:
 def test_fmu_follows_its_contract(model):
     contract = CONTRACTS[model]
     problems = contract_problems(fmu_path(model), contract)
-    assert not problems, f"{model} differs from {Path(contract.__file__).relative_to(REPO_ROOT)}:\n" + "\n".join(
+    assert not problems, f"{model} differs from {contract.path.relative_to(REPO_ROOT)}:\n" + "\n".join(
         problems)
 
 
@@ -194,3 +189,23 @@ def test_fmu_follows_its_contract(model):
 def test_validate_fmu_reports_no_problems(model):
     problems = validate_fmu(str(fmu_path(model)))
     assert problems == [], "fmpy.validation.validate_fmu found problems:\n" + "\n".join(problems)
+
+
+def test_a_contract_file_with_a_mistake_is_refused_naming_it(tmp_path):
+    """A misspelt key would drop a check silently, and a row of the wrong shape would check the
+    wrong thing: both are refused, naming the file and what is wrong."""
+    path = tmp_path / "contract.toml"
+    good = 'model = "Cart"\ndefault_experiment = [0.0, 1.0, 0.1]\n[parameters]\nm = ["fixed", 1.0, "kg"]\n'
+    path.write_text(good)
+    contract = read_contract(path, "Cart")
+    assert contract.variables["m"] == ("parameter", "fixed", "exact", 1.0, "kg") and contract.event_indicators == 0
+    for text, said in [("min_zer0 = ['m']\n" + good, "unknown keys ['min_zer0']"),
+                       (good.replace('"fixed", 1.0', '"fixed", "1.0"'), "[parameters] m = ['fixed', '1.0', 'kg']"),
+                       (good + '[calculated]\nm = "kg"\n', "['m'] stand in more than one table"),
+                       (good.replace('"Cart"', '"Cat"'), "model = 'Cat', the crate's model is 'Cart'"),
+                       (good.replace("[0.0, 1.0, 0.1]", "[0.0, 1.0]"), "default_experiment is")]:
+        path.write_text(text)
+        with pytest.raises(ValueError) as refused:
+            read_contract(path, "Cart")
+        assert str(refused.value).startswith(f"{path}: ") and said in str(refused.value), str(refused.value)
+    assert read_contract(tmp_path / "none.toml", "Cart") is None

@@ -181,7 +181,7 @@ def test_exact_pendulum_reference_is_the_elliptic_solution():
 
 
 # =======================================================================================
-# modelDescription: checked against fmus/crane/validation/contract.py by test_contract.py
+# modelDescription: checked against fmus/crane/validation/contract.toml by test_contract.py
 
 
 # =======================================================================================

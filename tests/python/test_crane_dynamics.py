@@ -285,7 +285,7 @@ def test_energy_and_formula_a_references_agree_with_derive():
 
 
 # =======================================================================================
-# modelDescription: checked against fmus/crane_dynamics/validation/contract.py by test_contract.py
+# modelDescription: checked against fmus/crane_dynamics/validation/contract.toml by test_contract.py
 
 
 # =======================================================================================

@@ -3,7 +3,7 @@ as `mechfmu validate` runs them (mechfmu_validate.target, mechfmu_validate.impor
 
 * which FMI 2.0 variable each element of their arrays is, as their model descriptions name
   it (mechfmu_validate.arrays), is the contract's (docs/mechanisms/README.md, "FMI 3.0, arrays";
-  ARRAYS in the mechanism's validation/contract.py);
+  [arrays] in the mechanism's validation/contract.toml);
 * every reference case of every mechanism (fmus/*/validation/cases.py) under FMPy's FMI 3.0
   Co-Simulation meets the case's limits, and the fmi crate's FMI 3.0 import agrees with it
   (1e-9); under FMPy's FMI 3.0 Model Exchange (CVode at 1e-10) the case meets its limits, or
@@ -76,7 +76,8 @@ def _ids(p):
 def test_the_arrays_are_the_contracts(model):
     _, f3 = both(model)
     assert f3.problem is None, f3.problem
-    contract = getattr(mechanism(model).contract, "ARRAYS", {})
+    contract = mechanism(model).contract
+    contract = contract.arrays if contract is not None else {}
     assert {a: " ".join(e) for a, e in f3.mapping.elements.items()} == contract
 
 

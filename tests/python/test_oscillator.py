@@ -295,7 +295,7 @@ def test_reference_regimes_are_the_named_ones():
 
 
 # =======================================================================================
-# modelDescription (checked against fmus/oscillator/validation/contract.py by test_contract.py)
+# modelDescription (checked against fmus/oscillator/validation/contract.toml by test_contract.py)
 
 
 def test_fmpy_validate_cli_exits_zero(fmu):

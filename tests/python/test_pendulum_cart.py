@@ -130,7 +130,7 @@ def closed_form_frequencies(p):
 
 
 # =======================================================================================
-# The FMU file (its modelDescription: fmus/pendulum_cart/validation/contract.py, test_contract.py)
+# The FMU file (its modelDescription: fmus/pendulum_cart/validation/contract.toml, test_contract.py)
 
 
 def test_outputs_at_start_follow_the_equations(slave):

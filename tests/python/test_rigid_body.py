@@ -115,7 +115,7 @@ def rotate(q, v):
 
 
 # =======================================================================================
-# The FMU file (its modelDescription: fmus/rigid_body/validation/contract.py, test_contract.py)
+# The FMU file (its modelDescription: fmus/rigid_body/validation/contract.toml, test_contract.py)
 
 
 def test_default_box_and_initial_outputs(slave):

@@ -109,7 +109,7 @@ def params(**kw) -> dict:
 
 
 # =======================================================================================
-# The FMU file (its modelDescription: fmus/two_mass_oscillator/validation/contract.py, test_contract.py)
+# The FMU file (its modelDescription: fmus/two_mass_oscillator/validation/contract.toml, test_contract.py)
 
 
 def test_start_values_read_back_after_initialization(slave):
