@@ -24,7 +24,7 @@
 //! # }
 //! # impl mechfmu::model::Mechanism for Decay {
 //! #     const EXPERIMENT: mechfmu::model::Experiment =
-//! #         mechfmu::model::Experiment { start: 0.0, stop: 1.0, step: 0.1, tolerance: 1e-8 };
+//! #         mechfmu::model::Experiment::until(1.0).step(0.1).tolerance(1e-8);
 //! #     fn evaluate<S: mechfmu::model::Scalar>(v: &mut DecayValues<S>) { v.y_dot = -v.k * v.y; }
 //! # }
 //! use mechfmu_testkit::fmi3::Fmi3Harness;

@@ -16,7 +16,7 @@
 //! # }
 //! # impl mechfmu::model::Mechanism for Decay {
 //! #     const EXPERIMENT: mechfmu::model::Experiment =
-//! #         mechfmu::model::Experiment { start: 0.0, stop: 1.0, step: 0.1, tolerance: 1e-8 };
+//! #         mechfmu::model::Experiment::until(1.0).step(0.1).tolerance(1e-8);
 //! #     fn evaluate<S: mechfmu::model::Scalar>(v: &mut DecayValues<S>) { v.y_dot = -v.k * v.y; }
 //! # }
 //! use mechfmu_testkit::harness::Harness;
@@ -148,12 +148,7 @@ impl MessageLog {
 
 /// The experiment of the test kit's own small mechanisms: one second in steps of 0.1, at
 /// a tolerance tight enough for their exact solutions.
-pub const ONE_SECOND: Experiment = Experiment {
-    start: 0.0,
-    stop: 1.0,
-    step: 0.1,
-    tolerance: 1e-8,
-};
+pub const ONE_SECOND: Experiment = Experiment::until(1.0).step(0.1).tolerance(1e-8);
 
 impl<M: Mechanism> Default for Harness<M> {
     fn default() -> Self {

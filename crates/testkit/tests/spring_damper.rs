@@ -31,12 +31,7 @@ mechfmu::mechanism! {
 }
 
 impl Mechanism for SpringDamper {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 1.0,
-        step: 0.01,
-        tolerance: 1e-8,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(1.0).step(0.01).tolerance(1e-8);
 
     // No state, so no derivative: the output, at once from the inputs.
     fn evaluate<S: Scalar>(v: &mut SpringDamperValues<S>) {

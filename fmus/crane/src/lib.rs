@@ -72,12 +72,7 @@ mechfmu::mechanism! {
 }
 
 impl Mechanism for Crane {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 20.0,
-        step: 0.01,
-        tolerance: 1e-6,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(20.0).step(0.01).tolerance(1e-6);
 
     /// The default experiment is an equilibrium; the documentation plots the reference case
     /// `swing_60deg` of `validation/cases.py` instead.

@@ -90,12 +90,7 @@ mechfmu::mechanism! {
 }
 
 impl Mechanism for CraneDynamics {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 20.0,
-        step: 0.01,
-        tolerance: 1e-6,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(20.0).step(0.01).tolerance(1e-6);
 
     /// The default experiment is an equilibrium, a saddle under constant loads (see the
     /// notes' static loads): the documentation plots a nudge off it instead.

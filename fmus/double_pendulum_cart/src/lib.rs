@@ -145,12 +145,7 @@ fn velocities<S: Scalar>(v: &DoublePendulumCartValues<S>) -> [[S; 2]; 2] {
 }
 
 impl Mechanism for DoublePendulumCart {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 10.0,
-        step: 0.01,
-        tolerance: 1e-9,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(10.0).step(0.01).tolerance(1e-9);
 
     const NOTES: &'static str = "
         Cart `M` on a horizontal track, pushed by `F`, slowed by a viscous drag `c ẋ`; a

@@ -37,12 +37,7 @@ mechfmu::mechanism! {
 }
 
 impl Mechanism for Oscillator {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 20.0,
-        step: 0.01,
-        tolerance: 1e-6,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(20.0).step(0.01).tolerance(1e-6);
 
     const NOTES: &'static str = "
         Newton's second law on the mass (MIT 2.003 final review, sections 3 and 4):

@@ -87,12 +87,7 @@ mechfmu::mechanism! {
 }
 
 impl Mechanism for PendulumCart {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 10.0,
-        step: 0.01,
-        tolerance: 1e-6,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(10.0).step(0.01).tolerance(1e-6);
 
     const NOTES: &'static str = "
         Cart `M` on a spring `k` and dashpot `c1`; thin rod `m`, length `4l`, pinned at `A` a

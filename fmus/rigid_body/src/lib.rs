@@ -241,12 +241,7 @@ fn tensor_text(v: &RigidBodyValues<f64>) -> String {
 }
 
 impl Mechanism for RigidBody {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 20.0,
-        step: 0.01,
-        tolerance: 1e-6,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(20.0).step(0.01).tolerance(1e-6);
 
     const NOTES: &'static str = "
         A body of mass `M` turning about a fixed pivot `B` (a ball joint). Its inertia tensor

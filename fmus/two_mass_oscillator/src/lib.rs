@@ -99,12 +99,7 @@ mechfmu::mechanism! {
 }
 
 impl Mechanism for TwoMassOscillator {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 30.0,
-        step: 0.01,
-        tolerance: 1e-6,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(30.0).step(0.01).tolerance(1e-6);
 
     const NOTES: &'static str = "
         Newton's second law on each mass (MIT 2.003 final review, section 5); the coupling

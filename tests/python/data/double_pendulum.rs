@@ -41,7 +41,7 @@ mechfmu::mechanism! {
 }
 
 impl Mechanism for DoublePendulum {
-    const EXPERIMENT: Experiment = Experiment { start: 0.0, stop: 10.0, step: 0.01, tolerance: 1e-8 };
+    const EXPERIMENT: Experiment = Experiment::until(10.0).step(0.01).tolerance(1e-8);
 
     fn evaluate<S: Scalar>(v: &mut DoublePendulumValues<S>) {
         let half = lit::<S>(0.5);

@@ -80,12 +80,7 @@ impl Lagrangian<3> for GantryCrane {
 }
 
 impl Mechanism for GantryCrane {
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 10.0,
-        step: 0.01,
-        tolerance: 1e-8,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(10.0).step(0.01).tolerance(1e-8);
 
     const NOTES: &'static str = "
         Declared from its energies, with the trolley's position `x` and the cable's length `l`

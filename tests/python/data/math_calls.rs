@@ -20,7 +20,7 @@ mechfmu::mechanism! {
 }
 
 impl Mechanism for MathCalls {
-    const EXPERIMENT: Experiment = Experiment { start: 0.0, stop: 1.0, step: 0.1, tolerance: 1e-6 };
+    const EXPERIMENT: Experiment = Experiment::until(1.0).step(0.1).tolerance(1e-6);
 
     fn evaluate<S: Scalar>(v: &mut MathCallsValues<S>) {
         let x = v.x;

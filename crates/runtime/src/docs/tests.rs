@@ -20,7 +20,7 @@ crate::mechanism! {
 }
 
 impl Mechanism for Spring {
-    const EXPERIMENT: Experiment = Experiment::until(2.0, 0.01, 1e-8);
+    const EXPERIMENT: Experiment = Experiment::until(2.0).step(0.01).tolerance(1e-8);
     const NOTES: &'static str = "
         The equation of motion:
 
@@ -159,7 +159,7 @@ const SWING: MovingCase = MovingCase {
 };
 
 impl Mechanism for Pendulum {
-    const EXPERIMENT: Experiment = Experiment::until(5.0, 0.01, 1e-8);
+    const EXPERIMENT: Experiment = Experiment::until(5.0).step(0.01).tolerance(1e-8);
     const MOVING_CASE: Option<MovingCase> = Some(SWING);
     fn evaluate<S: Scalar>(v: &mut PendulumValues<S>) {
         v.phi_ddot = -v.g * crate::model::sin(v.phi) / v.l;
@@ -181,7 +181,7 @@ crate::mechanism! {
 }
 
 impl Mechanism for Rest {
-    const EXPERIMENT: Experiment = Experiment::until(1.0, 0.1, 1e-8);
+    const EXPERIMENT: Experiment = Experiment::until(1.0).step(0.1).tolerance(1e-8);
     fn evaluate<S: Scalar>(v: &mut RestValues<S>) {
         v.a = v.F;
     }

@@ -50,7 +50,7 @@
 //!
 //! impl Mechanism for Pendulum {
 //!     const EXPERIMENT: Experiment =
-//!         Experiment { start: 0.0, stop: 1.0, step: 0.01, tolerance: 1e-8 };
+//!         Experiment::until(1.0).step(0.01).tolerance(1e-8);
 //!     fn evaluate<S: Scalar>(v: &mut PendulumValues<S>) {
 //!         Self::lagrange(v);
 //!     }

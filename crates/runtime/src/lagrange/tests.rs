@@ -238,7 +238,10 @@ impl Lagrangian<2> for Shaken {
     }
 }
 
-lagrangian_mechanism!(Shaken / ShakenValues, Experiment::until(1.0, 0.01, 1e-8));
+lagrangian_mechanism!(
+    Shaken / ShakenValues,
+    Experiment::until(1.0).step(0.01).tolerance(1e-8)
+);
 
 /// Newton's law on the bob in the support's accelerating frame, and on the support.
 fn shaken_by_hand(v: &ShakenValues<f64>) -> (f64, f64) {
@@ -349,7 +352,7 @@ impl Lagrangian<2> for Forgotten {
 
 lagrangian_mechanism!(
     Forgotten / ForgottenValues,
-    Experiment::until(1.0, 0.1, 1e-6)
+    Experiment::until(1.0).step(0.1).tolerance(1e-6)
 );
 
 #[test]
@@ -397,7 +400,7 @@ impl Lagrangian<2> for Collapsing {
 
 lagrangian_mechanism!(
     Collapsing / CollapsingValues,
-    Experiment::until(1.0, 0.1, 1e-6)
+    Experiment::until(1.0).step(0.1).tolerance(1e-6)
 );
 
 #[test]

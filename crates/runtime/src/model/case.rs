@@ -28,7 +28,7 @@ use super::{Causality, Experiment, Initial, Variable};
 ///
 /// impl Mechanism for Pendulum {
 ///     const EXPERIMENT: Experiment =
-///         Experiment { start: 0.0, stop: 10.0, step: 0.01, tolerance: 1e-6 };
+///         Experiment::until(10.0).step(0.01).tolerance(1e-6);
 ///     const MOVING_CASE: Option<MovingCase> = Some(MovingCase {
 ///         name: "swing",
 ///         at_rest: "the pendulum hangs at rest",
@@ -86,7 +86,7 @@ pub struct MovingCase {
 ///
 /// impl Mechanism for Rest {
 ///     const EXPERIMENT: Experiment =
-///         Experiment { start: 0.0, stop: 1.0, step: 0.1, tolerance: 1e-6 };
+///         Experiment::until(1.0).step(0.1).tolerance(1e-6);
 ///     const MOVING_CASE: Option<MovingCase> = Some(MovingCase {
 ///         name: "pushed",
 ///         at_rest: "the mass rests",
@@ -167,7 +167,7 @@ mod tests {
         Variable::output("m/s").named("v", ""),
     ];
 
-    const EXPERIMENT: Experiment = Experiment::until(1.0, 0.1, 1e-6);
+    const EXPERIMENT: Experiment = Experiment::until(1.0).step(0.1).tolerance(1e-6);
 
     fn case(values: &'static [(&'static str, f64)]) -> Option<MovingCase> {
         Some(MovingCase {

@@ -29,7 +29,7 @@
 /// }
 ///
 /// impl Mechanism for Fall {
-///     const EXPERIMENT: Experiment = Experiment { start: 0.0, stop: 1.0, step: 0.01, tolerance: 1e-8 };
+///     const EXPERIMENT: Experiment = Experiment::until(1.0).step(0.01).tolerance(1e-8);
 ///     fn evaluate<S: Scalar>(v: &mut FallValues<S>) {
 ///         v.a = -v.g;
 ///     }

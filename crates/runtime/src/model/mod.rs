@@ -35,6 +35,18 @@ pub use values::{copy_one_by_one, get_one_by_one, Fields};
 pub use variable::{Causality, Initial, SetPhase, Variability, Variable};
 
 /// The FMU's `DefaultExperiment`, and the tolerance used when the importer gives none.
+///
+/// Written as a chain from its stop time, each call naming what it sets:
+/// `Experiment::until(20.0).step(0.01).tolerance(1e-6)`, or as the struct itself for an
+/// experiment that starts after time 0.
+///
+/// ```
+/// use mechfmu::model::Experiment;
+///
+/// let experiment = Experiment::until(20.0).step(0.01).tolerance(1e-8);
+/// assert_eq!(experiment, Experiment { start: 0.0, stop: 20.0, step: 0.01, tolerance: 1e-8 });
+/// assert_eq!((Experiment::until(20.0).step, Experiment::until(20.0).tolerance), (0.04, 1e-6));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Experiment {
     pub start: f64,
@@ -43,16 +55,27 @@ pub struct Experiment {
     pub tolerance: f64,
 }
 
-#[cfg(test)]
 impl Experiment {
-    /// A unit test's experiment: from time 0 to `stop`.
-    pub(crate) const fn until(stop: f64, step: f64, tolerance: f64) -> Self {
+    /// From time 0 to `stop`, in communication steps of a five-hundredth of that, at the
+    /// relative tolerance 1e-6 (what [`step`](Self::step) and [`tolerance`](Self::tolerance)
+    /// change).
+    pub const fn until(stop: f64) -> Self {
         Experiment {
             start: 0.0,
             stop,
-            step,
-            tolerance,
+            step: stop / 500.0,
+            tolerance: 1e-6,
         }
+    }
+
+    /// The same experiment in communication steps of `step`.
+    pub const fn step(self, step: f64) -> Self {
+        Experiment { step, ..self }
+    }
+
+    /// The same experiment at the relative tolerance `tolerance`.
+    pub const fn tolerance(self, tolerance: f64) -> Self {
+        Experiment { tolerance, ..self }
     }
 }
 

@@ -257,7 +257,7 @@ mod tests {
     }
 
     impl Mechanism for Driven {
-        const EXPERIMENT: Experiment = Experiment::until(10.0, 0.01, 1e-6);
+        const EXPERIMENT: Experiment = Experiment::until(10.0).step(0.01).tolerance(1e-6);
 
         fn evaluate<S: Scalar>(v: &mut DrivenValues<S>) {
             v.a = v.time.sin() - v.k * v.x - crate::model::lit::<S>(0.1) * v.v;

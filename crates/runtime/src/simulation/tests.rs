@@ -41,7 +41,7 @@ crate::mechanism! {
 }
 
 impl Mechanism for Split {
-    const EXPERIMENT: Experiment = Experiment::until(10.0, 0.01, 1e-6);
+    const EXPERIMENT: Experiment = Experiment::until(10.0).step(0.01).tolerance(1e-6);
 
     fn evaluate<S: Scalar>(v: &mut SplitValues<S>) {
         if std::any::TypeId::of::<S>() == std::any::TypeId::of::<f64>() {
@@ -427,7 +427,7 @@ crate::mechanism! {
 }
 
 impl Mechanism for Cliff {
-    const EXPERIMENT: Experiment = Experiment::until(1.0, 0.1, 1e-6);
+    const EXPERIMENT: Experiment = Experiment::until(1.0).step(0.1).tolerance(1e-6);
 
     fn evaluate<S: Scalar>(v: &mut CliffValues<S>) {
         // x(t) = (t_end - t) / t_end, from x(0) = 1, written so that it fails at t_end.

@@ -268,7 +268,7 @@ mod tests {
     }
 
     impl Mechanism for Probe {
-        const EXPERIMENT: Experiment = Experiment::until(1.0, 0.1, 1e-6);
+        const EXPERIMENT: Experiment = Experiment::until(1.0).step(0.1).tolerance(1e-6);
         fn calculate(v: &mut ProbeValues<f64>) -> Result<(), String> {
             v.b2 = 2.0 * v.b;
             Ok(())
@@ -362,7 +362,7 @@ mod tests {
     }
 
     impl Mechanism for Offset {
-        const EXPERIMENT: Experiment = Experiment::until(1.0, 0.1, 1e-6);
+        const EXPERIMENT: Experiment = Experiment::until(1.0).step(0.1).tolerance(1e-6);
         fn calculate(v: &mut OffsetValues<f64>) -> Result<(), String> {
             v.x0_2 = 2.0 * v.x;
             Ok(())

@@ -38,7 +38,7 @@ crate::mechanism! {
 }
 
 impl Mechanism for Swing {
-    const EXPERIMENT: Experiment = Experiment::until(20.0, 0.01, 1e-8);
+    const EXPERIMENT: Experiment = Experiment::until(20.0).step(0.01).tolerance(1e-8);
 
     fn calculate(v: &mut SwingValues<f64>) -> Result<(), String> {
         v.omega_0 = (v.g / v.l).sqrt();

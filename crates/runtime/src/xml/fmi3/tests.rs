@@ -2,7 +2,7 @@ use super::*;
 use crate::model::{Array, Declaration, Experiment, Scalar};
 use crate::xml::tests::{find, names, parse_in_schema_order, Element};
 
-const EXPERIMENT: Experiment = Experiment::until(10.0, 0.01, 1e-6);
+const EXPERIMENT: Experiment = Experiment::until(10.0).step(0.01).tolerance(1e-6);
 
 crate::mechanism! {
     /// A mass driven by F0 sin(w t) and an input force, against viscous damping.
