@@ -38,6 +38,7 @@ from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave, fmi2Error, fmi2OK, fmi2Warning
 
 from mechfmu_validate import fmulog
+from mechfmu_validate.fmu import Fmu
 from mechfmu_validate.fmulog import LogMark, LogRecord, status_name  # noqa: F401 (the suite's names)
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
@@ -77,7 +78,22 @@ def extracted(path: Path) -> tuple[str, Any]:
         return _extracted[key]
 
 
+_validation_fmus: dict[str, Any] = {}
+
+
+def validation_fmu(model: str) -> Any:
+    """``model``'s FMU as mechfmu_validate opens it (``fmu.Fmu``, extracted), once per session
+    (fails, never skips, when it is not built)."""
+    with _extract_lock:
+        if model not in _validation_fmus:
+            _validation_fmus[model] = Fmu(fmu_path(model))
+        return _validation_fmus[model]
+
+
 def cleanup_extracted() -> None:
+    for fmu in _validation_fmus.values():
+        fmu.cleanup()
+    _validation_fmus.clear()
     shutil.rmtree(_extract_root, ignore_errors=True)
 
 

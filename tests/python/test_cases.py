@@ -22,7 +22,6 @@ import fmutest
 from mechfmu_validate.agreement import agreement
 from mechfmu_validate.case import evaluate, signal_scale
 from mechfmu_validate.checks import REFERENCE_CSV_TOLERANCE, REFERENCE_DIR, read_csv, run_checks
-from mechfmu_validate.fmu import Fmu
 from mechfmu_validate.importers.fmpy import run_fmpy
 from mechfmu_validate.importers.libcosim import LIBCOSIM_TOLERANCE, libcosim_available, run_libcosim
 from mechfmu_validate.target import Target
@@ -38,22 +37,7 @@ CASES = [(model, case) for model, d in CRATES if (d / "validation/cases.py").is_
          for case in load_cases(d / "validation/cases.py", model)]
 MODELS = [m for m, _ in CRATES]
 
-_fmus: dict[str, Fmu] = {}
-
-
-def fmu_of(model: str) -> Fmu:
-    """The extracted FMU, once per session (fails, never skips, when it is not built)."""
-    if model not in _fmus:
-        _fmus[model] = Fmu(fmutest.fmu_path(model))
-    return _fmus[model]
-
-
-@pytest.fixture(scope="module", autouse=True)
-def _cleanup():
-    yield
-    for f in _fmus.values():
-        f.cleanup()
-    _fmus.clear()
+fmu_of = fmutest.validation_fmu
 
 
 def _ids(p):

@@ -28,7 +28,6 @@ import fmutest
 from fmutest import LogMark, fmu_path, simulate
 from mechfmu_validate import model_exchange
 from mechfmu_validate.case import Result, evaluate
-from mechfmu_validate.fmu import Fmu
 from mechfmu_validate.importers.fmi_crate import FMI_RUN_ENV, RK4, rk4
 from mechfmu_validate.importers.fmpy import CVODE, EULER, EULER_METHOD, on_grid, run_fmpy_me, simulate_me
 from mechfmu_validate.signals import held_input
@@ -44,21 +43,7 @@ METHODS = {EULER: EULER_METHOD, RK4: rk4()}
 #: (model, case, importer): why the importer's solver does not reach the case's limit
 KNOWN_LIMITS = known_limits()
 
-_fmus: dict[str, Fmu] = {}
-
-
-def fmu_of(model: str) -> Fmu:
-    if model not in _fmus:
-        _fmus[model] = Fmu(fmu_path(model))
-    return _fmus[model]
-
-
-@pytest.fixture(scope="module", autouse=True)
-def _cleanup():
-    yield
-    for f in _fmus.values():
-        f.cleanup()
-    _fmus.clear()
+fmu_of = fmutest.validation_fmu
 
 
 @pytest.fixture(scope="module")
