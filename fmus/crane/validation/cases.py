@@ -16,26 +16,20 @@ import math
 import numpy as np
 
 from mechfmu_validate.case import Case, step_input
-from refs import crane as cr
+from refs import crane as cr, split, solution
 
 STATES = ["x", "x_dot", "theta", "theta_dot", "phi", "phi_dot"]
 CONTRACT = [*STATES, "T", "F", "tau", "payload_x", "payload_y"]
 
 
-def split(start_values):
-    return ({k: v for k, v in start_values.items() if k in cr.PARAMS},
-            {k: v for k, v in start_values.items() if k in cr.START})
-
-
 def numerical(start_values, inputs=None):
-    p, y0 = split(start_values)
-    return lambda t: cr.simulate(p, y0, t, inputs, switch_outputs="before")
+    return solution(cr, start_values, inputs)
 
 
 def still_swing(start_values, phi0):
     """Drives still: phi(t) exact (elliptic functions); T, F, tau, the payload's position and
     energy follow from phi, phi_dot and the fixed x, theta."""
-    p, y0 = split(start_values)
+    p, y0 = split(cr, start_values)
     q = cr.params(**p)
     s = {**cr.START, **y0}
     x, th = s["x"], s["theta"]

@@ -13,32 +13,26 @@ import math
 import numpy as np
 
 from mechfmu_validate.case import Case, step_input
-from refs import crane_dynamics as cd
+from refs import crane_dynamics as cd, split, solution
 
 STATES = ["x", "x_dot", "theta", "theta_dot", "phi", "phi_dot"]
 CONTRACT = [*STATES, "T", "payload_x", "payload_y", "x_ddot", "theta_ddot"]
 
 
-def split(start_values):
-    return ({k: v for k, v in start_values.items() if k in cd.PARAMS},
-            {k: v for k, v in start_values.items() if k in cd.START})
-
-
 def static_input(start_values, stop):
-    p, y0 = split(start_values)
+    p, y0 = split(cd, start_values)
     s = {**cd.START, **y0}
     F, tau = cd.static_loads(p, s["x"], s["theta"])
     return step_input(["F", "tau"], [0.0], [[F, tau]], stop)
 
 
 def numerical(start_values, inputs):
-    p, y0 = split(start_values)
-    return lambda t: cd.simulate(p, y0, t, inputs, switch_outputs="before")
+    return solution(cd, start_values, inputs)
 
 
 def at_rest(start_values):
     """The static loads hold everything still: states constant, T = m g, no acceleration."""
-    p, y0 = split(start_values)
+    p, y0 = split(cd, start_values)
     q = cd.params(**p)
     s = {**cd.START, **y0}
 

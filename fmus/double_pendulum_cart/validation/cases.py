@@ -23,26 +23,20 @@ import numpy as np
 from scipy.integrate import cumulative_simpson
 
 from mechfmu_validate.case import Case, step_input
-from refs import double_pendulum_cart as dpc
+from refs import double_pendulum_cart as dpc, split, solution
 
 STATES = ["x", "x_dot", "phi1", "phi1_dot", "phi2", "phi2_dot"]
 ACCELERATIONS = ["x_ddot", "phi1_ddot", "phi2_ddot"]
 ALL = [*STATES, *ACCELERATIONS, "tip_x", "tip_y", "E", "p_x"]
 
 
-def split(start_values):
-    return ({k: v for k, v in start_values.items() if k in dpc.PARAMS},
-            {k: v for k, v in start_values.items() if k in dpc.START})
-
-
 def numerical(start_values, inputs=None):
-    p, y0 = split(start_values)
-    return lambda t: dpc.simulate(p, y0, t, inputs, switch_outputs="before")
+    return solution(dpc, start_values, inputs)
 
 
 def invariants(start_values):
     """E(t) = E(0) and p_x(t) = p_x(0), computed from the start values alone."""
-    p, y0 = split(start_values)
+    p, y0 = split(dpc, start_values)
     q, s = dpc.params(**p), {**dpc.START, **y0}
     y = [s[n] for n in STATES]
     E0, P0 = dpc.energy(y, q), dpc.momentum(y, q)

@@ -15,25 +15,19 @@ import numpy as np
 from scipy.linalg import eigh
 
 from mechfmu_validate.case import Case, step_input
-from refs import pendulum_cart as pc
+from refs import pendulum_cart as pc, split, solution
 
 STATES = ["x", "x_dot", "theta", "theta_dot"]
 ALL = [*STATES, "x_ddot", "theta_ddot", "F_N", "E"]
 
 
-def split(start_values):
-    return ({k: v for k, v in start_values.items() if k in pc.PARAMS},
-            {k: v for k, v in start_values.items() if k in pc.START})
-
-
 def numerical(start_values, inputs=None):
-    p, y0 = split(start_values)
-    return lambda t: pc.simulate(p, y0, t, inputs, switch_outputs="before")
+    return solution(pc, start_values, inputs)
 
 
 def constant_energy(start_values):
     """E(t) = E(0), computed from the start values alone."""
-    p, y0 = split(start_values)
+    p, y0 = split(pc, start_values)
     s = {**pc.START, **y0}
     E0 = pc.energy([s[n] for n in STATES], pc.params(**p))
     return lambda t: {"E": np.full_like(t, E0)}
@@ -49,7 +43,7 @@ def energy_exact(start_values):
 def linearized(start_values):
     """q(t) = V diag(cos w t) V^T M q(0) for a start from rest (V: M-orthonormal modes of
     K a = w^2 M a), and the frequencies from det(K - w^2 M) = 0 written out."""
-    p, y0 = split(start_values)
+    p, y0 = split(pc, start_values)
     Mm, _, K = pc.linear_matrices(p)
     w2, V = eigh(K, Mm)
     w = np.sqrt(w2)

@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from mechfmu_validate.case import Case
-from refs import rigid_body as rb
+from refs import rigid_body as rb, split
 
 W = ["w_x", "w_y", "w_z"]
 Q = ["q_w", "q_x", "q_y", "q_z"]
@@ -22,13 +22,8 @@ H = ["H_X", "H_Y", "H_Z"]
 CONTRACT = [*W, *Q, *H, "E_kin", "E_pot"]
 
 
-def split(start_values):
-    return ({k: v for k, v in start_values.items() if k in rb.PARAMS},
-            {k: v for k, v in start_values.items() if k in rb.START})
-
-
 def numerical(start_values):
-    p, y0 = split(start_values)
+    p, y0 = split(rb, start_values)
     return lambda t: rb.simulate(p, y0, t)
 
 
@@ -37,7 +32,7 @@ def q_norm(r):
 
 
 def initial_outputs(start_values):
-    p, y0 = split(start_values)
+    p, y0 = split(rb, start_values)
     s = {**rb.START, **y0}
     return rb.outputs_of([s[n] for n in rb.STATES], rb.params(**p))
 
@@ -66,7 +61,7 @@ def heavy_top_invariants(start_values):
 
 
 def axisymmetric(start_values):
-    p, y0 = split(start_values)
+    p, y0 = split(rb, start_values)
     w0 = [y0[n] for n in W]
 
     def reference(t):

@@ -11,19 +11,13 @@ DOP853 (rtol = atol = 1e-12) for the default experiment and for damped, forced m
 import numpy as np
 
 from mechfmu_validate.case import Case, step_input
-from refs import two_mass as tm
+from refs import two_mass as tm, split
 
 STOP = 30.0
 H = 0.01
 STATES = ["x1", "x2", "x1_dot", "x2_dot"]
 ALL = [*STATES, "x1_ddot", "x2_ddot", "E"]
 MODES = ["omega_n1", "omega_n2", "mode1_x1", "mode1_x2", "mode2_x1", "mode2_x2"]
-
-
-def split(start_values):
-    p = {k: v for k, v in start_values.items() if k in tm.PARAMS}
-    y0 = {k: v for k, v in start_values.items() if k in tm.START}
-    return p, y0
 
 
 def energy(r, p):
@@ -35,7 +29,7 @@ def energy(r, p):
 
 
 def numerical(start_values, inputs=None):
-    p, y0 = split(start_values)
+    p, y0 = split(tm, start_values)
 
     def reference(t):
         r = tm.simulate(p, y0, t, inputs, switch_outputs="before")
@@ -48,14 +42,14 @@ def energy_exact(start_values):
     """DOP853 for the motion, and E at its exact constant value, from the start values (a
     solver's round-off in a constant would leave FMPy's cross-check criterion a band of 10 %
     of itself)."""
-    p, y0 = split(start_values)
+    p, y0 = split(tm, start_values)
     E0 = energy({**tm.START, **y0}, p)
     motion = numerical(start_values)
     return lambda t: {**motion(t), "E": np.full_like(t, E0)}
 
 
 def modal(start_values, mode, amplitude):
-    p, _ = split(start_values)
+    p, _ = split(tm, start_values)
 
     def reference(t):
         x1, x2 = tm.modal_response(p, mode, amplitude, t)

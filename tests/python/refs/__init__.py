@@ -14,7 +14,7 @@ docs/derivations.md, never from the Rust sources. Every module has:
 """
 
 from . import oscillator, two_mass, pendulum_cart, crane, crane_dynamics, rigid_body, double_pendulum_cart  # noqa: F401
-from ._common import step_input  # noqa: F401
+from ._common import solution, split, step_input  # noqa: F401
 
 __all__ = ["oscillator", "two_mass", "pendulum_cart", "crane", "crane_dynamics", "rigid_body",
-           "double_pendulum_cart", "step_input"]
+           "double_pendulum_cart", "solution", "split", "step_input"]

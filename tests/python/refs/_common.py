@@ -20,7 +20,8 @@ from typing import Callable, Mapping, Sequence
 import numpy as np
 from scipy.integrate import solve_ivp
 
-__all__ = ["merge", "case_settings", "step_input", "zoh_value", "run", "trolley_at_pivot", "with_constants"]
+__all__ = ["merge", "case_settings", "step_input", "zoh_value", "run", "trolley_at_pivot", "with_constants",
+           "split", "solution"]
 
 
 def merge(defaults: Mapping[str, float], overrides: Mapping[str, float] | None, what: str) -> dict:
@@ -206,3 +207,18 @@ def isclose_rel(a: float, b: float, rel: float = 1e-9) -> bool:
 
 def finite(*xs: float) -> bool:
     return all(math.isfinite(x) for x in xs)
+
+
+def split(ref, start_values: Mapping[str, float]) -> tuple[dict, dict]:
+    """A case's start values as the reference module ``ref`` takes them: (its parameters, the
+    start values of its states)."""
+    return ({k: v for k, v in start_values.items() if k in ref.PARAMS},
+            {k: v for k, v in start_values.items() if k in ref.START})
+
+
+def solution(ref, start_values: Mapping[str, float], inputs=None) -> Callable:
+    """``ref``'s DOP853 solution from a case's start values, as a function of the output times
+    (an output at an input's switch takes its value from before the switch, as an FMU's
+    output at a communication point does)."""
+    p, y0 = split(ref, start_values)
+    return lambda t: ref.simulate(p, y0, t, inputs, switch_outputs="before")
