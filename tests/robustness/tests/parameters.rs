@@ -7,7 +7,7 @@
 //! tunable parameters changed between steps take effect at the next step.
 
 use mechfmu_robustness::ffi::*;
-use mechfmu_robustness::fmu::{required_fmu_paths, Fmu, Var};
+use mechfmu_robustness::fmu::{required_fmu_paths, Fmu, Variable, VariableExt};
 use mechfmu_robustness::importer::Instance;
 
 fn fmus() -> Vec<Fmu> {
@@ -69,7 +69,7 @@ fn refusal(fmu: &Fmu, values: &[(u32, f64)]) -> Option<String> {
 fn non_physical_parameters_are_refused_at_initialization() {
     let mut checked = 0;
     for fmu in fmus() {
-        let mut cases: Vec<(&Var, f64)> = vec![];
+        let mut cases: Vec<(&Variable, f64)> = vec![];
         for v in fmu.md.variables.iter().filter(|v| v.is("parameter")) {
             if v.must_be_positive() {
                 cases.extend([(v, 0.0), (v, -0.0), (v, -1.0), (v, -1e-300)]);
@@ -260,7 +260,7 @@ fn step_ok(inst: &mut Instance, fmu: &Fmu, t: f64, h: f64) {
 }
 
 /// A value different from `v`'s start, within its bounds.
-fn changed(v: &Var) -> f64 {
+fn changed(v: &Variable) -> f64 {
     let x = v.start.unwrap_or(1.0) * 1.5 + 0.1;
     x.max(v.min.unwrap_or(f64::MIN))
         .min(v.max.unwrap_or(f64::MAX))
@@ -271,7 +271,7 @@ fn tunable_parameters_take_effect_at_the_next_step() {
     let tol = 1e-10;
     let mut checked = 0;
     for fmu in fmus() {
-        let tunables: Vec<&Var> = fmu
+        let tunables: Vec<&Variable> = fmu
             .md
             .variables
             .iter()

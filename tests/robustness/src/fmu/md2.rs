@@ -1,44 +1,8 @@
 //! What this importer reads from an FMI 2.0 modelDescription.xml, through
 //! `mechfmu_host::description`'s parser, and checks of it.
 
-use mechfmu_host::description;
+use mechfmu_host::description::{self, Variable};
 use mechfmu_host::platform::Version;
-
-/// One variable of the modelDescription.
-#[derive(Clone, Debug)]
-pub struct Var {
-    pub name: String,
-    pub vr: u32,
-    pub causality: String,
-    pub variability: String,
-    pub initial: Option<String>,
-    pub start: Option<f64>,
-    pub min: Option<f64>,
-    pub max: Option<f64>,
-    pub unit: Option<String>,
-    pub quantity: Option<String>,
-    /// For a derivative: the 1-based index of the variable it is the derivative of.
-    pub derivative: Option<usize>,
-}
-
-impl Var {
-    pub fn is(&self, causality: &str) -> bool {
-        self.causality == causality
-    }
-    pub fn is_tunable_parameter(&self) -> bool {
-        self.causality == "parameter" && self.variability == "tunable"
-    }
-    /// A mass, a length or an inertia (by unit or quantity) declared with `min="0"`: a
-    /// parameter that must be strictly positive.
-    pub fn must_be_positive(&self) -> bool {
-        let physical = matches!(self.unit.as_deref(), Some("kg" | "m" | "kg.m2"))
-            || matches!(
-                self.quantity.as_deref(),
-                Some("Mass" | "Length" | "MomentOfInertia" | "Inertia")
-            );
-        self.causality == "parameter" && physical && self.min == Some(0.0)
-    }
-}
 
 #[derive(Clone, Debug)]
 pub struct Experiment {
@@ -70,7 +34,9 @@ pub struct ModelDescription {
     pub max_output_derivative_order: i32,
     pub log_categories: Vec<String>,
     pub experiment: Experiment,
-    pub variables: Vec<Var>,
+    /// Every variable (all Real), as the parser gives it: a derivative's `derivative` is
+    /// the 1-based index of the variable it is the derivative of.
+    pub variables: Vec<Variable>,
     /// `<ModelExchange modelIdentifier>`, when the FMU declares Model Exchange.
     pub model_exchange: Option<String>,
     /// `<ModelExchange completedIntegratorStepNotNeeded>`.
@@ -86,33 +52,13 @@ impl ModelDescription {
     /// Reads an FMI 2.0 modelDescription.xml (`mechfmu_host::description`'s parser): the
     /// Real variables with their declared types' units, the experiment, the interfaces.
     pub fn parse(xml: &str) -> Result<ModelDescription, String> {
-        let d = description::ModelDescription::parse(xml)?;
-        if d.version != Version::Fmi2 {
-            return Err("not an FMI 2.0 modelDescription".into());
+        let d = super::parse_of_version(xml, Version::Fmi2)?;
+        if let Some(v) = d.variables.iter().find(|v| v.kind != "Real") {
+            return Err(format!(
+                "variable {:?} is not a Real: this importer knows Real variables only",
+                v.name
+            ));
         }
-        let variables = (d.variables.iter())
-            .map(|v| {
-                if v.kind != "Real" {
-                    return Err(format!(
-                        "variable {:?} is not a Real: this importer knows Real variables only",
-                        v.name
-                    ));
-                }
-                Ok(Var {
-                    name: v.name.clone(),
-                    vr: v.vr,
-                    causality: v.causality.clone(),
-                    variability: v.variability.clone(),
-                    initial: v.initial.clone(),
-                    start: v.start,
-                    min: v.min,
-                    max: v.max,
-                    unit: v.unit.clone(),
-                    quantity: v.quantity.clone(),
-                    derivative: v.derivative.map(|i| i as usize),
-                })
-            })
-            .collect::<Result<_, String>>()?;
         let i = &d.interfaces;
         let derivatives = (d.derivative_indices.iter())
             .map(|&i| i.checked_sub(1))
@@ -126,7 +72,7 @@ impl ModelDescription {
             max_output_derivative_order: i.max_output_derivative_order,
             log_categories: d.log_categories.clone(),
             experiment: Experiment::of(&d),
-            variables,
+            variables: d.variables,
             model_exchange: i.model_exchange_identifier.clone(),
             completed_integrator_step_not_needed: i.completed_integrator_step_not_needed,
             number_of_event_indicators: d.number_of_event_indicators,
@@ -141,22 +87,13 @@ impl ModelDescription {
         if self.guid.is_empty() || self.model_identifier.is_empty() {
             return Err("modelDescription.xml without guid or CoSimulation modelIdentifier".into());
         }
-        if self
-            .model_exchange
-            .as_ref()
-            .is_some_and(|id| *id != self.model_identifier)
-        {
-            return Err(
-                "ModelExchange and CoSimulation name different binaries: this importer loads one"
-                    .into(),
-            );
-        }
+        super::one_binary(self.model_exchange.as_ref(), &self.model_identifier)?;
         for &d in &self.derivatives {
             let ok = self
                 .variables
                 .get(d)
                 .and_then(|v| v.derivative)
-                .is_some_and(|s| s >= 1 && s <= self.variables.len());
+                .is_some_and(|s| s >= 1 && s as usize <= self.variables.len());
             if !ok {
                 return Err(format!(
                     "<Derivatives> lists variable {} which is not the derivative of a variable",
@@ -167,7 +104,7 @@ impl ModelDescription {
         Ok(())
     }
 
-    pub fn var(&self, name: &str) -> Option<&Var> {
+    pub fn var(&self, name: &str) -> Option<&Variable> {
         self.variables.iter().find(|v| v.name == name)
     }
 
@@ -178,18 +115,18 @@ impl ModelDescription {
 
     /// The continuous states, in the order of the state vector (`<Derivatives>`; the order
     /// of the variables if the FMU lists none).
-    pub fn states(&self) -> Vec<&Var> {
+    pub fn states(&self) -> Vec<&Variable> {
         self.derivative_vars()
             .into_iter()
             .filter_map(|v| {
                 v.derivative
-                    .and_then(|i| self.variables.get(i.checked_sub(1)?))
+                    .and_then(|i| self.variables.get((i as usize).checked_sub(1)?))
             })
             .collect()
     }
 
     /// The states' derivatives, in the order of the state vector.
-    pub fn derivative_vars(&self) -> Vec<&Var> {
+    pub fn derivative_vars(&self) -> Vec<&Variable> {
         if self.derivatives.is_empty() {
             self.variables
                 .iter()
@@ -210,6 +147,6 @@ impl ModelDescription {
 
     /// One past the largest value reference.
     pub fn vr_end(&self) -> u32 {
-        self.variables.iter().map(|v| v.vr + 1).max().unwrap_or(0)
+        super::vr_end(&self.variables)
     }
 }

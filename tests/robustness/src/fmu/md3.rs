@@ -6,45 +6,9 @@
 //! count the states and indicators), and checks of it.
 
 use super::md2::Experiment;
-use mechfmu_host::description;
+use super::VariableExt;
+use mechfmu_host::description::Variable;
 use mechfmu_host::platform::Version;
-
-/// One variable of the FMI 3.0 modelDescription (a scalar or an array).
-#[derive(Clone, Debug)]
-pub struct Var3 {
-    pub name: String,
-    pub vr: u32,
-    pub causality: String,
-    pub variability: String,
-    pub initial: Option<String>,
-    /// The start values, one per element (empty: none declared).
-    pub start: Vec<f64>,
-    pub min: Option<f64>,
-    pub max: Option<f64>,
-    pub unit: Option<String>,
-    pub quantity: Option<String>,
-    /// For a derivative: the value reference of the variable it is the derivative of.
-    pub derivative: Option<u32>,
-    /// The array's dimensions (empty: a scalar).
-    pub dimensions: Vec<usize>,
-}
-
-impl Var3 {
-    pub fn is(&self, causality: &str) -> bool {
-        self.causality == causality
-    }
-    /// The number of values the variable has (its elements; 1 for a scalar).
-    pub fn len(&self) -> usize {
-        self.dimensions.iter().product()
-    }
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-    /// A square matrix (two equal dimensions of at least 2).
-    pub fn is_square_matrix(&self) -> bool {
-        matches!(self.dimensions[..], [a, b] if a == b && a > 1)
-    }
-}
 
 /// What the importer reads from an FMI 3.0 modelDescription.xml.
 #[derive(Clone, Debug)]
@@ -65,7 +29,7 @@ pub struct ModelDescription3 {
     pub log_categories: Vec<String>,
     pub experiment: Experiment,
     /// Every variable, `time` among them, in the order of the file.
-    pub variables: Vec<Var3>,
+    pub variables: Vec<Variable>,
     /// `<ContinuousStateDerivative>`: the derivatives' value references, in the order of
     /// the state vector.
     pub derivatives: Vec<u32>,
@@ -78,47 +42,27 @@ impl ModelDescription3 {
     /// Float64 variables with their declared types' units, the experiment, the interfaces,
     /// the `<ModelStructure>`.
     pub fn parse(xml: &str) -> Result<ModelDescription3, String> {
-        let d = description::ModelDescription::parse(xml)?;
-        if d.version != Version::Fmi3 {
-            return Err("not an FMI 3.0 modelDescription".into());
-        }
+        let d = super::parse_of_version(xml, Version::Fmi3)?;
         let i = &d.interfaces;
         if i.scheduled_execution {
             return Err("<ScheduledExecution>: this importer does not drive it".into());
         }
-        let variables = (d.variables.iter())
-            .map(|v| {
-                if v.kind != "Float64" {
-                    return Err(format!(
-                        "variable type <{}>: this importer knows Float64 variables only",
-                        v.kind
-                    ));
-                }
-                let var = Var3 {
-                    name: v.name.clone(),
-                    vr: v.vr,
-                    causality: v.causality.clone(),
-                    variability: v.variability.clone(),
-                    initial: v.initial.clone(),
-                    start: v.start_values.clone(),
-                    min: v.min,
-                    max: v.max,
-                    unit: v.unit.clone(),
-                    quantity: v.quantity.clone(),
-                    derivative: v.derivative,
-                    dimensions: v.dimensions.clone(),
-                };
-                if !var.start.is_empty() && var.start.len() != var.len() {
-                    return Err(format!(
-                        "variable {}: {} start values for {} elements",
-                        var.name,
-                        var.start.len(),
-                        var.len()
-                    ));
-                }
-                Ok(var)
-            })
-            .collect::<Result<_, String>>()?;
+        for v in &d.variables {
+            if v.kind != "Float64" {
+                return Err(format!(
+                    "variable type <{}>: this importer knows Float64 variables only",
+                    v.kind
+                ));
+            }
+            if !v.start_values.is_empty() && v.start_values.len() != v.len() {
+                return Err(format!(
+                    "variable {}: {} start values for {} elements",
+                    v.name,
+                    v.start_values.len(),
+                    v.len()
+                ));
+            }
+        }
         let md = ModelDescription3 {
             model_name: d.model_name.clone(),
             instantiation_token: d.token.clone(),
@@ -131,7 +75,7 @@ impl ModelDescription3 {
             provides_intermediate_update: i.provides_intermediate_update,
             log_categories: d.log_categories.clone(),
             experiment: Experiment::of(&d),
-            variables,
+            variables: d.variables,
             derivatives: d.state_derivatives.clone(),
             event_indicators: d.event_indicators.clone(),
         };
@@ -148,16 +92,7 @@ impl ModelDescription3 {
                     .into(),
             );
         }
-        if self
-            .model_exchange
-            .as_ref()
-            .is_some_and(|id| *id != self.model_identifier)
-        {
-            return Err(
-                "ModelExchange and CoSimulation name different binaries: this importer loads one"
-                    .into(),
-            );
-        }
+        super::one_binary(self.model_exchange.as_ref(), &self.model_identifier)?;
         let mut seen = std::collections::HashSet::new();
         if let Some(v) = self.variables.iter().find(|v| !seen.insert(v.vr)) {
             return Err(format!("value reference {} declared twice", v.vr));
@@ -195,11 +130,11 @@ impl ModelDescription3 {
         Ok(())
     }
 
-    pub fn var(&self, name: &str) -> Option<&Var3> {
+    pub fn var(&self, name: &str) -> Option<&Variable> {
         self.variables.iter().find(|v| v.name == name)
     }
 
-    pub fn by_vr(&self, vr: u32) -> Option<&Var3> {
+    pub fn by_vr(&self, vr: u32) -> Option<&Variable> {
         self.variables.iter().find(|v| v.vr == vr)
     }
 
@@ -214,7 +149,9 @@ impl ModelDescription3 {
     /// How many values `vrs` have (arrays count their elements), or `None` if one of them
     /// is not a variable.
     pub fn len_of(&self, vrs: &[u32]) -> Option<usize> {
-        vrs.iter().map(|&vr| self.by_vr(vr).map(Var3::len)).sum()
+        vrs.iter()
+            .map(|&vr| self.by_vr(vr).map(Variable::len))
+            .sum()
     }
 
     /// Every value reference but time's, in increasing order.
@@ -249,6 +186,6 @@ impl ModelDescription3 {
 
     /// One past the largest value reference.
     pub fn vr_end(&self) -> u32 {
-        self.variables.iter().map(|v| v.vr + 1).max().unwrap_or(0)
+        super::vr_end(&self.variables)
     }
 }

@@ -1,17 +1,23 @@
 //! Finding, unpacking and loading the built FMUs (`fmus/<Name>.fmu` of FMI 2.0,
 //! `fmus/fmi3/<Name>.fmu` of FMI 3.0), and what this importer needs of their
-//! modelDescription.xml ([`md2`], [`md3`]: read by `mechfmu_host::description`'s parser).
+//! modelDescription.xml ([`md2`], [`md3`]: read by `mechfmu_host::description`'s parser,
+//! its [`Variable`]s as it gives them, asked through [`VariableExt`]).
 
 mod md2;
 mod md3;
+mod variable;
 
-pub use md2::{Experiment, ModelDescription, Var};
-pub use md3::{ModelDescription3, Var3};
+pub use md2::{Experiment, ModelDescription};
+pub use md3::ModelDescription3;
+pub use mechfmu_host::description::Variable;
+pub use variable::VariableExt;
 
 use crate::ffi::Api;
 use crate::ffi3::Api3;
 use mechfmu_host::archive;
+use mechfmu_host::description;
 use mechfmu_host::library::Library;
+use mechfmu_host::platform::Version;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -75,6 +81,32 @@ pub fn required_fmu_paths() -> Vec<PathBuf> {
 /// The FMI 3.0 FMUs to test.
 pub fn required_fmu3_paths() -> Vec<PathBuf> {
     required(fmu3_paths(), fmus_dir().join("fmi3"))
+}
+
+/// A modelDescription.xml of `version`, read by `mechfmu_host::description`'s parser.
+fn parse_of_version(xml: &str, version: Version) -> Result<description::ModelDescription, String> {
+    let d = description::ModelDescription::parse(xml)?;
+    if d.version != version {
+        return Err(format!("not an {} modelDescription", version.name()));
+    }
+    Ok(d)
+}
+
+/// What an importer of either standard relies on: Model Exchange, if declared, in the
+/// Co-Simulation binary (it loads one).
+fn one_binary(model_exchange: Option<&String>, model_identifier: &str) -> Result<(), String> {
+    if model_exchange.is_some_and(|id| id != model_identifier) {
+        return Err(
+            "ModelExchange and CoSimulation name different binaries: this importer loads one"
+                .into(),
+        );
+    }
+    Ok(())
+}
+
+/// One past the largest value reference of `variables`.
+fn vr_end(variables: &[Variable]) -> u32 {
+    variables.iter().map(|v| v.vr + 1).max().unwrap_or(0)
 }
 
 /// The FMI version a `.fmu`'s modelDescription.xml declares (`fmiVersion`).

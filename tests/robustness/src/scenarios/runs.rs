@@ -2,7 +2,7 @@
 
 use super::MeIntegrator;
 use crate::ffi::*;
-use crate::fmu::Fmu;
+use crate::fmu::{Fmu, VariableExt};
 use crate::importer::{rss_bytes, Instance};
 use std::time::Instant;
 

@@ -4,7 +4,7 @@
 
 use super::MeIntegrator;
 use crate::ffi3::*;
-use crate::fmu::Fmu3;
+use crate::fmu::{Fmu3, VariableExt};
 use crate::importer::Instance3;
 
 /// Every continuous input moved off its start values (each element by 5 % and 0.05), as
@@ -15,7 +15,7 @@ pub fn pushed_inputs3(fmu: &Fmu3) -> Vec<(u32, Vec<f64>)> {
         .iter()
         .filter(|v| v.is("input") && v.variability == "continuous")
         .map(|v| {
-            let start = (0..v.len()).map(|k| v.start.get(k).copied().unwrap_or(0.0));
+            let start = (0..v.len()).map(|k| v.start_at(k).unwrap_or(0.0));
             (v.vr, start.map(|x| x * 1.05 + 0.05).collect())
         })
         .collect()

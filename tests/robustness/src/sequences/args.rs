@@ -5,9 +5,9 @@
 use super::core::{Sequence, Standard};
 use super::hostile::hostile_f64;
 use super::machine::{Snap, Target};
-use super::model::ModelVar;
 use super::state_bytes::{fix_checksum, mutate_semantically};
 use crate::ffi::{Component, FmuState};
+use crate::fmu::{Variable, VariableExt};
 use std::ffi::CString;
 
 /// Instance names an importer might give.
@@ -90,7 +90,7 @@ impl<S: Standard> Sequence<'_, S> {
     }
 
     /// A value reference of a variable of the given kinds, if there is one.
-    pub(crate) fn vr_where(&mut self, pred: impl Fn(&ModelVar) -> bool) -> Option<u32> {
+    pub(crate) fn vr_where(&mut self, pred: impl Fn(&Variable) -> bool) -> Option<u32> {
         let c: Vec<u32> = self
             .model
             .vars
@@ -108,7 +108,7 @@ impl<S: Standard> Sequence<'_, S> {
             return hostile_f64(&mut self.rng);
         }
         let var = self.model.var(vr);
-        let start = var.and_then(|v| v.start.get(k).copied()).unwrap_or(1.0);
+        let start = var.and_then(|v| v.start_at(k)).unwrap_or(1.0);
         let lo = var.and_then(|v| v.min);
         let x = start * (0.5 + self.rng.unit())
             + if self.rng.chance(0.3) {

@@ -2,31 +2,12 @@
 //! the variables by value reference (FMI 3.0's arrays with their elements), the
 //! continuous states and event indicators, the default experiment.
 
-use crate::fmu::{Experiment, ModelDescription, ModelDescription3};
-
-/// One variable (a scalar, or an FMI 3.0 array of `len` elements).
-#[derive(Clone, Debug)]
-pub struct ModelVar {
-    pub name: String,
-    pub vr: u32,
-    pub causality: String,
-    pub variability: String,
-    /// The start values, one per element (empty: none declared).
-    pub start: Vec<f64>,
-    pub min: Option<f64>,
-    pub len: usize,
-    /// Two equal dimensions (FMI 3.0): the elements are a square matrix.
-    pub square: bool,
-}
-
-impl ModelVar {
-    pub fn is(&self, causality: &str) -> bool {
-        self.causality == causality
-    }
-}
+use crate::fmu::{Experiment, ModelDescription, ModelDescription3, Variable, VariableExt};
 
 pub struct Model {
-    pub vars: Vec<ModelVar>,
+    /// Every variable (an FMI 3.0 array is one, of [`VariableExt::len`] elements; its start
+    /// values by element through [`VariableExt::start_at`]).
+    pub vars: Vec<Variable>,
     /// One past the largest value reference.
     pub vr_end: u32,
     /// The FMU declares Model Exchange.
@@ -48,20 +29,7 @@ pub struct Model {
 impl Model {
     pub fn fmi2(md: &ModelDescription) -> Model {
         Model {
-            vars: md
-                .variables
-                .iter()
-                .map(|v| ModelVar {
-                    name: v.name.clone(),
-                    vr: v.vr,
-                    causality: v.causality.clone(),
-                    variability: v.variability.clone(),
-                    start: v.start.into_iter().collect(),
-                    min: v.min,
-                    len: 1,
-                    square: false,
-                })
-                .collect(),
+            vars: md.variables.clone(),
             vr_end: md.vr_end(),
             me: md.model_exchange.is_some(),
             nx: md.nx(),
@@ -77,20 +45,7 @@ impl Model {
     pub fn fmi3(md: &ModelDescription3) -> Model {
         let state_vrs = md.state_vrs();
         Model {
-            vars: md
-                .variables
-                .iter()
-                .map(|v| ModelVar {
-                    name: v.name.clone(),
-                    vr: v.vr,
-                    causality: v.causality.clone(),
-                    variability: v.variability.clone(),
-                    start: v.start.clone(),
-                    min: v.min,
-                    len: v.len(),
-                    square: v.is_square_matrix(),
-                })
-                .collect(),
+            vars: md.variables.clone(),
             vr_end: md.vr_end(),
             me: md.model_exchange.is_some(),
             nx: md.nx(),
@@ -99,7 +54,7 @@ impl Model {
             x_start: state_vrs
                 .iter()
                 .filter_map(|&vr| md.by_vr(vr))
-                .flat_map(|v| (0..v.len()).map(|k| v.start.get(k).copied().unwrap_or(1.0)))
+                .flat_map(|v| (0..v.len()).map(|k| v.start_at(k).unwrap_or(1.0)))
                 .collect(),
             state_vrs,
             derivative_vrs: md.derivatives.clone(),
@@ -107,13 +62,13 @@ impl Model {
         }
     }
 
-    pub fn var(&self, vr: u32) -> Option<&ModelVar> {
+    pub fn var(&self, vr: u32) -> Option<&Variable> {
         self.vars.iter().find(|v| v.vr == vr)
     }
 
     /// How many values `vrs` have (arrays count their elements), or `None` if one of them
     /// is not a variable.
     pub fn len_of(&self, vrs: &[u32]) -> Option<usize> {
-        vrs.iter().map(|&vr| self.var(vr).map(|v| v.len)).sum()
+        vrs.iter().map(|&vr| self.var(vr).map(Variable::len)).sum()
     }
 }

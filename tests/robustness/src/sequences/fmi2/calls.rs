@@ -5,6 +5,7 @@
 use super::table::f;
 use super::Fmi2;
 use crate::ffi::*;
+use crate::fmu::VariableExt;
 use crate::sequences::args::null_if;
 use crate::sequences::core::Sequence;
 use crate::sequences::fmu_states::Restore;

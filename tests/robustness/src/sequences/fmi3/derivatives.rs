@@ -8,6 +8,7 @@ use super::table::f;
 use super::values::{backed, Ptr};
 use super::Fmi3;
 use crate::ffi3::*;
+use crate::fmu::VariableExt;
 use crate::sequences::core::Sequence;
 use crate::sequences::machine::{Call, Target};
 

@@ -7,6 +7,7 @@
 use super::table::f;
 use super::Fmi3;
 use crate::ffi3::*;
+use crate::fmu::{Variable, VariableExt};
 use crate::sequences::core::Sequence;
 use crate::sequences::machine::{Call, St, Target};
 
@@ -138,8 +139,8 @@ impl Sequence<'_, Fmi3> {
     /// asymmetric (one element off its transpose), or every continuous input.
     fn values_to_set(&mut self) -> (Vec<u32>, Vec<f64>) {
         let square: Vec<(u32, usize)> = (self.model.vars.iter())
-            .filter(|v| v.square)
-            .map(|v| (v.vr, v.len))
+            .filter(|v| v.is_square_matrix())
+            .map(|v| (v.vr, v.len()))
             .collect();
         let mut vrs: Vec<u32> = match self.rng.below(10) {
             0..=2 => self.vrs(),
@@ -176,7 +177,7 @@ impl Sequence<'_, Fmi3> {
         }
         let mut values = vec![];
         for &vr in &vrs {
-            let len = self.model.var(vr).map_or(1, |v| v.len);
+            let len = self.model.var(vr).map_or(1, Variable::len);
             for k in 0..len {
                 values.push(self.value_for(vr, k));
             }
