@@ -17,6 +17,8 @@
 //! - [`documented`]: what a mechanism's interface page says of its runs (a default
 //!   experiment that stands still, a moving case that moves), checked;
 //! - [`rng`]: a deterministic generator for checks at random points;
+//! - [`formulas`]: a mechanism without states against its formulas at random points, and
+//!   its model descriptions' direct feedthrough;
 //! - [`allocations`]: a counting allocator, and [`allocation_tests!`], the proof that the
 //!   calls of an importer's loop never allocate.
 
@@ -24,6 +26,7 @@ pub mod allocations;
 pub mod conformance;
 pub mod documented;
 pub mod fmi3;
+pub mod formulas;
 pub mod golden;
 pub mod harness;
 pub mod model_exchange;
