@@ -206,14 +206,17 @@ def test_crane_dynamics_trolley_reaching_the_pivot_terminates_at_the_references_
 @pytest.mark.parametrize("model", MODELS)
 def test_fmpy_validates_the_model_exchange_description(model):
     """FMPy's validate_fmu over the XML with both interfaces: <ModelExchange> beside
-    <CoSimulation>, the derivatives of every state in <ModelStructure>, and the event
-    indicators its contract counts (event_indicators; none without)."""
+    <CoSimulation>, the derivatives of every state in <ModelStructure> (the states its
+    contract lists: none for a coupling element), and the event indicators its contract
+    counts (event_indicators; none without)."""
     path = str(fmu_path(model))
     md = read_model_description(path)
     me, cs = md.modelExchange, md.coSimulation
     assert me is not None and cs is not None and me.modelIdentifier == cs.modelIdentifier
     assert me.providesDirectionalDerivative and me.canGetAndSetFMUstate and me.canSerializeFMUstate
-    assert 0 < md.numberOfContinuousStates == len(md.derivatives)
+    assert md.numberOfContinuousStates == len(md.derivatives)
     contract = mechanism(model).contract
+    if contract is not None and contract.derivatives is not None:
+        assert md.numberOfContinuousStates == len(contract.derivatives)  # 0 for a coupling element
     assert md.numberOfEventIndicators == (contract.event_indicators if contract is not None else 0)
     assert validate_fmu(path) == [], "\n".join(validate_fmu(path))

@@ -13,8 +13,9 @@ docs/derivations.md, never from the Rust sources. Every module has:
 ``derive`` holds the sympy derivations (Lagrange and Newton-Euler) used to cross-check them.
 """
 
-from . import oscillator, two_mass, pendulum_cart, crane, crane_dynamics, rigid_body, double_pendulum_cart  # noqa: F401
+from . import (oscillator, two_mass, pendulum_cart, crane, crane_dynamics, rigid_body, double_pendulum_cart,  # noqa: F401
+               spring_damper, crane_controller)
 from ._common import solution, split, step_input  # noqa: F401
 
 __all__ = ["oscillator", "two_mass", "pendulum_cart", "crane", "crane_dynamics", "rigid_body",
-           "double_pendulum_cart", "solution", "split", "step_input"]
+           "double_pendulum_cart", "spring_damper", "crane_controller", "solution", "split", "step_input"]

@@ -160,7 +160,7 @@ def run(rhs: Callable, outputs: Callable, state_names: Sequence[str], y0: Sequen
     n = len(state_names)
     Y = np.empty((n, t_out.size))
     y = np.asarray(y0, dtype=float).copy()
-    for a, b in zip(cuts[:-1], cuts[1:]):
+    for a, b in zip(cuts[:-1] if n else [], cuts[1:]):  # a stateless element integrates nothing
         u = zoh_value(table, input_defaults, a)
         mask = (t_out >= a) & (t_out <= b)
         idx = np.flatnonzero(mask)
