@@ -85,6 +85,8 @@ fn a_mass_that_is_not_positive_is_refused() {
     );
 }
 
+mechfmu_testkit::golden_tests!(CraneController);
+
 /// The checks every mechfmu FMU passes: reset, FMU state, serialization, derivatives,
 /// Model Exchange, FMI 3.0.
 #[test]

@@ -55,6 +55,8 @@ fn a_negative_stiffness_or_damping_is_refused() {
     assert_eq!((fmu.get("F_a"), fmu.get("E")), (0.0, 0.0));
 }
 
+mechfmu_testkit::golden_tests!(SpringDamper);
+
 /// The checks every mechfmu FMU passes: reset, FMU state, serialization, derivatives,
 /// Model Exchange, FMI 3.0.
 #[test]
