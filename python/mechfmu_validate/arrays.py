@@ -1,8 +1,8 @@
 """A mechanism's FMI 2.0 scalars in its FMI 3.0 FMU: which FMI 3.0 array element each is.
 
 A reference case names FMI 2.0 variables (``q_x``, ``I_xy``). The FMI 3.0 FMU of the same
-mechanism has the same scalar variables (same names; value references FMI 2.0's plus one), and arrays
-that group the others (``q`` = ``q_w q_x q_y q_z``; ``I_C`` a symmetric 3x3 whose ``I_xy``
+mechanism has the same scalar variables (same names; value references of their own, their
+places in its model description), and arrays that group the others (``q`` = ``q_w q_x q_y q_z``; ``I_C`` a symmetric 3x3 whose ``I_xy``
 stands at [1,2] and [2,1]). An :class:`ArrayMap` translates a case into FMI 3.0 terms (start
 values and inputs as whole arrays, recorded arrays) and the results back.
 

@@ -55,14 +55,20 @@ pub fn interface<M: Mechanism>() -> Result<String, String> {
     Ok(md)
 }
 
-/// What differs in the FMI 3.0 FMU: the value reference of the independent `time`, and the
-/// arrays that replace the scalars they group.
+/// What differs in the FMI 3.0 FMU: the value references (the independent `time` first,
+/// then each variable's place in its model description), and the arrays that replace the
+/// scalars they group.
 fn fmi3_arrays<M: Mechanism>() -> Result<String, String> {
     let shapes = Shapes::new(M::VARIABLES, M::ARRAYS)?;
+    let references: Vec<String> = (shapes.variables.iter())
+        .map(|s| format!("`{}` {}", s.name, s.reference))
+        .collect();
     let mut md = format!(
-        "\nIn the FMI 3.0 FMU, each variable's value reference is the one in this table plus \
-         one; `time` is the independent variable, value reference {}.",
-        Shapes::TIME_REFERENCE
+        "\nIn the FMI 3.0 FMU, `time` is the independent variable, value reference {}, and the \
+         others are numbered in the order its model description lists them (each state before \
+         its derivative): {}.",
+        Shapes::TIME_REFERENCE,
+        references.join(", ")
     );
     let arrays: Vec<_> = shapes.variables.iter().filter(|s| s.is_array()).collect();
     if arrays.is_empty() {
@@ -70,8 +76,7 @@ fn fmi3_arrays<M: Mechanism>() -> Result<String, String> {
         return Ok(md);
     }
     md.push_str(
-        " These arrays replace the scalars they group (row-major), each with the value \
-         reference of its first element plus one:\n\n\
+        " These arrays replace the scalars they group (row-major):\n\n\
          | array | value ref. | dimensions | elements | description |\n\
          |---|---:|---|---|---|\n",
     );

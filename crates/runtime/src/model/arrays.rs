@@ -3,15 +3,17 @@
 //! declaration and the equations' names (and FMI 2.0's variables); an [`Array`] only says
 //! which of them make up one array variable of FMI 3.0, in which order.
 //!
-//! [`Shapes`] is the list of variables FMI 3.0 sees: every scalar that is in no array, and
-//! every array at the place of its first element. FMI 3.0's value references are FMI 2.0's
-//! plus one ([`Shapes::reference_of`]), so that the independent variable `time` has value
-//! reference 0 ([`Shapes::TIME_REFERENCE`]), as the Reference-FMUs have it: an array takes
-//! the value reference of its first element, and those of its other elements are then no
-//! variables of FMI 3.0.
+//! [`Shapes`] is the list of variables FMI 3.0 sees, in the order its model description
+//! lists them: every scalar that is in no array, and every array at the place of its first
+//! element, each state before its derivative (as FMI 2.0's `ScalarVariable`s). FMI 3.0's value
+//! references are the places in that list: the independent variable `time` is 0
+//! ([`Shapes::TIME_REFERENCE`]), as the Reference-FMUs have it, and the others follow from 1.
+//! The standard allows any value references; these are what importers that take FMI 3.0's
+//! `derivative` attribute for a variable's place (FMI 2.0's meaning, OMSimulator's Python API)
+//! read right, on every FMU without arrays.
 
 use super::const_text::{str_eq, ConstMessage};
-use super::Variable;
+use super::{states_before_derivatives, Variable};
 
 /// An array variable made of declared scalar variables.
 ///
@@ -104,8 +106,7 @@ pub const fn check_arrays(variables: &[Variable], arrays: &[Array]) {
 /// One variable as FMI 3.0 sees it: a scalar, or an array of scalars.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Shaped {
-    /// Its FMI 3.0 value reference: [`Shapes::reference_of`] the scalar, or the array's
-    /// first element.
+    /// Its FMI 3.0 value reference: its place in [`Shapes::variables`], plus one.
     pub reference: usize,
     pub name: &'static str,
     pub description: &'static str,
@@ -152,7 +153,8 @@ pub fn element_name(name: &str, dimensions: &[usize], k: usize) -> String {
 /// The variables of a declaration as FMI 3.0 sees them, with its arrays.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Shapes {
-    /// In declaration order of each variable's first scalar.
+    /// In the order of the model description: declaration order of each variable's first
+    /// scalar, each state before its derivative.
     pub variables: Vec<Shaped>,
     /// For each scalar's value reference, the variable it belongs to (index into `variables`).
     owner: Vec<usize>,
@@ -239,7 +241,7 @@ impl Shapes {
             if a == NONE {
                 shapes.owner[vr] = shapes.variables.len();
                 shapes.variables.push(Shaped {
-                    reference: Self::reference_of(vr),
+                    reference: 0,
                     name: v.name,
                     description: v.description(),
                     dimensions: &[],
@@ -252,7 +254,7 @@ impl Shapes {
                     shapes.owner[e] = index;
                 }
                 shapes.variables.push(Shaped {
-                    reference: Self::reference_of(groups[a][0]),
+                    reference: 0,
                     name: arrays[a].name,
                     description: arrays[a].description,
                     dimensions: arrays[a].dimensions,
@@ -261,7 +263,34 @@ impl Shapes {
             }
         }
         shapes.check_states(variables)?;
+        shapes.list_states_before_derivatives(variables);
         Ok(shapes)
+    }
+
+    /// Puts the variables in the model description's order (each state before its
+    /// derivative, [`states_before_derivatives`]) and numbers them: `time` is 0, the first
+    /// variable 1.
+    fn list_states_before_derivatives(&mut self, variables: &[Variable]) {
+        let order = states_before_derivatives(self.variables.len(), |i| {
+            let v = self.variables[i].variable(variables);
+            (variables.iter())
+                .position(|w| w.derivative == Some(v.name))
+                .map(|state| self.owner[state])
+        });
+        let mut place = vec![0; order.len()];
+        for (at, &i) in order.iter().enumerate() {
+            place[i] = at;
+        }
+        let mut listed: Vec<Option<Shaped>> = self.variables.drain(..).map(Some).collect();
+        self.variables = (order.iter())
+            .map(|&i| listed[i].take().expect("an order lists each variable once"))
+            .collect();
+        for owner in &mut self.owner {
+            *owner = place[*owner];
+        }
+        for (at, shaped) in self.variables.iter_mut().enumerate() {
+            shaped.reference = at + 1;
+        }
     }
 
     /// A state's derivative must be shaped as the state: a scalar state's a scalar, a state
@@ -315,19 +344,10 @@ impl Shapes {
     /// The value reference of the independent variable `time` in FMI 3.0.
     pub const TIME_REFERENCE: usize = 0;
 
-    /// The FMI 3.0 value reference of declared scalar `vr` (its FMI 2.0 value reference):
-    /// the one place the two are mapped. One more, so that 0 is free for `time`, and an
-    /// FMI 2.0 reference is found in FMI 3.0 by adding one.
-    pub const fn reference_of(vr: usize) -> usize {
-        vr + 1
-    }
-
-    /// The variable with FMI 3.0 value reference `reference` (none for `time`, for an
-    /// array's element other than its first, nor for a value reference of no variable).
+    /// The variable with FMI 3.0 value reference `reference` (none for `time`, nor for a
+    /// value reference of no variable).
     pub fn get(&self, reference: usize) -> Option<&Shaped> {
-        let vr = reference.checked_sub(Self::reference_of(0))?;
-        let shaped = &self.variables[*self.owner.get(vr)?];
-        (shaped.reference == reference).then_some(shaped)
+        self.variables.get(reference.checked_sub(1)?)
     }
 
     /// The variable declared scalar `vr` (FMI 2.0's value reference) belongs to.
@@ -337,7 +357,7 @@ impl Shapes {
 
     /// One past the largest FMI 3.0 value reference: the first that is no variable.
     pub fn references_end(&self) -> usize {
-        Self::reference_of(self.owner.len())
+        self.variables.len() + 1
     }
 
     /// Whether any variable is an array.

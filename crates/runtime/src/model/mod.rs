@@ -10,6 +10,7 @@ mod checks;
 mod const_text;
 mod declare;
 mod layout;
+mod order;
 pub(crate) mod scalar;
 pub mod units;
 mod values;
@@ -29,6 +30,7 @@ pub use layout::{
     count_selected, derivative_references, derivatives_among_states, selected_references, Selection,
 };
 pub use layout::{event_indicator_references, Layout};
+pub(crate) use order::states_before_derivatives;
 pub use scalar::{cos, lit, sin, sin_cos, Scalar};
 #[doc(hidden)]
 pub use values::{copy_one_by_one, get_one_by_one, Fields};

@@ -4,12 +4,12 @@
 //! What FMI 3.0 sees differs from FMI 2.0 in three ways:
 //! - the variables are [`Shapes`]: the declared scalars, but those grouped into
 //!   [`Mechanism::ARRAYS`] shown as one `<Float64>` array each (`<Dimension>`, a start value
-//!   per element in row-major order, FMI 3.0 section 2.4.7.2), with FMI 2.0's value
-//!   references plus one ([`Shapes::reference_of`]), and an annotation
+//!   per element in row-major order, FMI 3.0 section 2.4.7.2), and an annotation
 //!   ([`SCALARS_ANNOTATION`]) naming the FMI 2.0 scalars its elements are; the independent
 //!   variable `time` comes first, with value reference 0 ([`Shapes::TIME_REFERENCE`]), as
 //!   in the Reference-FMUs; the others follow in declaration order, each state before its
-//!   derivative, as in FMI 2.0's;
+//!   derivative, as in FMI 2.0's, their value references 1, 2, ... in that order (a
+//!   variable's value reference is its place in the document);
 //! - the names follow `variableNamingConvention="structured"` (section 2.4.7.5.1): every
 //!   name is an identifier, and an array's element is named `I_C[1,2]` (1-based);
 //! - `<ModelStructure>` (section 2.4.8) lists variables by value reference, an array once,
@@ -77,16 +77,9 @@ pub fn model_description<M: Mechanism>() -> Result<String, String> {
         knowns: by_variable_knowns(&shapes, &structure.knowns),
         initial_knowns: by_variable_knowns(&shapes, &structure.initial_knowns),
     };
-    let written = shared::states_before_derivatives(shapes.variables.len(), |i| {
-        state_of(variables, &shapes, &shapes.variables[i]).and_then(|state| {
-            shapes
-                .variables
-                .iter()
-                .position(|s| s.reference == state.reference)
-        })
-    });
-    let rows = (written.iter())
-        .map(|&i| row(name, variables, &shapes, &shapes.variables[i], &units))
+    // In the order of the value references (`Shapes`: each state before its derivative).
+    let rows = (shapes.variables.iter())
+        .map(|shaped| row(name, variables, &shapes, shaped, &units))
         .collect::<Result<Vec<_>, String>>()?;
     shared::finish(name, write::<M>(&rows, &units, &lists))
 }

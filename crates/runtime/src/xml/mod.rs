@@ -13,7 +13,7 @@
 //! variables) is written by one private module.
 //!
 //! The `ScalarVariable`s keep the declaration's value references (its order), but are
-//! written with each state before its derivative (`shared::states_before_derivatives`):
+//! written with each state before its derivative (`model::states_before_derivatives`):
 //! a `ScalarVariable` index (what `derivative` and `<ModelStructure>` refer to, 1-based)
 //! is then the variable's place in that order, not its value reference plus one.
 
@@ -170,7 +170,7 @@ struct Order {
 impl Order {
     fn new(variables: &[Variable]) -> Self {
         let written =
-            shared::states_before_derivatives(variables.len(), |vr| state_of(variables, vr));
+            crate::model::states_before_derivatives(variables.len(), |vr| state_of(variables, vr));
         let mut index = vec![0; variables.len()];
         for (i, &vr) in written.iter().enumerate() {
             index[vr] = i + 1;

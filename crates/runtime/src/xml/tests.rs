@@ -370,14 +370,17 @@ fn the_order_puts_each_chain_of_states_before_its_derivative() {
         _ => None,
     };
     assert_eq!(
-        shared::states_before_derivatives(6, state_of),
+        crate::model::states_before_derivatives(6, state_of),
         [3, 2, 0, 4, 1, 5]
     );
     // Declared in order already: unchanged.
     let state_of = |i: usize| (i % 2 == 1).then(|| i - 1);
-    assert_eq!(shared::states_before_derivatives(4, state_of), [0, 1, 2, 3]);
+    assert_eq!(
+        crate::model::states_before_derivatives(4, state_of),
+        [0, 1, 2, 3]
+    );
     // A circle (no declaration has one) still writes each variable once.
-    let mut circle = shared::states_before_derivatives(3, |i| Some((i + 1) % 3));
+    let mut circle = crate::model::states_before_derivatives(3, |i| Some((i + 1) % 3));
     circle.sort_unstable();
     assert_eq!(circle, [0, 1, 2]);
 }

@@ -61,23 +61,47 @@ fn an_array_stands_at_its_first_element_with_its_reference() {
         summary(&shapes),
         [
             (1, "M", vec![0, 1, 1, 2]),
-            (4, "u", vec![3]),
-            (5, "x", vec![4, 5]),
-            (7, "v", vec![6, 7]),
-            (9, "E", vec![8]),
+            (2, "u", vec![3]),
+            (3, "x", vec![4, 5]),
+            (4, "v", vec![6, 7]),
+            (5, "E", vec![8]),
         ]
     );
     assert!(shapes.has_arrays());
     assert_eq!(shapes.variables[0].dimensions, [2, 2]);
     assert_eq!(shapes.variables[0].description, "Mass matrix");
-    // Only an array's first element names it.
+    // An array is one variable, with one value reference: the next variable's is the next.
     assert_eq!(shapes.get(1).map(|s| s.name), Some("M"));
-    assert_eq!(shapes.get(2), None);
+    assert_eq!(shapes.get(2).map(|s| s.name), Some("u"));
     assert_eq!(shapes.owner(1).map(|s| s.name), Some("M"));
     assert_eq!(shapes.owner(7).map(|s| s.name), Some("v"));
     assert_eq!(shapes.variables[2].variable(&VARIABLES).name, "x_1");
-    // Every variable has FMI 2.0's value reference plus one.
-    assert_eq!(shapes.references_end(), 10);
+    // Value references are places in the list: 1 to 5, then none.
+    assert_eq!((shapes.references_end(), shapes.get(6)), (6, None));
+}
+
+/// A prescribed acceleration declared before the states it drives is listed after them
+/// (each state before its derivative), and the value references follow the list.
+#[test]
+fn a_derivative_declared_before_its_state_is_listed_after_it() {
+    static DRIVEN: [Variable; 4] = [
+        named(Variable::input("m/s2", 0.0), "a"),
+        named(Variable::parameter("kg", 1.0), "m"),
+        named(Variable::state("m", 0.0, "v"), "x"),
+        named(Variable::state("m/s", 0.0, "a"), "v"),
+    ];
+    let shapes = Shapes::new(&DRIVEN, &[]).unwrap();
+    assert_eq!(
+        summary(&shapes),
+        [
+            (1, "x", vec![2]),
+            (2, "v", vec![3]),
+            (3, "a", vec![0]),
+            (4, "m", vec![1])
+        ]
+    );
+    assert_eq!(shapes.owner(0).map(|s| s.reference), Some(3));
+    assert_eq!(shapes.get(3).map(|s| s.name), Some("a"));
 }
 
 #[test]

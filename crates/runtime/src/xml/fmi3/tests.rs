@@ -114,8 +114,8 @@ impl Mechanism for Plate {
     }
 }
 
-// Plate's FMI 3.0 value references: time 0, M 1 (m_11; m_12 2, m_22 3), k 4, f 5 (f_1; f_2
-// 6), x 7 (x_1; x_2 8), v 9 (v_1; v_2 10), a 11 (a_1; a_2 12), E 13, det 14.
+// Plate's FMI 3.0 value references, its variables' places: time 0, M 1 (m_11, m_12, m_22),
+// k 2, f 3 (f_1, f_2), x 4 (x_1, x_2), v 5 (v_1, v_2), a 6 (a_1, a_2), E 7, det 8.
 
 fn variables(xml: &str) -> Vec<(usize, Element)> {
     let elements = parse_in_schema_order(xml);
@@ -204,21 +204,24 @@ fn time_comes_first_with_value_reference_0() {
     ));
 }
 
+/// A variable's value reference is its place in the document (`time` 0, then 1, 2, ...), so
+/// an importer that takes `derivative` for a place, as FMI 2.0 has it, finds the state.
 #[test]
-fn value_references_are_fmi_2s_plus_one() {
-    let drive: Vec<usize> = (0..=10).collect();
-    let plate = vec![0, 1, 4, 5, 7, 9, 11, 13, 14];
-    for (xml, expected) in [
-        (model_description::<Drive>(), drive),
-        (model_description::<Plate>(), plate),
-    ] {
+fn value_references_are_places_in_the_document() {
+    for xml in [model_description::<Drive>(), model_description::<Plate>()] {
         let xml = xml.unwrap();
         let elements = variables(&xml);
-        let references: Vec<usize> = find(&elements, "Float64")
-            .iter()
+        let floats = find(&elements, "Float64");
+        let references: Vec<usize> = (floats.iter())
             .map(|e| e.get("valueReference").unwrap().parse().unwrap())
             .collect();
-        assert_eq!(references, expected);
+        assert_eq!(references, (0..floats.len()).collect::<Vec<_>>());
+        // Each state comes before its derivative.
+        for (at, e) in floats.iter().enumerate() {
+            if let Some(state) = e.get("derivative") {
+                assert!(state.parse::<usize>().unwrap() < at, "{e:?}");
+            }
+        }
     }
 }
 
@@ -236,7 +239,7 @@ fn arrays_have_dimensions_and_a_start_value_per_element() {
          <Dimension start=\"2\"/>\n      <Dimension start=\"2\"/>\n    </Float64>"
     ));
     assert!(xml.contains(
-        "    <Float64 name=\"f\" valueReference=\"5\" description=\"Forces\" causality=\"input\" \
+        "    <Float64 name=\"f\" valueReference=\"3\" description=\"Forces\" causality=\"input\" \
          variability=\"continuous\" declaredType=\"Force\" unit=\"N\" start=\"0.0 1.0\">\n      \
          <Annotations>\n        \
          <Annotation type=\"org.mechfmu.scalars\">f_1 f_2</Annotation>\n      \
@@ -245,12 +248,12 @@ fn arrays_have_dimensions_and_a_start_value_per_element() {
     ));
     // A scalar keeps its bound; a unit without a quantity has no type.
     assert!(xml.contains(
-        "<Float64 name=\"k\" valueReference=\"4\" description=\"Stiffness\" \
+        "<Float64 name=\"k\" valueReference=\"2\" description=\"Stiffness\" \
          causality=\"parameter\" variability=\"tunable\" declaredType=\"TranslationalSpringConstant\" \
          initial=\"exact\" unit=\"N/m\" min=\"0.0\" start=\"4.0\"/>"
     ));
     assert!(xml.contains(
-        "<Float64 name=\"det\" valueReference=\"14\" description=\"Determinant of the mass matrix\" \
+        "<Float64 name=\"det\" valueReference=\"8\" description=\"Determinant of the mass matrix\" \
          causality=\"calculatedParameter\" variability=\"fixed\" initial=\"calculated\" unit=\"kg2\"/>"
     ));
     let elements = variables(&xml);
@@ -269,8 +272,8 @@ fn derivatives_point_at_their_states() {
     let elements = variables(&plate);
     let derivative = |name: &str| float64(&elements, name).get("derivative");
     assert_eq!(derivative("x"), None);
-    assert_eq!(derivative("v"), Some("7"));
-    assert_eq!(derivative("a"), Some("9"));
+    assert_eq!(derivative("v"), Some("4"));
+    assert_eq!(derivative("a"), Some("5"));
     let drive = model_description::<Drive>().unwrap();
     let elements = variables(&drive);
     let derivative = |name: &str| float64(&elements, name).get("derivative");
@@ -343,19 +346,19 @@ fn model_structure_of_scalars_has_the_parameters_and_the_time_as_knowns() {
 fn model_structure_lists_an_array_once() {
     let xml = model_description::<Plate>().unwrap();
     // a = M^-1 (f - k x): by the fixed M^-1 in f, by -k M^-1 (k tunable) in x.
-    let a = [(1, Dependent), (4, Dependent), (5, Fixed), (7, Tunable)];
+    let a = [(1, Dependent), (2, Dependent), (3, Fixed), (4, Tunable)];
     assert_eq!(
         structure(&xml),
         [
-            unknown("Output", 7, &[(7, Constant)]),
-            unknown("Output", 9, &[(9, Constant)]),
-            unknown("Output", 11, &a),
-            unknown("Output", 13, &dependent(&[1, 4, 7, 9])),
-            unknown("ContinuousStateDerivative", 9, &[(9, Constant)]),
-            unknown("ContinuousStateDerivative", 11, &a),
-            unknown("InitialUnknown", 11, &dependent(&[1, 4, 5, 7])),
-            unknown("InitialUnknown", 13, &dependent(&[1, 4, 7, 9])),
-            unknown("InitialUnknown", 14, &dependent(&[1])),
+            unknown("Output", 4, &[(4, Constant)]),
+            unknown("Output", 5, &[(5, Constant)]),
+            unknown("Output", 6, &a),
+            unknown("Output", 7, &dependent(&[1, 2, 4, 5])),
+            unknown("ContinuousStateDerivative", 5, &[(5, Constant)]),
+            unknown("ContinuousStateDerivative", 6, &a),
+            unknown("InitialUnknown", 6, &dependent(&[1, 2, 3, 4])),
+            unknown("InitialUnknown", 7, &dependent(&[1, 2, 4, 5])),
+            unknown("InitialUnknown", 8, &dependent(&[1])),
         ]
     );
 }

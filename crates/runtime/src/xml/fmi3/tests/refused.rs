@@ -69,7 +69,7 @@ pair!(
 fn good_arrays_are_written() {
     let xml = model_description::<Good>().unwrap();
     let elements = variables(&xml);
-    assert_eq!(float64(&elements, "D").get("derivative"), Some("4"));
+    assert_eq!(float64(&elements, "D").get("derivative"), Some("3"));
     // The description of an array is optional.
     assert_eq!(float64(&elements, "P").get("description"), None);
 }
