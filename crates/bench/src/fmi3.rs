@@ -20,7 +20,7 @@
 
 use crate::binary::Binary;
 use crate::effort::{steps_per_run, Effort};
-use crate::instance;
+use crate::instance::{self, step_failed};
 use mechfmu::fmi3::ffi::{fmi3OK, fmi3Status, fmi3Warning};
 use mechfmu_host::cpu_clock::cpu_ns;
 use mechfmu_host::fmi3::instance::Instance as Fmi3Instance;
@@ -111,22 +111,11 @@ pub fn step_loop(inst: &mut Instance, h: f64, n: usize) -> Result<f64, String> {
     for _ in 0..n {
         let status = inst.do_step(t, h);
         if status > fmi3Warning {
-            return Err(step_failed(inst, t, h, status));
+            return Err(step_failed("fmi3DoStep", t, h, status, || inst.messages()));
         }
         t += h;
     }
     Ok((cpu_ns() - t0) as f64)
-}
-
-/// Why a step of the timed loop failed: written out of the loop's way, so that the loop
-/// keeps nothing in memory for it.
-#[cold]
-#[inline(never)]
-fn step_failed(inst: &Instance, t: f64, h: f64, status: fmi3Status) -> String {
-    format!(
-        "fmi3DoStep({t}, {h}) returned {status}: {}",
-        inst.messages().join("; ")
-    )
 }
 
 /// One run as [`crate::native::step_run`]: (re)start untimed, then `n` timed steps; CPU ns.

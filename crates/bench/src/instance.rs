@@ -160,3 +160,21 @@ impl<'a> Instance<'a> {
         self.check(status, "mechfmu_bench")
     }
 }
+
+/// Why a step of a timed loop failed (`call` the step function, returning `status`; the FMU's
+/// `messages`): written out of the loop's way, so that the loop keeps nothing in memory for
+/// it.
+#[cold]
+#[inline(never)]
+pub(crate) fn step_failed(
+    call: &str,
+    t: f64,
+    h: f64,
+    status: impl std::fmt::Display,
+    messages: impl FnOnce() -> Vec<String>,
+) -> String {
+    format!(
+        "{call}({t}, {h}) returned {status}: {}",
+        messages().join("; ")
+    )
+}

@@ -10,8 +10,8 @@ use crate::binary::Binary;
 use crate::clock::{num, Stat};
 use crate::effort::{deeper, steps_per_run, Effort, PLACEMENTS};
 use crate::fmi3;
-use crate::instance::Instance;
-use mechfmu::fmi2::ffi::{fmi2OK, fmi2Status, fmi2Warning};
+use crate::instance::{step_failed, Instance};
+use mechfmu::fmi2::ffi::{fmi2OK, fmi2Warning};
 use mechfmu::simulation::{isolate, Part, ISOLATES};
 use mechfmu_host::cpu_clock::cpu_ns;
 use serde_json::{json, Value};
@@ -198,7 +198,7 @@ fn step_loop(
             isolate();
         }
         if status > fmi2Warning {
-            return Err(step_failed(inst, t, h, status));
+            return Err(step_failed("fmi2DoStep", t, h, status, || inst.messages()));
         }
         t += h;
     }
@@ -209,17 +209,6 @@ fn step_loop(
         delta[i] = after[i] - before[i];
     }
     Ok((ns, delta))
-}
-
-/// Why a step of the timed loop failed: written out of the loop's way, so that the loop
-/// keeps nothing in memory for it.
-#[cold]
-#[inline(never)]
-fn step_failed(inst: &Instance, t: f64, h: f64, status: fmi2Status) -> String {
-    format!(
-        "fmi2DoStep({t}, {h}) returned {status}: {}",
-        inst.messages().join("; ")
-    )
 }
 
 /// One run: (re)initialization untimed, then `n` timed steps; CPU ns and the work done.
