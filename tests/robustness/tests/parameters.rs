@@ -21,7 +21,7 @@ fn fmus() -> Vec<Fmu> {
 /// (by fmi2SetReal or fmi2ExitInitializationMode), and checks the instance recovers by reset.
 fn refusal(fmu: &Fmu, values: &[(u32, f64)]) -> Option<String> {
     let mut inst = Instance::new(fmu, "bad-parameter").unwrap();
-    let e = fmu.md.experiment.clone();
+    let e = fmu.md.experiment;
     assert_eq!(inst.setup(Some(e.tolerance), e.start, None), OK);
     assert_eq!(inst.enter_init(), OK);
     let (vrs, xs): (Vec<u32>, Vec<f64>) = values.iter().copied().unzip();
@@ -117,7 +117,7 @@ fn parameters_after_initialization_follow_their_variability() {
     for fmu in fmus() {
         let mut inst = Instance::new(&fmu, "after-init").unwrap();
         inst.initialize(&[]).unwrap();
-        let e = fmu.md.experiment.clone();
+        let e = fmu.md.experiment;
         assert_eq!(inst.do_step(e.start, e.step), OK);
         for v in fmu.md.variables.iter().filter(|v| v.is("parameter")) {
             let before = inst.get_real(&[v.vr]).1[0];
@@ -163,7 +163,7 @@ fn parameters_after_initialization_follow_their_variability() {
 fn non_finite_inputs_are_refused_and_never_reach_a_step() {
     let mut checked = 0;
     for fmu in fmus() {
-        let e = fmu.md.experiment.clone();
+        let e = fmu.md.experiment;
         for input in fmu.md.variables.iter().filter(|v| v.is("input")) {
             let mut inst = Instance::new(&fmu, "inputs").unwrap();
             inst.initialize(&[]).unwrap();
@@ -294,7 +294,7 @@ fn tunable_parameters_take_effect_at_the_next_step() {
             println!("{}: no tunable parameters", fmu.name());
             continue;
         }
-        let e = fmu.md.experiment.clone();
+        let e = fmu.md.experiment;
         let k = 20;
         let t_k = e.start + k as f64 * e.step;
         let start = |inst: &mut Instance| {

@@ -14,6 +14,7 @@
 mod elements;
 
 pub use elements::Variable;
+pub use mechfmu::model::Experiment;
 
 use elements::{attribute, declared_type, flag, typed, variable};
 use mechfmu::contract::Version;
@@ -76,6 +77,16 @@ pub struct Interfaces {
 }
 
 impl ModelDescription {
+    /// Its `DefaultExperiment`, with the defaults where it gives none.
+    pub fn experiment(&self) -> Experiment {
+        Experiment {
+            start: self.start,
+            ..Experiment::until(self.stop)
+                .step(self.step)
+                .tolerance(self.tolerance)
+        }
+    }
+
     pub fn parse(xml: &str) -> Result<ModelDescription, String> {
         let mut reader = Reader::from_str(xml);
         let mut d = ModelDescription {

@@ -1,28 +1,9 @@
 //! What this importer reads from an FMI 2.0 modelDescription.xml, through
 //! `mechfmu_host::description`'s parser, and checks of it.
 
-use mechfmu_host::description::{self, Variable};
+pub use mechfmu_host::description::Experiment;
+use mechfmu_host::description::Variable;
 use mechfmu_host::platform::Version;
-
-#[derive(Clone, Debug)]
-pub struct Experiment {
-    pub start: f64,
-    pub stop: f64,
-    pub step: f64,
-    pub tolerance: f64,
-}
-
-impl Experiment {
-    /// The `DefaultExperiment` of a model description.
-    pub fn of(d: &description::ModelDescription) -> Experiment {
-        Experiment {
-            start: d.start,
-            stop: d.stop,
-            step: d.step,
-            tolerance: d.tolerance,
-        }
-    }
-}
 
 /// What the importer reads from modelDescription.xml.
 #[derive(Clone, Debug)]
@@ -71,7 +52,7 @@ impl ModelDescription {
             can_not_use_memory_management_functions: i.can_not_use_memory_management_functions,
             max_output_derivative_order: i.max_output_derivative_order,
             log_categories: d.log_categories.clone(),
-            experiment: Experiment::of(&d),
+            experiment: d.experiment(),
             variables: d.variables,
             model_exchange: i.model_exchange_identifier.clone(),
             completed_integrator_step_not_needed: i.completed_integrator_step_not_needed,

@@ -74,7 +74,7 @@ impl ModelDescription3 {
             has_event_mode: i.has_event_mode,
             provides_intermediate_update: i.provides_intermediate_update,
             log_categories: d.log_categories.clone(),
-            experiment: Experiment::of(&d),
+            experiment: d.experiment(),
             variables: d.variables,
             derivatives: d.state_derivatives.clone(),
             event_indicators: d.event_indicators.clone(),

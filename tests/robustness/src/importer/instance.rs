@@ -106,7 +106,7 @@ impl<'a> Instance<'a> {
 
     /// Setup at the default experiment's start and tolerance, start values, initialization.
     pub fn initialize(&mut self, values: &[(u32, f64)]) -> Result<(), String> {
-        let e = self.fmu.md.experiment.clone();
+        let e = self.fmu.md.experiment;
         for (what, s) in [
             (
                 "fmi2SetupExperiment",

@@ -123,7 +123,7 @@ impl<'a> Instance3<'a> {
     /// Initialization at the default experiment's start and tolerance, with `values`
     /// (value reference, its values) set in initialization mode.
     pub fn initialize(&mut self, values: &[(u32, Vec<f64>)]) -> Result<(), String> {
-        let e = self.fmu.md.experiment.clone();
+        let e = self.fmu.md.experiment;
         let s = self.enter_init(Some(e.tolerance), e.start, None);
         if s != OK {
             return Err(self.failed("fmi3EnterInitializationMode", s));

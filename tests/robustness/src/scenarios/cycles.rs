@@ -18,7 +18,7 @@ pub const ME_EVERY: usize = 5;
 /// [`ME_EVERY`]-th cycle then the same through Model Exchange ([`me_cycle`]). Returns
 /// the number of FMI calls made.
 pub fn cycles(fmu: &Fmu, count: usize) -> Result<u64, String> {
-    let e = fmu.md.experiment.clone();
+    let e = fmu.md.experiment;
     let vrs = fmu.md.all_vrs();
     let mut calls = 0u64;
     let mut cs_state = vec![];
@@ -113,7 +113,7 @@ pub fn me_cycle(fmu: &Fmu, cycle: usize, cs_state: &[u8]) -> Result<u64, String>
             inst.log_tail()
         )
     };
-    let e = fmu.md.experiment.clone();
+    let e = fmu.md.experiment;
     let mut inst = Instance::new_me(fmu, "me-cycles")
         .map_err(|m| format!("cycle {cycle}: fmi2Instantiate (Model Exchange): {m:?}"))?;
     inst.initialize(&[])

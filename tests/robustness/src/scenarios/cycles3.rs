@@ -41,7 +41,7 @@ fn refused(what: &str, s: Status, inst: &Instance3, cycle: usize) -> Result<(), 
 /// free; every [`ME_EVERY`]-th cycle then a Model Exchange life cycle ([`me_cycle3`]).
 /// Returns the number of FMI calls made.
 pub fn cycles3(fmu: &Fmu3, count: usize) -> Result<u64, String> {
-    let e = fmu.md.experiment.clone();
+    let e = fmu.md.experiment;
     let vrs = fmu.md.all_vrs();
     let inputs = pushed_inputs3(fmu);
     let mut calls = 0u64;
@@ -202,7 +202,7 @@ pub fn cycles3(fmu: &Fmu3, count: usize) -> Result<u64, String> {
 /// state of a Co-Simulation instance (`cs_state`) refused, fmi3DoStep refused, an event,
 /// terminate or reset, free. Returns the number of FMI calls made.
 pub fn me_cycle3(fmu: &Fmu3, cycle: usize, cs_state: &[u8]) -> Result<u64, String> {
-    let e = fmu.md.experiment.clone();
+    let e = fmu.md.experiment;
     let mut inst = Instance3::new_me(fmu, "me-cycles")
         .map_err(|m| format!("cycle {cycle}: fmi3InstantiateModelExchange: {m:?}"))?;
     let fail = |what: &str, inst: &Instance3| {

@@ -23,7 +23,7 @@ pub enum Dump {
 /// The serialized FMU state of an instance initialized with the defaults and stepped
 /// `steps` times, as `how` says.
 pub fn serialized_state(fmu: &Fmu, steps: usize, how: Dump) -> Result<Vec<u8>, String> {
-    let e = fmu.md.experiment.clone();
+    let e = fmu.md.experiment;
     let mut inst = if how == Dump::CoSimulation {
         Instance::new(fmu, "dump")
     } else {
@@ -75,7 +75,7 @@ pub fn serialized_state(fmu: &Fmu, steps: usize, how: Dump) -> Result<Vec<u8>, S
 /// The serialized FMU state of an FMI 3.0 instance initialized with the defaults and
 /// stepped `steps` times, as `how` says.
 pub fn serialized_state3(fmu: &Fmu3, steps: usize, how: Dump) -> Result<Vec<u8>, String> {
-    let e = fmu.md.experiment.clone();
+    let e = fmu.md.experiment;
     let mut inst = match how {
         Dump::CoSimulation => Instance3::new_cs(fmu, "dump", false, false),
         Dump::CoSimulationEventMode => Instance3::new_cs(fmu, "dump", true, false),

@@ -24,7 +24,7 @@ pub fn pushed_inputs(fmu: &Fmu) -> Vec<(u32, f64)> {
 pub fn me_fingerprint(fmu: &Fmu, tol: f64, steps: u64, h: f64) -> Result<Vec<u64>, String> {
     let mut inst =
         Instance::new_me(fmu, "me-thread").map_err(|m| format!("fmi2Instantiate: {m:?}"))?;
-    let e = fmu.md.experiment.clone();
+    let e = fmu.md.experiment;
     let (vrs, values): (Vec<u32>, Vec<f64>) = pushed_inputs(fmu).into_iter().unzip();
     if inst.setup(Some(tol), e.start, None) != OK
         || inst.enter_init() != OK
@@ -138,7 +138,7 @@ pub fn long_run(fmu: &Fmu, steps: u64, h: f64) -> Result<LongRun, String> {
 /// relative tolerance `tol`: a run to compare across threads.
 pub fn fingerprint(fmu: &Fmu, tol: f64, steps: usize) -> Result<Vec<u64>, String> {
     let mut inst = Instance::new(fmu, "thread").map_err(|m| format!("fmi2Instantiate: {m:?}"))?;
-    let e = fmu.md.experiment.clone();
+    let e = fmu.md.experiment;
     if inst.setup(Some(tol), e.start, None) != OK
         || inst.enter_init() != OK
         || inst.exit_init() != OK

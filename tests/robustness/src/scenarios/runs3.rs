@@ -34,7 +34,7 @@ pub fn fingerprint3(
 ) -> Result<Vec<u64>, String> {
     let mut inst = Instance3::new_cs(fmu, "thread", event_mode_used, false)
         .map_err(|m| format!("fmi3InstantiateCoSimulation: {m:?}"))?;
-    let e = fmu.md.experiment.clone();
+    let e = fmu.md.experiment;
     initialize(&mut inst, tol, e.start, fmu)?;
     let mut out = vec![];
     let h = 1e-3;
@@ -78,7 +78,7 @@ pub fn fingerprint3(
 pub fn me_fingerprint3(fmu: &Fmu3, tol: f64, steps: u64, h: f64) -> Result<Vec<u64>, String> {
     let mut inst = Instance3::new_me(fmu, "me-thread")
         .map_err(|m| format!("fmi3InstantiateModelExchange: {m:?}"))?;
-    let e = fmu.md.experiment.clone();
+    let e = fmu.md.experiment;
     initialize(&mut inst, tol, e.start, fmu)?;
     MeIntegrator::fingerprint(&mut inst, h, steps, Instance3::all_values)
 }

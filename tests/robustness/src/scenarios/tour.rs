@@ -54,7 +54,7 @@ pub fn tour(fmu: &Fmu) -> Result<u64, String> {
         if c.is_null() {
             return Err("fmi2Instantiate without a logger failed".into());
         }
-        let e = fmu.md.experiment.clone();
+        let e = fmu.md.experiment;
         let vr = [fmu.md.vr_end() + 5];
         let mut x = [0.0];
         let _ = (api.do_step)(c, 0.0, 0.1, 1); // illegal: instantiated
@@ -144,7 +144,7 @@ pub fn tour3(fmu: &Fmu3) -> Result<u64, String> {
     let name = c"silent";
     let token = std::ffi::CString::new(fmu.md.instantiation_token.as_str()).unwrap();
     let api = *fmu.api;
-    let e = fmu.md.experiment.clone();
+    let e = fmu.md.experiment;
     let vr = [fmu.md.vr_end() + 5];
     let (nx, ni) = (fmu.md.nx(), fmu.md.ni());
     let mut x = vec![0.0; nx + ni + 2];

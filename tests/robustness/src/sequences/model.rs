@@ -34,7 +34,7 @@ impl Model {
             me: md.model_exchange.is_some(),
             nx: md.nx(),
             ni: md.number_of_event_indicators,
-            experiment: md.experiment.clone(),
+            experiment: md.experiment,
             x_start: md.states().iter().map(|v| v.start.unwrap_or(1.0)).collect(),
             state_vrs: md.states().iter().map(|v| v.vr).collect(),
             derivative_vrs: md.derivative_vars().iter().map(|v| v.vr).collect(),
@@ -50,7 +50,7 @@ impl Model {
             me: md.model_exchange.is_some(),
             nx: md.nx(),
             ni: md.ni(),
-            experiment: md.experiment.clone(),
+            experiment: md.experiment,
             x_start: state_vrs
                 .iter()
                 .filter_map(|&vr| md.by_vr(vr))

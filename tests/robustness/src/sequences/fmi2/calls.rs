@@ -116,7 +116,7 @@ impl Sequence<'_, Fmi2> {
         let (function, target, c, legal) = call.parts();
         let api = *self.fmu.api;
         let name = FUNCTION_NAMES[function];
-        let e = self.fmu.md.experiment.clone();
+        let e = self.fmu.md.experiment;
         let tol_defined: Boolean = *self.rng.pick(&[0, 1, 1, 1, 7]);
         let tol = match self.rng.below(6) {
             0 => e.tolerance,

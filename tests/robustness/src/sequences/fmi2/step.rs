@@ -173,7 +173,7 @@ impl Sequence<'_, Fmi2> {
     /// fmi2LastSuccessfulTime lies in the step.
     pub(crate) fn do_step(&mut self, call: Call) -> Status {
         let (_, target, c, legal) = call.parts();
-        let e = self.fmu.md.experiment.clone();
+        let e = self.fmu.md.experiment;
         let (time, stop) = self.time_and_stop(target);
         let h = match self.rng.below(20) {
             0..=8 => e.step,

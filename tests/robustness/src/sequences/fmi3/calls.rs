@@ -118,7 +118,7 @@ impl Sequence<'_, Fmi3> {
     /// sane and hostile.
     fn enter_initialization_mode(&mut self, call: Call) -> Status {
         let (_, target, c, legal) = call.parts();
-        let e = self.model.experiment.clone();
+        let e = self.model.experiment;
         let tol_defined = self.rng.chance(0.8);
         let tol = match self.rng.below(6) {
             0 | 5 => e.tolerance,

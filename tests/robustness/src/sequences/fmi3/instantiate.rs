@@ -240,7 +240,7 @@ impl Sequence<'_, Fmi3> {
         let cb = Box::new(callbacks(&sink));
         let name = CString::new("fmi2").unwrap();
         let guid = CString::new(guid).unwrap();
-        let e = self.model.experiment.clone();
+        let e = self.model.experiment;
         // SAFETY: valid arguments; the callbacks and the sink outlive the instance (they
         // move into `OtherStandard`), which `free_other_standard` frees with its state.
         unsafe {

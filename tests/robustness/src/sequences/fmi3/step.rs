@@ -20,7 +20,7 @@ impl Sequence<'_, Fmi3> {
     /// out arguments NULL or misaligned sometimes (refused).
     pub(crate) fn do_step(&mut self, call: Call) -> Status {
         let (_, target, c, legal) = call.parts();
-        let e = self.model.experiment.clone();
+        let e = self.model.experiment;
         let (time, stop) = self.time_and_stop(target);
         let h = match self.rng.below(20) {
             0..=9 => e.step,
