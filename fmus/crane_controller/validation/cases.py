@@ -37,7 +37,7 @@ def formula_case(name, description, parameters, seed, **kw):
 
 CASES = [
     formula_case("default_experiment", "The DefaultExperiment (the default gains) at random measurements.",
-                 {}, 11, relative_tolerance=None, default_experiment=True, highlight=True),
+                 {}, 11, relative_tolerance=None, default_experiment=True),
     formula_case("reach", "The references of the ControlledCrane's `reach` set: x_ref = 15 m, theta_ref = 0.3 rad.",
                  {"x_ref": 15.0, "theta_ref": 0.3}, 12),
     formula_case("other_gains", "Other gains and a lighter crane: kp_x = 400, kd_x = 900, kp_theta = 6e4, "

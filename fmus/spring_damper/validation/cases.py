@@ -37,7 +37,7 @@ CASES = [
     formula_case("default_experiment", "The DefaultExperiment (k = 1, no damping) at random inputs.", {}, 1,
                  relative_tolerance=None, default_experiment=True),
     formula_case("spring_and_damper", "k = 40 N/m, c = 3 N.s/m, l0 = 0.5 m at random inputs.",
-                 {"k": 40.0, "c": 3.0, "l0": 0.5}, 2, highlight=True),
+                 {"k": 40.0, "c": 3.0, "l0": 0.5}, 2),
     formula_case("damper_alone", "k = 0, c = 12 N.s/m: the force from the velocities alone, no energy.",
                  {"k": 0.0, "c": 12.0}, 3),
 ]
