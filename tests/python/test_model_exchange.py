@@ -218,5 +218,7 @@ def test_fmpy_validates_the_model_exchange_description(model):
     contract = mechanism(model).contract
     if contract is not None and contract.derivatives is not None:
         assert md.numberOfContinuousStates == len(contract.derivatives)  # 0 for a coupling element
+    else:
+        assert md.numberOfContinuousStates > 0
     assert md.numberOfEventIndicators == (contract.event_indicators if contract is not None else 0)
     assert validate_fmu(path) == [], "\n".join(validate_fmu(path))
