@@ -69,10 +69,13 @@ def read_contract(path: Path, model: str) -> Contract | None:
     the wrong shape or a model other than ``model`` is an error naming the file."""
     if not path.is_file():
         return None
-    data = tomllib.loads(path.read_text())
-
     def fail(what: str) -> ValueError:
         return ValueError(f"{path}: {what}")
+
+    try:
+        data = tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as e:
+        raise fail(f"not TOML: {e}") from None
 
     def number(x) -> bool:
         return isinstance(x, (int, float)) and not isinstance(x, bool)

@@ -205,7 +205,8 @@ def test_a_contract_file_with_a_mistake_is_refused_naming_it(tmp_path):
                        (good.replace('"fixed", 1.0', '"fixed", "1.0"'), "[parameters] m = ['fixed', '1.0', 'kg']"),
                        (good + '[calculated]\nm = "kg"\n', "['m'] stand in more than one table"),
                        (good.replace('"Cart"', '"Cat"'), "model = 'Cat', the crate's model is 'Cart'"),
-                       (good.replace("[0.0, 1.0, 0.1]", "[0.0, 1.0]"), "default_experiment is")]:
+                       (good.replace("[0.0, 1.0, 0.1]", "[0.0, 1.0]"), "default_experiment is"),
+                       (good.replace("= [", "= [[", 1), "not TOML")]:
         path.write_text(text)
         with pytest.raises(ValueError) as refused:
             read_contract(path, "Cart")
