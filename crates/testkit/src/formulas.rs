@@ -14,8 +14,9 @@ pub type Point = BTreeMap<&'static str, f64>;
 
 /// Checks `M`'s outputs against `formula` at `sets` random parameter sets (drawn uniform in
 /// the ranges `parameters` gives, `(name, low, high)`), each initialized, then given 20
-/// random input sets (`inputs`): every output is read at once after the inputs are set (no
-/// step between: direct feedthrough), and again after a step, which holds them.
+/// random input sets (`inputs`) in turn: every other set is read at once after the inputs
+/// are set (no step between: direct feedthrough), the others after a step, which holds
+/// them.
 ///
 /// `formula` gives, for a point, each output's `(name, value, size)`: `size` is the sum of
 /// the magnitudes of the terms that make the value, which rounding is relative to (a value
@@ -68,8 +69,14 @@ pub fn declares_direct_feedthrough<M: Mechanism>(feedthrough: &[(&str, &[&str])]
     let fmi2 = mechfmu::xml::model_description::<M>().unwrap();
     assert!(fmi2.contains("numberOfEventIndicators=\"0\""), "{fmi2}");
     assert!(!fmi2.contains("<Derivatives>"), "{fmi2}");
+    // A variable's 1-based index: its place among the `ScalarVariable`s (a unit may have its
+    // name, so the search starts at them).
+    let variables = fmi2.find("<ModelVariables>").expect("<ModelVariables>");
     let index = |name: &str| {
-        let at = fmi2.find(&format!("name=\"{name}\"")).expect(name);
+        let at = variables
+            + fmi2[variables..]
+                .find(&format!("name=\"{name}\""))
+                .expect(name);
         fmi2[..at].matches("<ScalarVariable").count()
     };
     for (output, inputs) in feedthrough {
