@@ -193,7 +193,8 @@ fn non_finite_inputs_are_refused_and_never_reach_a_step() {
             // and right, for a while): every step succeeds with no value NaN, until one is
             // refused (fmi2Error) or discarded (fmi2Discard), with a message, and then too
             // no value is NaN. Without a state, nothing accumulates: the first step refuses
-            // or keeps every value finite (a damping of 0 times the input).
+            // or keeps every value finite (SpringDamper's default damping c = 0 times
+            // v_a = f64::MAX is 0).
             assert_eq!(inst.set_real(&[input.vr], &[f64::MAX]), OK);
             let mut t = e.start + 2.0 * e.step;
             let s = loop {
@@ -228,7 +229,7 @@ fn non_finite_inputs_are_refused_and_never_reach_a_step() {
                     // No state accumulates the input: a step that takes it with every value
                     // finite is the whole answer (a later one computes the same).
                     assert!(
-                        values.iter().all(|x| x.is_finite()),
+                        g == OK && values.iter().all(|x| x.is_finite()),
                         "{}: {} = {:e} gave a value that is not finite, without an error",
                         fmu.name(),
                         input.name,
