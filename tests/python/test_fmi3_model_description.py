@@ -10,8 +10,8 @@ importer reads them.
   unique value references);
 * it shows the FMI 2.0 description's variables: the scalars of the arrays of
   docs/mechanisms/README.md ("FMI 3.0, arrays") grouped into arrays of their shape, start values
-  element by element, every other scalar as it is with FMI 2.0's value reference plus one, and
-  ``time`` with value reference 0;
+  element by element, every other scalar as it is, ``time`` with value reference 0 and every
+  other variable with its place in the document (each state before its derivative);
 * ``<ModelStructure>`` as FMI 3.0 section 2.4.8 defines each list's knowns: ``<Output>``,
   ``<ContinuousStateDerivative>`` and ``<EventIndicator>`` depend on inputs, continuous states,
   parameters and the time only, ``<InitialUnknown>`` on inputs, ``initial="exact"`` variables and

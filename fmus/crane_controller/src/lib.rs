@@ -55,7 +55,7 @@ impl Mechanism for CraneController {
     const EXPERIMENT: Experiment = Experiment::until(1.0).step(0.01).tolerance(1e-6);
 
     const NOTES: &'static str = "
-        The controller of the `ControlledCrane` system: it reads `CraneDynamics`' trolley
+        A controller for `CraneDynamics`, to be connected to it: it reads the crane's trolley
         position `x`, boom angle `θ` and their velocities, and the payload's angular velocity
         `φ̇`, and writes the crane's drive force and torque:
 

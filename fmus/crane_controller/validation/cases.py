@@ -19,7 +19,8 @@ INPUTS = ["x", "x_dot", "theta", "theta_dot", "phi_dot"]
 
 
 def random_inputs(seed):
-    """The crane's measurements: new random values every 0.1 s (on the communication grid)."""
+    """The crane's measurements: new random values every 0.1 s (at the times np.arange gives, which
+    are the communication points k h the importers reach)."""
     rng = np.random.default_rng(seed)
     times = np.arange(0.0, STOP, 0.1)
     values = np.column_stack([rng.uniform(2.0, 18.0, times.size), rng.uniform(-1.0, 1.0, times.size),
@@ -38,7 +39,7 @@ def formula_case(name, description, parameters, seed, **kw):
 CASES = [
     formula_case("default_experiment", "The DefaultExperiment (the default gains) at random measurements.",
                  {}, 11, relative_tolerance=None, default_experiment=True),
-    formula_case("reach", "The references of the ControlledCrane's `reach` set: x_ref = 15 m, theta_ref = 0.3 rad.",
+    formula_case("reach", "Other references: x_ref = 15 m, theta_ref = 0.3 rad.",
                  {"x_ref": 15.0, "theta_ref": 0.3}, 12),
     formula_case("other_gains", "Other gains and a lighter crane: kp_x = 400, kd_x = 900, kp_theta = 6e4, "
                  "kd_theta = 9e4, k_sway = -1500, m = 300 kg, m_trolley = 80 kg.",

@@ -44,8 +44,8 @@ impl Mechanism for Drive {
     }
 }
 
-// Drive's FMI 3.0 value references: time 0, m 1, c 2, F0 3, w 4, u 5, x 6, v 7, a 8, p 9,
-// half_w 10 (FMI 2.0's plus one).
+// Drive's FMI 3.0 value references, its variables' places: time 0, m 1, c 2, F0 3, w 4, u 5,
+// x 6, v 7, a 8, p 9, half_w 10.
 
 crate::mechanism! {
     /// Two masses on springs, with a symmetric mass matrix.
