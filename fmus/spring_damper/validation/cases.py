@@ -18,7 +18,8 @@ OUTPUTS = ["F_a", "F_b", "E"]
 
 
 def random_inputs(seed):
-    """x_a, x_b, v_a, v_b: new random values every 0.1 s (on the communication grid)."""
+    """x_a, x_b, v_a, v_b: new random values every 0.1 s (at the times np.arange gives, which
+    are the communication points k h the importers reach)."""
     rng = np.random.default_rng(seed)
     times = np.arange(0.0, STOP, 0.1)
     values = np.column_stack([rng.uniform(-2.0, 2.0, times.size), rng.uniform(-1.0, 3.0, times.size),
