@@ -10,8 +10,9 @@ importer reads them.
   unique value references);
 * it shows the FMI 2.0 description's variables: the scalars of the arrays of
   docs/mechanisms/README.md ("FMI 3.0, arrays") grouped into arrays of their shape, start values
-  element by element, every other scalar as it is, ``time`` with value reference 0 and every
-  other variable with its place in the document (each state before its derivative);
+  element by element, every other scalar as it is, every variable with its 1-based place in
+  the document for value reference (each state before its derivative), and ``time``, listed
+  last, with value reference 0;
 * ``<ModelStructure>`` as FMI 3.0 section 2.4.8 defines each list's knowns: ``<Output>``,
   ``<ContinuousStateDerivative>`` and ``<EventIndicator>`` depend on inputs, continuous states,
   parameters and the time only, ``<InitialUnknown>`` on inputs, ``initial="exact"`` variables and
@@ -116,17 +117,18 @@ def test_the_fmi2_variables_grouped_into_arrays(model):
     variables = {v.name: v for v in fmi3.modelVariables}
     replaced = {name for _, elements in arrays.values() for name in elements}
 
-    # time: the independent variable, with value reference 0 (as the Reference-FMUs have it)
+    # time: the independent variable, with value reference 0 (as the Reference-FMUs number it),
+    # listed last
     time = variables["time"]
     assert (time.causality, time.variability, time.start) == ("independent", "continuous", None)
     assert time.valueReference == 0
-    assert fmi3.modelVariables[0] is time
+    assert fmi3.modelVariables[-1] is time
 
     # as many variables as the scalars less those grouped, plus the arrays and the time;
-    # each one's value reference is its place in the document (an importer that reads FMI 3.0's
-    # `derivative` as a place, FMI 2.0's meaning, finds the state)
+    # each one's value reference is its 1-based place in the document (an importer that reads
+    # FMI 3.0's `derivative` as a 1-based place, FMI 2.0's meaning, finds the state)
     assert len(fmi3.modelVariables) == len(scalars) - len(replaced) + len(arrays) + 1
-    assert [v.valueReference for v in fmi3.modelVariables] == list(range(len(fmi3.modelVariables)))
+    assert [v.valueReference for v in fmi3.modelVariables] == [*range(1, len(fmi3.modelVariables)), 0]
     for name, (shape, elements) in arrays.items():
         v = variables[name]
         first = scalars[elements[0]]

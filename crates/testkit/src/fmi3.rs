@@ -3,9 +3,9 @@
 //! (`fmi3::functions`), Co-Simulation or Model Exchange ([`model_exchange`]), with a logger
 //! that records every message.
 //!
-//! Variables are FMI 3.0's: each has its place in the model description for value reference
-//! (`time` 0, then 1, 2, ...), an array (see `Mechanism::ARRAYS`) is one variable, read and
-//! written whole. By name, the
+//! Variables are FMI 3.0's: each has its 1-based place in the model description for value
+//! reference (`time`, listed last, 0), an array (see `Mechanism::ARRAYS`) is one variable,
+//! read and written whole. By name, the
 //! harness also reaches one element of an array (`I_C[1,2]`, or the scalar's own name
 //! `I_xy`): reading picks it out of the array, writing sets the array with every place
 //! of that scalar changed.

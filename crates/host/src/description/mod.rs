@@ -392,7 +392,7 @@ mod tests {
                 .find(|v| v.name == n && v.dimensions.is_empty())
                 .map(|v| v.vr)
         };
-        // Places in the model description: `time` 0, then 1, 2, ...
+        // 1-based places in the model description (`time`, listed last, 0)
         assert_eq!(scalar("M"), Some(1));
         assert_eq!(scalar("E_kin"), Some(10));
         assert_eq!(scalar("time"), Some(0));

@@ -64,11 +64,11 @@ fn fmi3_arrays<M: Mechanism>() -> Result<String, String> {
         .map(|s| format!("`{}` {}", s.name, s.reference))
         .collect();
     let mut md = format!(
-        "\nIn the FMI 3.0 FMU, `time` is the independent variable, value reference {}, and the \
-         others are numbered in the order its model description lists them (each state before \
-         its derivative): {}.",
-        Shapes::TIME_REFERENCE,
-        references.join(", ")
+        "\nIn the FMI 3.0 FMU, the variables are numbered in the order its model description \
+         lists them (each state before its derivative): {}; `time`, the independent variable \
+         listed last, has value reference {}.",
+        references.join(", "),
+        Shapes::TIME_REFERENCE
     );
     let arrays: Vec<_> = shapes.variables.iter().filter(|s| s.is_array()).collect();
     if arrays.is_empty() {

@@ -1,5 +1,5 @@
-//! FMI 3.0's variables by value reference ([`Shapes`] maps them: each variable's place in the
-//! model description, `time` 0): an array stands for its elements (row-major, `nValues` counts them), the independent
+//! FMI 3.0's variables by value reference ([`Shapes`] maps them: each variable's 1-based place
+//! in the model description, `time` 0): an array stands for its elements (row-major, `nValues` counts them), the independent
 //! `time` is read-only; the typed getters and setters of types this FMU has none of;
 //! directional, adjoint and output derivatives over the same references. Each call expands the references into the
 //! simulation's scalar ones and hands them to [`shared_calls`](crate::fmi::shared_calls).

@@ -6,11 +6,11 @@
 //! [`Shapes`] is the list of variables FMI 3.0 sees, in the order its model description
 //! lists them: every scalar that is in no array, and every array at the place of its first
 //! element, each state before its derivative (as FMI 2.0's `ScalarVariable`s). FMI 3.0's value
-//! references are the places in that list: the independent variable `time` is 0
-//! ([`Shapes::TIME_REFERENCE`]), as the Reference-FMUs have it, and the others follow from 1.
-//! The standard allows any value references; these are what importers that take FMI 3.0's
-//! `derivative` attribute for a variable's place (FMI 2.0's meaning, OMSimulator's Python API)
-//! read right, on every FMU without arrays.
+//! references are the 1-based places in that list; the independent variable `time`, listed
+//! after them, is 0 ([`Shapes::TIME_REFERENCE`]), as the Reference-FMUs number it. The
+//! standard allows any value references; these are what importers that take FMI 3.0's
+//! `derivative` and `dependencies` for 1-based places (FMI 2.0's meaning, OMSimulator's Python
+//! API) read right.
 
 use super::const_text::{str_eq, ConstMessage};
 use super::{states_before_derivatives, Variable};

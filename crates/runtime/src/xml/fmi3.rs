@@ -5,11 +5,11 @@
 //! - the variables are [`Shapes`]: the declared scalars, but those grouped into
 //!   [`Mechanism::ARRAYS`] shown as one `<Float64>` array each (`<Dimension>`, a start value
 //!   per element in row-major order, FMI 3.0 section 2.4.7.2), and an annotation
-//!   ([`SCALARS_ANNOTATION`]) naming the FMI 2.0 scalars its elements are; the independent
-//!   variable `time` comes first, with value reference 0 ([`Shapes::TIME_REFERENCE`]), as
-//!   in the Reference-FMUs; the others follow in declaration order, each state before its
-//!   derivative, as in FMI 2.0's, their value references 1, 2, ... in that order (a
-//!   variable's value reference is its place in the document);
+//!   ([`SCALARS_ANNOTATION`]) naming the FMI 2.0 scalars its elements are; the variables
+//!   are listed in declaration order, each state before its derivative, as in FMI 2.0's,
+//!   their value references 1, 2, ... in that order (a variable's value reference is its
+//!   1-based place in the list), and the independent variable `time` comes last, with value
+//!   reference 0 ([`Shapes::TIME_REFERENCE`]), as the Reference-FMUs number it;
 //! - the names follow `variableNamingConvention="structured"` (section 2.4.7.5.1): every
 //!   name is an identifier, and an array's element is named `I_C[1,2]` (1-based);
 //! - `<ModelStructure>` (section 2.4.8) lists variables by value reference, an array once,
@@ -351,9 +351,13 @@ fn write_types(w: &mut Writer<Vec<u8>>, units: &[UnitInfo]) -> io::Result<()> {
     })
 }
 
+/// The variables, then the independent `time`: listed last, it leaves each other variable's
+/// value reference its 1-based place in the list, as importers that read FMI 3.0's
+/// `derivative` and `dependencies` with FMI 2.0's meaning (OMSimulator's Python API) take it.
 fn write_variables(w: &mut Writer<Vec<u8>>, rows: &[Row]) -> io::Result<()> {
     w.create_element("ModelVariables")
         .write_inner_content(|w| {
+            rows.iter().try_for_each(|row| write_row(w, row))?;
             w.create_element("Float64")
                 .with_attributes(pairs(&vec![
                     ("name", "time".into()),
@@ -363,7 +367,7 @@ fn write_variables(w: &mut Writer<Vec<u8>>, rows: &[Row]) -> io::Result<()> {
                     ("variability", "continuous".into()),
                 ]))
                 .write_empty()?;
-            rows.iter().try_for_each(|row| write_row(w, row))
+            Ok(())
         })?;
     Ok(())
 }

@@ -44,8 +44,8 @@ impl Mechanism for Drive {
     }
 }
 
-// Drive's FMI 3.0 value references, its variables' places: time 0, m 1, c 2, F0 3, w 4, u 5,
-// x 6, v 7, a 8, p 9, half_w 10.
+// Drive's FMI 3.0 value references, its variables' 1-based places: m 1, c 2, F0 3, w 4, u 5,
+// x 6, v 7, a 8, p 9, half_w 10; time, listed last, 0.
 
 crate::mechanism! {
     /// Two masses on springs, with a symmetric mass matrix.
@@ -114,8 +114,8 @@ impl Mechanism for Plate {
     }
 }
 
-// Plate's FMI 3.0 value references, its variables' places: time 0, M 1 (m_11, m_12, m_22),
-// k 2, f 3 (f_1, f_2), x 4 (x_1, x_2), v 5 (v_1, v_2), a 6 (a_1, a_2), E 7, det 8.
+// Plate's FMI 3.0 value references, its variables' 1-based places: M 1 (m_11, m_12, m_22),
+// k 2, f 3 (f_1, f_2), x 4 (x_1, x_2), v 5 (v_1, v_2), a 6 (a_1, a_2), E 7, det 8; time, listed last, 0.
 
 fn variables(xml: &str) -> Vec<(usize, Element)> {
     let elements = parse_in_schema_order(xml);
@@ -187,15 +187,15 @@ fn capability_flags_are_spelled_and_ordered_as_the_schema_has_them() {
 }
 
 #[test]
-fn time_comes_first_with_value_reference_0() {
+fn time_comes_last_with_value_reference_0() {
     for xml in [model_description::<Drive>(), model_description::<Plate>()] {
         let xml = xml.unwrap();
         let elements = variables(&xml);
-        let first = find(&elements, "Float64")[0];
-        assert_eq!(first.get("name"), Some("time"));
-        assert_eq!(first.get("causality"), Some("independent"));
-        assert_eq!(first.get("variability"), Some("continuous"));
-        assert_eq!((first.get("start"), first.get("initial")), (None, None));
+        let last = *find(&elements, "Float64").last().unwrap();
+        assert_eq!(last.get("name"), Some("time"));
+        assert_eq!(last.get("causality"), Some("independent"));
+        assert_eq!(last.get("variability"), Some("continuous"));
+        assert_eq!((last.get("start"), last.get("initial")), (None, None));
     }
     let plate = model_description::<Plate>().unwrap();
     assert!(plate.contains(
@@ -204,8 +204,9 @@ fn time_comes_first_with_value_reference_0() {
     ));
 }
 
-/// A variable's value reference is its place in the document (`time` 0, then 1, 2, ...), so
-/// an importer that takes `derivative` for a place, as FMI 2.0 has it, finds the state.
+/// A variable's value reference is its 1-based place in the document (`time`, listed last,
+/// is 0), so an importer that takes `derivative` for a 1-based place, as FMI 2.0 has it,
+/// finds the state.
 #[test]
 fn value_references_are_places_in_the_document() {
     for xml in [model_description::<Drive>(), model_description::<Plate>()] {
@@ -215,11 +216,16 @@ fn value_references_are_places_in_the_document() {
         let references: Vec<usize> = (floats.iter())
             .map(|e| e.get("valueReference").unwrap().parse().unwrap())
             .collect();
-        assert_eq!(references, (0..floats.len()).collect::<Vec<_>>());
-        // Each state comes before its derivative.
+        let mut places: Vec<usize> = (1..floats.len()).collect();
+        places.push(0);
+        assert_eq!(references, places);
+        // Each state comes before its derivative, at the place its reference names.
         for (at, e) in floats.iter().enumerate() {
             if let Some(state) = e.get("derivative") {
-                assert!(state.parse::<usize>().unwrap() < at, "{e:?}");
+                let state: usize = state.parse().unwrap();
+                assert!(state <= at, "{e:?}");
+                let named = floats[state - 1].get("valueReference");
+                assert_eq!(named, Some(state.to_string().as_str()));
             }
         }
     }
