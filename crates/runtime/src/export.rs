@@ -196,6 +196,39 @@ pub unsafe fn write_text(
     .unwrap_or(0)
 }
 
+/// Exports a system's declaration ([`system!`](crate::system)) for the `mechfmu` command,
+/// which packages the system as an SSP: `mechfmu_system_declaration`, its
+/// [JSON](crate::system::declaration_json) through a buffer (see [`write_text`]).
+///
+/// ```ignore
+/// mechfmu::export_system!(TwoOscillators);
+/// ```
+#[macro_export]
+macro_rules! export_system {
+    ($system:ty) => {
+        /// Not FMI: this system's declaration as JSON, through a buffer (see
+        /// [`write_text`]($crate::export::write_text)). Used by `mechfmu build`.
+        #[no_mangle]
+        pub unsafe extern "C" fn mechfmu_system_declaration(
+            buffer: *mut u8,
+            capacity: usize,
+        ) -> usize {
+            // SAFETY: the caller's buffer, as `write_text` asks.
+            unsafe {
+                $crate::export::write_text(
+                    || {
+                        $crate::system::declaration_json(
+                            &<$system as $crate::system::System>::DECLARATION,
+                        )
+                    },
+                    buffer,
+                    capacity,
+                )
+            }
+        }
+    };
+}
+
 #[cfg(feature = "bench")]
 pub mod bench;
 

@@ -10,6 +10,8 @@
 //! - [`model`]: the declaration API (variables, units, equations generic over the scalar);
 //!   [`modal`]: undamped modes, for mechanisms' calculated parameters;
 //! - [`simulation`]: a mechanism under the solver: values, set/get rules, communication steps;
+//!   [`system`]: mechanisms connected ([`system!`]): components, connections, parameter sets,
+//!   checked at compile time;
 //! - [`contract`]: what the model description and the binary agree on (capabilities, log
 //!   categories, GUID);
 //! - [`xml`]: the generated modelDescription.xml;
@@ -34,6 +36,7 @@ pub mod modal;
 pub mod model;
 pub mod simulation;
 pub mod solver;
+pub mod system;
 pub mod xml;
 
 /// What [`mechanism!`] reports its declaration errors with (at the variable's line, once).

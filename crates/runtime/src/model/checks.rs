@@ -174,7 +174,7 @@ pub(crate) const fn closest_name(variables: &[Variable], name: &str) -> Option<&
 }
 
 /// The Levenshtein distance between two names of up to 63 bytes (`None` for longer ones).
-const fn edit_distance(a: &str, b: &str) -> Option<usize> {
+pub(crate) const fn edit_distance(a: &str, b: &str) -> Option<usize> {
     const MAX: usize = 64;
     let (a, b) = (a.as_bytes(), b.as_bytes());
     if a.len() >= MAX || b.len() >= MAX {

@@ -21,7 +21,7 @@ pub use case::{check_moving_case, MovingCase};
 pub use checks::{
     check_declaration, check_event_indicators, check_variable, declaration_error, variable_mistake,
 };
-pub(crate) use checks::{closest_name, position as variable_position};
+pub(crate) use checks::{closest_name, edit_distance, position as variable_position};
 #[doc(hidden)]
 pub use const_text::str_eq;
 pub use const_text::ConstMessage;

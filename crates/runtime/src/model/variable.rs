@@ -234,19 +234,19 @@ impl Variable {
     }
 
     /// Whether the importer may set this variable, in the given phase.
-    pub fn settable(&self, phase: SetPhase) -> bool {
+    pub const fn settable(&self, phase: SetPhase) -> bool {
+        let input = matches!(self.causality, Causality::Input);
         match phase {
             SetPhase::Instantiated | SetPhase::Initialization => {
-                self.causality == Causality::Input
-                    || matches!(self.initial, Some(Initial::Exact | Initial::Approx))
+                input || matches!(self.initial, Some(Initial::Exact | Initial::Approx))
             }
             SetPhase::Running => {
-                self.causality == Causality::Input
-                    || (self.causality == Causality::Parameter
-                        && self.variability == Variability::Tunable)
+                input
+                    || (matches!(self.causality, Causality::Parameter)
+                        && matches!(self.variability, Variability::Tunable))
             }
             SetPhase::ContinuousTime => {
-                self.causality == Causality::Input && self.variability == Variability::Continuous
+                input && matches!(self.variability, Variability::Continuous)
             }
         }
     }
