@@ -23,6 +23,9 @@ pub enum Extra {
     Documentation(Version),
     /// Its interface page (`mechfmu_interface`): the Markdown of `docs/mechanisms/`.
     Interface,
+    /// A system crate's declaration (`mechfmu_system_declaration`, of
+    /// `mechfmu::export_system!`): the JSON `mechfmu build` packages the system from.
+    SystemDeclaration,
 }
 
 impl Extra {
@@ -34,6 +37,7 @@ impl Extra {
             Extra::Documentation(Version::Fmi2) => "mechfmu_documentation",
             Extra::Documentation(Version::Fmi3) => "mechfmu_documentation_fmi3",
             Extra::Interface => "mechfmu_interface",
+            Extra::SystemDeclaration => "mechfmu_system_declaration",
         }
     }
 
@@ -43,6 +47,7 @@ impl Extra {
             Extra::ModelDescription(_) => "modelDescription",
             Extra::Documentation(_) => "documentation",
             Extra::Interface => "interface page",
+            Extra::SystemDeclaration => "system declaration",
         }
     }
 }
@@ -98,7 +103,8 @@ impl Library {
     /// answers `error: ...`, which becomes the message.
     pub fn text(&self, extra: Extra) -> Result<String, String> {
         let (symbol, what, path) = (extra.symbol(), extra.what(), self.path.display());
-        // SAFETY: the extras are exported by `export_fmu!` with this signature.
+        // SAFETY: the extras are exported by `export_fmu!` and `export_system!` with this
+        // signature.
         let render: Render = unsafe { self.function(symbol) }.map_err(|e| {
             format!(
                 "{path} does not export {symbol} (not a mechfmu FMU binary, or built by an \

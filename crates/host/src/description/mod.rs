@@ -56,6 +56,9 @@ pub struct ModelDescription {
     pub state_derivatives: Vec<u32>,
     /// FMI 3.0's `EventIndicator` value references.
     pub event_indicators: Vec<u32>,
+    /// Each output of `<ModelStructure>` by name, with the variables it depends on (`None`
+    /// where no `dependencies` are given: then on every known).
+    pub output_dependencies: Vec<(String, Option<Vec<String>>)>,
 }
 
 /// What the `ModelExchange`, `CoSimulation` and `ScheduledExecution` elements declare.
@@ -107,6 +110,7 @@ impl ModelDescription {
             derivative_indices: Vec::new(),
             state_derivatives: Vec::new(),
             event_indicators: Vec::new(),
+            output_dependencies: Vec::new(),
         };
         // FMI 2.0's `SimpleType` being read; the declared types' units and quantities.
         let mut simple_type: Option<String> = None;
@@ -262,6 +266,15 @@ impl ModelDescription {
                 self.derivative_indices
                     .extend(number("index").map(|i| i as usize));
             }
+            // FMI 2.0: 1-based indices into the variables; FMI 3.0: value references
+            "Unknown" if parent == "Outputs" => self.read_dependencies(e, "index", |d, i| {
+                d.variables.get((i as usize).wrapping_sub(1))
+            })?,
+            "Output" if parent == "ModelStructure" => {
+                self.read_dependencies(e, "valueReference", |d, vr| {
+                    d.variables.iter().find(|v| v.vr == vr)
+                })?
+            }
             "EventIndicator" if parent == "ModelStructure" => {
                 let vr = attribute(e, "valueReference").and_then(|v| v.parse::<u32>().ok());
                 self.event_indicators.extend(vr);
@@ -274,6 +287,35 @@ impl ModelDescription {
             _ => {}
         }
         Ok(false)
+    }
+
+    /// An output's entry of `<ModelStructure>` (`key` names it; each number of its
+    /// `dependencies` names a variable through `lookup`) into `output_dependencies`.
+    fn read_dependencies(
+        &mut self,
+        e: &BytesStart,
+        key: &str,
+        lookup: impl Fn(&Self, u32) -> Option<&Variable>,
+    ) -> Result<(), String> {
+        let name_of = |text: &str| -> Result<String, String> {
+            let n = text
+                .parse::<u32>()
+                .map_err(|_| format!("`{text}` in <ModelStructure> is not a number"))?;
+            lookup(self, n)
+                .map(|v| v.name.clone())
+                .ok_or_else(|| format!("<ModelStructure> names no variable as {key} {n}"))
+        };
+        let output = name_of(&attribute(e, key).unwrap_or_default())?;
+        let dependencies = match attribute(e, "dependencies") {
+            Some(list) => Some(
+                list.split_whitespace()
+                    .map(name_of)
+                    .collect::<Result<Vec<_>, _>>()?,
+            ),
+            None => None,
+        };
+        self.output_dependencies.push((output, dependencies));
+        Ok(())
     }
 
     pub fn with_causality(&self, causality: &str) -> Vec<&Variable> {
