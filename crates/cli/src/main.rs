@@ -12,6 +12,7 @@ mod build;
 mod commands;
 mod home;
 mod package;
+mod system;
 
 use clap::{Parser, Subcommand};
 use commands::{

@@ -10,7 +10,7 @@ use mechfmu_host::platform::Platform;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use toolchain::MissingToolchain;
-use workspace::{mechanism_crates, MechanismCrate};
+use workspace::{mechanism_crates, system_crates, MechanismCrate};
 
 /// The crates of `all` named by `names` (all of them when empty).
 pub(crate) fn select(
@@ -103,6 +103,52 @@ pub(crate) fn resolve(
         }
     }
     Ok((usable, missing))
+}
+
+/// The system crates among `names` (every one when `names` is empty), and the names that
+/// are not systems'.
+pub(crate) fn systems_named(
+    names: &[String],
+    manifest_path: Option<&Path>,
+) -> Result<(Vec<MechanismCrate>, Vec<String>), String> {
+    let all = system_crates(manifest_path)?;
+    if names.is_empty() {
+        return Ok((all, Vec::new()));
+    }
+    let (systems, others): (Vec<&String>, Vec<&String>) = names
+        .iter()
+        .partition(|n| all.iter().any(|c| &&c.model == n));
+    let chosen = all
+        .into_iter()
+        .filter(|c| systems.contains(&&c.model))
+        .collect();
+    Ok((chosen, others.into_iter().cloned().collect()))
+}
+
+/// The system crates `systems`, built in release mode for this machine only (their binary
+/// says what the system is; the SSP carries its components' FMUs, not it).
+pub(crate) fn built_systems(
+    systems: &[MechanismCrate],
+    manifest_path: Option<&Path>,
+) -> Result<Vec<Built>, String> {
+    if systems.is_empty() {
+        return Ok(Vec::new());
+    }
+    let host = host()?;
+    let libraries = cargo::build(systems, manifest_path, &Flavor::Shipped, &[host])?;
+    systems
+        .iter()
+        .map(|krate| {
+            let library = libraries
+                .iter()
+                .find(|l| l.package == krate.package)
+                .ok_or_else(|| format!("cargo built no shared library for `{}`", krate.package))?;
+            Ok(Built {
+                krate: krate.clone(),
+                libraries: BTreeMap::from([(host, library.path.clone())]),
+            })
+        })
+        .collect()
 }
 
 /// The mechanism crates named (every one when `names` is empty), built in release mode

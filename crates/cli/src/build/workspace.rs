@@ -1,9 +1,11 @@
-//! Finding the mechanism crates of a workspace (through `cargo metadata`).
+//! Finding the mechanism crates and the system crates of a workspace (through `cargo
+//! metadata`).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// A crate that builds one FMU (its Cargo.toml has `[package.metadata.mechfmu] model = ...`).
+/// A crate that builds one FMU (its Cargo.toml has `[package.metadata.mechfmu] model = ...`),
+/// or one system (`system = ...`: then `model` is the system's name).
 #[derive(Clone, Debug)]
 pub struct MechanismCrate {
     pub model: String,
@@ -15,13 +17,26 @@ pub struct MechanismCrate {
 
 /// The mechanism crates of the workspace (or crate) at `manifest_path`.
 pub fn mechanism_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCrate>, String> {
+    crates_declaring(manifest_path, "model")
+}
+
+/// The system crates of the workspace (or crate) at `manifest_path`.
+pub fn system_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCrate>, String> {
+    crates_declaring(manifest_path, "system")
+}
+
+/// The crates whose `[package.metadata.mechfmu]` has `key`, by its value.
+fn crates_declaring(
+    manifest_path: Option<&Path>,
+    key: &str,
+) -> Result<Vec<MechanismCrate>, String> {
     let meta = metadata(manifest_path)?;
     let mut crates: Vec<MechanismCrate> = meta["packages"]
         .as_array()
         .into_iter()
         .flatten()
         .filter_map(|p| {
-            let model = p["metadata"]["mechfmu"]["model"].as_str()?;
+            let model = p["metadata"]["mechfmu"][key].as_str()?;
             Some(MechanismCrate {
                 model: model.to_string(),
                 package: p["name"].as_str()?.to_string(),

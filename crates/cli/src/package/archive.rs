@@ -1,5 +1,6 @@
 //! Writing the `.fmu` archive: a deflated zip of modelDescription.xml, the binaries and the
-//! documentation, byte-identical when rebuilt from the same inputs.
+//! documentation, byte-identical when rebuilt from the same inputs; and any such zip
+//! ([`write_zip`], an SSP's).
 
 use std::io::{Seek, Write};
 use std::path::Path;
@@ -19,20 +20,11 @@ pub struct Contents<'a> {
 /// Writes the archive to `path` (through a temporary file, so a failed write never leaves
 /// a truncated FMU behind).
 pub fn write_fmu(path: &Path, contents: &Contents) -> std::io::Result<()> {
-    let tmp = path.with_extension("fmu.tmp");
-    let file = std::fs::File::create(&tmp)?;
-    write_archive(std::io::BufWriter::new(file), contents)?;
-    std::fs::rename(&tmp, path)
+    write_zip(path, &fmu_entries(contents))
 }
 
-fn write_archive<W: Write + Seek>(writer: W, contents: &Contents) -> std::io::Result<()> {
-    let mut zip = ZipWriter::new(writer);
-    // A fixed timestamp and fixed permissions: the archive depends on its contents only.
-    let file = SimpleFileOptions::default()
-        .compression_method(CompressionMethod::Deflated)
-        .last_modified_time(DateTime::default())
-        .unix_permissions(0o644);
-    let dir = file.unix_permissions(0o755);
+/// The files of an FMU, `modelDescription.xml` first.
+fn fmu_entries<'a>(contents: &'a Contents) -> Vec<(String, &'a [u8])> {
     let mut entries: Vec<(String, &[u8])> = vec![(
         "modelDescription.xml".into(),
         contents.model_description.as_bytes(),
@@ -44,6 +36,27 @@ fn write_archive<W: Write + Seek>(writer: W, contents: &Contents) -> std::io::Re
             .chain(&contents.extra)
             .map(|(p, b)| (p.clone(), b.as_slice())),
     );
+    entries
+}
+
+/// Writes a deflated zip of `entries` (path inside the archive, bytes), in their order and
+/// with the folders they need, to `path` through a temporary file beside it.
+pub fn write_zip(path: &Path, entries: &[(String, &[u8])]) -> std::io::Result<()> {
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    let file = std::fs::File::create(&tmp)?;
+    write_archive(std::io::BufWriter::new(file), entries)?;
+    std::fs::rename(&tmp, path)
+}
+
+fn write_archive<W: Write + Seek>(writer: W, entries: &[(String, &[u8])]) -> std::io::Result<()> {
+    let mut zip = ZipWriter::new(writer);
+    // A fixed timestamp and fixed permissions: the archive depends on its contents only.
+    let file = SimpleFileOptions::default()
+        .compression_method(CompressionMethod::Deflated)
+        .last_modified_time(DateTime::default())
+        .unix_permissions(0o644);
+    let dir = file.unix_permissions(0o755);
     let mut dirs: Vec<String> = Vec::new();
     for (path, bytes) in entries {
         let mut prefix = String::new();
@@ -61,7 +74,8 @@ fn write_archive<W: Write + Seek>(writer: W, contents: &Contents) -> std::io::Re
                 dirs.push(prefix.clone());
             }
         }
-        zip.start_file(path, file).map_err(std::io::Error::other)?;
+        zip.start_file(path.as_str(), file)
+            .map_err(std::io::Error::other)?;
         zip.write_all(bytes)?;
     }
     zip.finish().map_err(std::io::Error::other)?;
@@ -85,7 +99,7 @@ mod tests {
             ],
             extra: vec![("documentation/index.html".into(), b"<html/>".to_vec())],
         };
-        write_archive(&mut buf, &contents).unwrap();
+        write_archive(&mut buf, &fmu_entries(&contents)).unwrap();
         buf.into_inner()
     }
 

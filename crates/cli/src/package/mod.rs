@@ -3,15 +3,19 @@
 //! the Mac ones given their install name and made universal by `macho`),
 //! the model description and documentation its binary renders of itself, and its reference
 //! results (`references`); and, when asked, the FMUs laid out as an FMI cross-check tree
-//! (`cross_check`).
+//! (`cross_check`); each system of the workspace as an SSP of its components' FMUs (`ssp`).
 
 pub mod archive;
 pub mod binaries;
 pub mod cross_check;
 pub mod macho;
 pub mod references;
+pub mod ssp;
 
-use crate::build::{built_libraries, resolve, Built, Flavor, Platforms};
+use crate::build::{
+    built_libraries, built_systems, resolve, systems_named, Built, Flavor, Platforms,
+};
+use crate::system::{self, Declaration};
 use mechfmu::contract::Version;
 use mechfmu_host::description::ModelDescription;
 use mechfmu_host::library::{Extra, Library};
@@ -21,7 +25,8 @@ use std::time::Instant;
 
 /// Builds the mechanism crates named (every one when `names` is empty) for `platforms` and
 /// writes their FMUs of both versions under `out`, and as a cross-check tree under
-/// `cross_check` when given, saying what it wrote.
+/// `cross_check` when given, saying what it wrote; then each system named (every one when
+/// `names` is empty) as `out/<System>.ssp`, its mechanisms built with the others.
 pub fn write_fmus(
     names: &[String],
     out: &Path,
@@ -35,7 +40,27 @@ pub fn write_fmus(
     for m in &missing {
         eprintln!("warning: {m}");
     }
-    let built = built_libraries(names, manifest_path, &flavor, &platforms)?;
+    let (system_crates, mut mechanisms) = systems_named(names, manifest_path)?;
+    let systems: Vec<(Built, Declaration)> = built_systems(&system_crates, manifest_path)?
+        .into_iter()
+        .map(|b| {
+            let json = Library::open(b.host_library())?.text(Extra::SystemDeclaration)?;
+            Declaration::parse(&json).map(|d| (b, d))
+        })
+        .collect::<Result<_, String>>()?;
+    // Named systems bring their mechanisms (no names: every mechanism is built anyway).
+    if !names.is_empty() {
+        for model in systems.iter().flat_map(|(_, d)| d.mechanisms()) {
+            if !mechanisms.contains(&model) {
+                mechanisms.push(model);
+            }
+        }
+    }
+    let built = if !names.is_empty() && mechanisms.is_empty() {
+        Vec::new()
+    } else {
+        built_libraries(&mechanisms, manifest_path, &flavor, &platforms)?
+    };
     std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     for b in &built {
         for version in [Version::Fmi2, Version::Fmi3] {
@@ -76,6 +101,28 @@ pub fn write_fmus(
                 .join(cross_check::TOOL)
                 .join(env!("CARGO_PKG_VERSION"))
                 .display()
+        );
+    }
+    for (b, declaration) in &systems {
+        let crate_dir = b.krate.manifest.parent().unwrap_or(Path::new("."));
+        let components = system::components(declaration, &folder(out, Version::Fmi2), crate_dir)?;
+        system::check(declaration, &components)?;
+        let path = out.join(format!("{}.ssp", declaration.name));
+        ssp::write_ssp(&path, declaration, &components)?;
+        println!(
+            "{:<20} SSP 1.0  {} ({} KiB): {} components, {} parameter set{}",
+            declaration.name,
+            path.display(),
+            std::fs::metadata(&path)
+                .map_or(0, |m| m.len())
+                .div_ceil(1024),
+            components.len(),
+            declaration.parameter_sets.len(),
+            if declaration.parameter_sets.len() == 1 {
+                ""
+            } else {
+                "s"
+            }
         );
     }
     for m in &missing {
