@@ -272,9 +272,21 @@ def main(argv: list[str] | None = None) -> int:
     rows: list[Row] = []
     plots: list[dict] = []
     details: list[dict] = []
-    paths = _fmu_files(args.fmus)
+    # a system's SSP: its parameter sets in every SSP importer (:mod:`.systems`)
+    ssps = [p for p in args.fmus if p.suffix.lower() == ".ssp"]
+    for ssp in ssps:
+        if not ssp.is_file():
+            print(f"mechfmu validate: {ssp} does not exist", file=sys.stderr)
+            return 2
+    others = [p for p in args.fmus if p not in ssps]
+    paths = _fmu_files(others) if others else []
     if paths is None:
         return 2
+    if ssps:
+        from .systems import validate_system
+
+        for ssp in ssps:
+            rows += validate_system(ssp)
     # the Windows binaries run under one wine session (when scripts/cross-runners prepared it)
     with platform_session(selection.uses(PLATFORMS)):
         for path in paths:

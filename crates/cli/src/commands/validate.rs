@@ -9,7 +9,9 @@
 //! FMI 3.0 `.fmu` given on the command line is validated as such (its checks and the cases).
 //! A directory is handed over as it is: the Python side walks it for FMUs (an FMI cross-check
 //! tree's as its rules lay them out) and `--cross-check-results DIR` writes the importer's
-//! results the rules ask for.
+//! results the rules ask for. A system's SSP (`fmus/<System>.ssp`) is run for each of its
+//! parameter sets by every SSP importer installed, each against the system's solution
+//! (`mechfmu_validate.systems`).
 //!
 //! The work is done by the Python package `mechfmu_validate` (in `python/` of mechfmu's
 //! files, [`crate::home::root`]: the checkout, or the installed command's copy), installed in
@@ -27,9 +29,10 @@ use std::process::Command;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// FMU files, directories to find FMUs in (an FMI cross-check tree: its FMUs for this
-    /// platform, each against the reference files beside it), or model identifiers (found in
-    /// --fmu-dir); default: every mechanism of the workspace.
+    /// FMU files, SSP files (a system: each parameter set in every SSP importer), directories
+    /// to find FMUs in (an FMI cross-check tree: its FMUs for this platform, each against the
+    /// reference files beside it), or model identifiers (found in --fmu-dir); default: every
+    /// mechanism of the workspace.
     targets: Vec<String>,
     /// The Cargo.toml of the workspace or crate whose mechanisms (and their
     /// `validation/cases.py`) to use.
@@ -331,6 +334,11 @@ fn is_fmu_file(target: &str) -> bool {
     target.ends_with(".fmu") || Path::new(target).is_file()
 }
 
+/// A system's SSP (`mechfmu build` writes `fmus/<System>.ssp`).
+fn is_ssp_file(target: &str) -> bool {
+    target.ends_with(".ssp")
+}
+
 /// A directory the Python side walks for FMUs (an FMI cross-check tree).
 fn is_directory(target: &str) -> bool {
     Path::new(target).is_dir()
@@ -389,7 +397,7 @@ fn fmu_paths(crates: &[MechanismCrate], args: &Args) -> Result<Vec<PathBuf>, Str
         .map(|t| {
             if is_directory(t) {
                 Ok(PathBuf::from(t))
-            } else if is_fmu_file(t) {
+            } else if is_fmu_file(t) || is_ssp_file(t) {
                 let p = PathBuf::from(t);
                 if p.is_file() {
                     Ok(p)
@@ -403,7 +411,7 @@ fn fmu_paths(crates: &[MechanismCrate], args: &Args) -> Result<Vec<PathBuf>, Str
             } else {
                 let known: Vec<&str> = crates.iter().map(|c| c.model.as_str()).collect();
                 Err(format!(
-                    "`{t}` is neither an FMU file, a directory nor a mechanism (known: {})",
+                    "`{t}` is neither an FMU file, an SSP file, a directory nor a mechanism (known: {})",
                     known.join(", ")
                 ))
             }

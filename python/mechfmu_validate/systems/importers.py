@@ -1,0 +1,100 @@
+"""The SSP importers: each runs one parameter set of an SSP at a communication step and
+returns the connected outputs at the times it reached them, or says why it cannot.
+
+- FMPy (``fmpy.ssp.simulate_ssp``) applies no binding of the SSP: the set is passed as its
+  ``parameter_set``, with the components' names before the variables'. It labels each row
+  with the time the step started, so its rows are moved one step on. Its master passes each
+  output once per step, as read after the step, and starts every input at 0.
+- libcosim (``libcosimpy``) loads the ``.ssd`` that binds the set (a variant for a set other
+  than the default) and applies a set only to parameters and inputs: a start value of a state
+  it leaves at the FMU's own (logged as "Non-input causality"). Its master passes each output
+  once per step, as read after the step.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from types import SimpleNamespace
+from typing import Callable
+
+import fmpy
+import numpy as np
+
+from .archive import Ssp
+
+Series = tuple[np.ndarray, dict[tuple[str, str], np.ndarray]]
+
+
+@dataclass(frozen=True)
+class SspImporter:
+    name: str
+    #: ``(available, version or why not)``
+    available: Callable[[], tuple[bool, str]]
+    run: Callable[[Ssp, str, float, list[tuple[str, str]]], Series]
+    #: the master it runs (:func:`.jacobi.run`'s ``resolved`` and ``zero_start``)
+    scheme: tuple[bool, bool] = (True, False)
+    #: the causalities a set's values reach in this importer (None: every variable)
+    applies_to: frozenset[str] | None = None
+
+
+def _fmpy_available() -> tuple[bool, str]:
+    return True, f"FMPy {fmpy.__version__}"
+
+
+def _fmpy_run(ssp: Ssp, set_name: str, step: float, signals) -> Series:
+    from fmpy.ssp.simulation import simulate_ssp
+
+    parameters = [SimpleNamespace(name=f"{c}.{v}", value=x) for (c, v), x in ssp.sets[set_name].items()]
+    result = simulate_ssp(str(ssp.path), start_time=ssp.start, stop_time=ssp.stop, step_size=step,
+                          parameter_set=SimpleNamespace(parameters=parameters))
+    # a row holds the values at the end of the step that starts at its time
+    times = np.asarray(result["time"]) + step
+    return times, {s: np.asarray(result[f"{s[0]}.{s[1]}"]) for s in signals}
+
+
+def _libcosim_available() -> tuple[bool, str]:
+    try:
+        import libcosimpy  # noqa: F401
+        from importlib.metadata import version
+        return True, f"libcosimpy {version('libcosimpy')}"
+    except Exception as e:  # noqa: BLE001
+        return False, f"libcosimpy cannot be imported: {e}"
+
+
+def _libcosim_run(ssp: Ssp, set_name: str, step: float, signals) -> Series:
+    from libcosimpy.CosimEnums import CosimVariableType
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+    from libcosimpy.CosimObserver import CosimObserver
+
+    log_output_level(CosimLogLevel.ERROR)
+    ssd = ssp.folder / ssp.set_files[set_name]
+    # libcosimpy takes a step in integer nanoseconds; none: the SSD's own
+    own = abs(step - ssp.step) <= 1e-15 * ssp.step
+    execution = CosimExecution.from_ssp_file(str(ssd), step_size=None if own else int(round(step * 1e9)))
+    slaves = {info.name.decode(): info.index for info in execution.slave_infos()}
+    refs = {}
+    for name, index in slaves.items():
+        for v in execution.slave_variables(index):
+            refs[(name, v.name.decode())] = v.reference
+    n = int(round((ssp.stop - ssp.start) / step))
+    series = CosimObserver.create_time_series(buffer_size=n + 16)
+    execution.add_observer(observer=series)
+    for s in signals:
+        series.start_time_series(slaves[s[0]], refs[s], CosimVariableType.REAL)
+    # libcosimpy's times are integer nanoseconds
+    if not execution.simulate_until(target_time=int(round(n * step * 1e9))):
+        raise RuntimeError(f"libcosim stopped before {ssp.stop:g} s: {execution.status()}")
+    out, times = {}, None
+    for s in signals:
+        at, _, values = series.time_series_real_samples(slaves[s[0]], refs[s], from_step=0, sample_count=n + 8)
+        out[s] = np.asarray(values, dtype=float)
+        times = np.asarray(at, dtype=float) * 1e-9 if times is None else times
+    return times, out
+
+
+IMPORTERS = (
+    SspImporter("FMPy SSP", _fmpy_available, _fmpy_run, scheme=(False, True)),
+    SspImporter("libcosim SSP", _libcosim_available, _libcosim_run, scheme=(False, False),
+                applies_to=frozenset({"parameter", "input"})),
+)

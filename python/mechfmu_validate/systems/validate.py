@@ -1,0 +1,120 @@
+"""The rows of one SSP: per parameter set, the plain Jacobi scheme's coupling error and each
+importer's at the communication step and at half of it (see the package's documentation)."""
+
+from __future__ import annotations
+
+import math
+import tempfile
+from pathlib import Path
+
+import fmpy
+import numpy as np
+
+from ..rows import Row
+from . import archive, jacobi
+from .importers import IMPORTERS
+
+#: how many times the plain Jacobi scheme's coupling error an importer's may be
+FACTOR = 5.0
+
+
+def validate_system(path: Path) -> list[Row]:
+    rows: list[Row] = []
+    with tempfile.TemporaryDirectory(prefix="mechfmu-ssp-") as tmp:
+        work = Path(tmp)
+        try:
+            ssp = archive.read(path, work / "ssp")
+        except Exception as e:  # noqa: BLE001 (an SSP that cannot be read is one FAIL row)
+            return [Row(kind="check", fmu=path.name, case="SSP", importer="-", passed=False,
+                        problems=[f"cannot read {path}: {type(e).__name__}: {e}"])]
+        if ssp.step is None:
+            return [Row(kind="check", fmu=ssp.name, case="SSP", importer="-", passed=False,
+                        problems=["the SSP gives no communication step (no OSP FixedStepAlgorithm "
+                                  "and no OpenModelica FixedStepMaster annotation)"])]
+        causality, states = _variables(ssp)
+        connected = list(dict.fromkeys(start for start, _ in ssp.connections))
+        # the system's trajectory: its connected states (an output computed from held inputs,
+        # a stateless element's, shows each importer's scheme rather than where it leads)
+        signals = [s for s in connected if s in states] or connected
+        for set_name, values in ssp.sets.items():
+            case = f"{set_name} (SSP)"
+            times, solution = jacobi.solution(ssp, values, ssp.stop, signals, work)
+            _, plain = jacobi.run(ssp, values, ssp.step, ssp.stop, signals, work)
+            baseline = _error((times, plain), times, solution)
+            rows.append(Row(kind="case", fmu=ssp.name, case=case, importer="plain Jacobi", max_error=baseline,
+                            tolerance=None, passed=True, step=ssp.step, file=str(path),
+                            notes=[f"coupling error of a plain Jacobi co-simulation at h = {ssp.step:g} s against "
+                                   f"the system's solution (the same scheme at h/8 and h/16, extrapolated)"]))
+            schemes = {(True, False): baseline}
+            for importer in IMPORTERS:
+                if importer.scheme not in schemes:
+                    resolved, zero_start = importer.scheme
+                    own = jacobi.run(ssp, values, ssp.step, ssp.stop, signals, work, resolved, zero_start)
+                    schemes[importer.scheme] = _error(own, times, solution)
+                rows.append(_importer_row(importer, ssp, set_name, case, signals, times, solution, baseline,
+                                          schemes[importer.scheme], causality, path))
+    return rows
+
+
+def _importer_row(importer, ssp, set_name, case, signals, times, solution, baseline, scheme_error, causality,
+                  path) -> Row:
+    row = Row(kind="case", fmu=ssp.name, case=case, importer=importer.name, step=ssp.step, file=str(path),
+              tolerance=FACTOR * scheme_error)
+    ok, why = importer.available()
+    if not ok:
+        row.update(passed=True, skipped=True, notes=[why])
+        return row
+    unapplied = sorted(f"{c}.{v}" for (c, v) in ssp.sets[set_name]
+                       if importer.applies_to is not None and causality.get((c, v)) not in importer.applies_to)
+    try:
+        at_step = _error(importer.run(ssp, set_name, ssp.step, signals), times, solution)
+        at_half = _error(importer.run(ssp, set_name, ssp.step / 2, signals), times, solution)
+    except Exception as e:  # noqa: BLE001 (an importer that fails is one FAIL row)
+        row.update(passed=False, problems=[f"{type(e).__name__}: {e}"])
+        return row
+    order = math.log2(at_step / at_half) if at_half > 0 and at_step > 0 else None
+    order_text = f"order {order:.2f}" if order is not None else "no order"
+    row.update(max_error=at_step, half_step_error=at_half,
+               notes=[f"{at_step / baseline:.2g} times the plain Jacobi scheme's coupling error; "
+                      f"{at_step / scheme_error:.3g} times its own scheme's, run by mechfmu; "
+                      f"{at_half:.2e} at half the step ({order_text})"])
+    if unapplied:
+        row.update(passed=True, limited=True,
+                   notes=[f"{importer.name} applies a parameter set to parameters and inputs only: "
+                          f"{', '.join(unapplied)} keep the FMU's own start values", *row.notes])
+        return row
+    problems = []
+    if not at_step <= FACTOR * scheme_error:
+        problems.append(f"the coupling error at h = {ssp.step:g} s, {at_step:.3e}, is more than {FACTOR:g} times "
+                        f"that of the scheme {importer.name} runs, {scheme_error:.3e}")
+    if not at_half < at_step:
+        problems.append(f"the coupling error does not shrink at half the step ({at_step:.3e} at h, "
+                        f"{at_half:.3e} at h/2)")
+    row.update(passed=not problems, problems=problems)
+    return row
+
+
+def _error(run, times: np.ndarray, solution) -> float:
+    """The largest error of a run's signals against the solution, each relative to the
+    solution's range, over the times both cover."""
+    run_times, values = run
+    worst = 0.0
+    inside = (times >= run_times[0] - 1e-9) & (times <= run_times[-1] + 1e-9)
+    for s, exact in solution.items():
+        got = np.interp(times[inside], run_times, values[s])
+        scale = max(float(np.ptp(exact)), 1e-12)
+        worst = max(worst, float(np.max(np.abs(got - exact[inside]))) / scale)
+    return worst
+
+
+def _variables(ssp) -> tuple[dict[tuple[str, str], str], set[tuple[str, str]]]:
+    """Every variable's causality, and the continuous states, of every component."""
+    causality, states = {}, set()
+    for c in ssp.components:
+        md = fmpy.read_model_description(str(ssp.fmu(c.name)), validate=False)
+        for v in md.modelVariables:
+            causality[(c.name, v.name)] = v.causality
+        for d in md.derivatives:
+            if d.variable.derivative is not None:
+                states.add((c.name, d.variable.derivative.name))
+    return causality, states
