@@ -101,6 +101,19 @@ def _read(manifest: Path) -> tuple[Mechanism, ...]:
     return tuple(sorted(found, key=lambda m: m.model))
 
 
+def systems() -> list[tuple[str, Path]]:
+    """The repository's systems: ``(name, crate folder)`` for every package whose Cargo.toml
+    names a system (``[package.metadata.mechfmu] system = "Name"``)."""
+    done = subprocess.run(["cargo", "metadata", "--format-version", "1", "--no-deps", "--manifest-path",
+                           str(REPO_ROOT / "Cargo.toml")], capture_output=True, text=True, check=True)
+    found = []
+    for package in json.loads(done.stdout)["packages"]:
+        name = ((package.get("metadata") or {}).get("mechfmu") or {}).get("system")
+        if name:
+            found.append((name, Path(package["manifest_path"]).parent))
+    return sorted(found)
+
+
 def models() -> list[str]:
     """The model names of the repository's mechanisms."""
     return [m.model for m in mechanisms()]
