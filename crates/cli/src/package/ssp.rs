@@ -8,15 +8,18 @@
 //!   with OpenModelica's `FixedStepMaster` annotation (OMSimulator's step). The namespaces are
 //!   declared on the root: libcosim reads an attribute of an annotation's element as an
 //!   unknown algorithm.
-//! - Parameter sets: each component's values of each set in `resources/<set>/<component>.ssv`.
-//!   `SystemStructure.ssd` binds the `default` set alone, one binding per component (libcosim
-//!   applies a component's first binding only, OMSimulator applies every binding in turn);
-//!   every other set is the variant `<set>.ssd` (the same system binding that set), which a
-//!   tool that loads an `.ssd` by name runs. Bindings are the components': libcosim ignores a
-//!   system's.
+//! - Parameter sets: each component's values of each set in `resources/<set>/<component>.ssv`,
+//!   every set giving a value to every variable any set gives one to (the default set takes
+//!   the FMU's start value where the declaration gives none), so that applying a set undoes
+//!   any other. The tools take sets three ways, and each component of `SystemStructure.ssd`
+//!   binds the default set, then every other set, then the default set again: libcosim
+//!   applies a component's first binding, OMSimulator every binding in turn (the last one
+//!   wins), Ecos the set `init` names. Every other set is also the variant `<set>.ssd` (the
+//!   same system binding that set alone), which libcosim and OMSimulator run by name.
+//!   Bindings are the components': libcosim ignores a system's.
 
 use super::archive::write_zip;
-use crate::system::{Component, Declaration};
+use crate::system::{Component, Declaration, ParameterSet};
 use mechfmu::model::units;
 use mechfmu::system::DEFAULT_SET;
 use std::collections::BTreeMap;
@@ -40,6 +43,11 @@ pub fn write_ssp(
     system: &Declaration,
     components: &[Component],
 ) -> Result<(), String> {
+    let completed = Declaration {
+        parameter_sets: complete_sets(system, components)?,
+        ..system.clone()
+    };
+    let system = &completed;
     let mut entries: Vec<(String, Vec<u8>)> = Vec::new();
     for set in &system.parameter_sets {
         let ssd = structure(system, components, &set.name);
@@ -91,6 +99,41 @@ pub fn write_ssp(
         .map(|(p, b)| (p.clone(), b.as_slice()))
         .collect();
     write_zip(path, &entries).map_err(|e| format!("cannot write {}: {e}", path.display()))
+}
+
+/// The parameter sets, each giving a value to every variable any of them gives one to: the
+/// default set's missing ones are the FMUs' start values (every other set is the default
+/// set with its own values over it, so they are complete then).
+fn complete_sets(
+    system: &Declaration,
+    components: &[Component],
+) -> Result<Vec<ParameterSet>, String> {
+    let mut sets = system.parameter_sets.clone();
+    let mut wanted: Vec<(String, String)> = Vec::new();
+    for (c, v, _) in sets.iter().flat_map(|s| &s.values) {
+        if !wanted.iter().any(|(wc, wv)| wc == c && wv == v) {
+            wanted.push((c.clone(), v.clone()));
+        }
+    }
+    for (c, v) in wanted {
+        let start = components
+            .iter()
+            .find(|k| k.declaration.name == c)
+            .and_then(|k| k.description.variable(&v))
+            .and_then(|var| var.start)
+            .ok_or_else(|| {
+                format!(
+                    "system `{}`: `{c}.{v}` has a value in a parameter set but no start value in its FMU",
+                    system.name
+                )
+            })?;
+        for set in sets.iter_mut() {
+            if !set.values.iter().any(|(sc, sv, _)| sc == &c && sv == &v) {
+                set.values.push((c.clone(), v.clone(), start));
+            }
+        }
+    }
+    Ok(sets)
 }
 
 /// Where a component's values of a set are.
@@ -158,17 +201,35 @@ fn structure(system: &Declaration, components: &[Component], set: &str) -> Strin
             x.push_str("/></ssd:Connector>\n");
         }
         x.push_str("        </ssd:Connectors>\n");
-        let bound = system
-            .parameter_sets
-            .iter()
-            .find(|s| s.name == set)
-            .is_some_and(|s| s.values.iter().any(|(c, _, _)| c == name));
-        if bound {
-            let _ = writeln!(
-                x,
-                r#"        <ssd:ParameterBindings><ssd:ParameterBinding source="{}"/></ssd:ParameterBindings>"#,
-                escape(&values_file(set, name))
+        let has_values = |set: &str| {
+            (system.parameter_sets.iter())
+                .find(|s| s.name == set)
+                .is_some_and(|s| s.values.iter().any(|(c, _, _)| c == name))
+        };
+        // the default SSD: the default set first (libcosim) and last (OMSimulator), every
+        // set by name between (Ecos); a variant: its set alone
+        let mut bound: Vec<&str> = vec![set];
+        if set == DEFAULT_SET {
+            bound.extend(
+                system
+                    .parameter_sets
+                    .iter()
+                    .map(|s| s.name.as_str())
+                    .filter(|s| *s != DEFAULT_SET),
             );
+            bound.push(DEFAULT_SET);
+        }
+        bound.retain(|s| has_values(s));
+        if !bound.is_empty() {
+            x.push_str("        <ssd:ParameterBindings>\n");
+            for s in bound {
+                let _ = writeln!(
+                    x,
+                    r#"          <ssd:ParameterBinding source="{}"/>"#,
+                    escape(&values_file(s, name))
+                );
+            }
+            x.push_str("        </ssd:ParameterBindings>\n");
         }
         x.push_str("      </ssd:Component>\n");
     }
