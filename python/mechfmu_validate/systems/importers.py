@@ -9,6 +9,10 @@ returns the connected outputs at the times it reached them, or says why it canno
   than the default) and applies a set only to parameters and inputs: a start value of a state
   it leaves at the FMU's own (logged as "Non-input causality"). Its master passes each output
   once per step, as read after the step.
+- Ecos (``ecospy``, which needs Debian's ``libtbb12``) applies the set ``init`` names, from the
+  default SSD's bindings.
+- OMSimulator's Python API (no wheel: it builds from source; used when ``OMSimulator`` can
+  be imported) runs the variant of the set, and writes two rows per step (the last is kept).
 """
 
 from __future__ import annotations
@@ -93,8 +97,81 @@ def _libcosim_run(ssp: Ssp, set_name: str, step: float, signals) -> Series:
     return times, out
 
 
+def _ecos_available() -> tuple[bool, str]:
+    try:
+        import ecospy  # noqa: F401
+        from importlib.metadata import version
+        return True, f"ecospy {version('ecospy')}"
+    except Exception as e:  # noqa: BLE001 (its library missing, libtbb12 say)
+        return False, f"ecospy cannot be imported: {e}"
+
+
+def _ecos_run(ssp: Ssp, set_name: str, step: float, signals) -> Series:
+    from ecospy import EcosSimulation
+
+    simulation = EcosSimulation(step_size=step, ssp_path=str(ssp.path))
+    try:
+        simulation.init(start_time=ssp.start, parameter_set=set_name)
+        n = int(round((ssp.stop - ssp.start) / step))
+        times = np.empty(n + 1)
+        out = {s: np.empty(n + 1) for s in signals}
+        names = {s: f"{s[0]}::{s[1]}" for s in signals}
+        for k in range(n + 1):
+            if k:
+                simulation.step(1)
+            times[k] = simulation.get_time()
+            for s in signals:
+                out[s][k] = simulation.get_real(names[s])
+        simulation.terminate()
+        return times, out
+    finally:
+        simulation.free()
+
+
+def _oms_available() -> tuple[bool, str]:
+    try:
+        import OMSimulator  # noqa: F401
+        return True, "OMSimulator (Python API)"
+    except Exception as e:  # noqa: BLE001 (not installed: it has no wheel)
+        return False, f"OMSimulator cannot be imported (it builds from source; put its lib/ on PYTHONPATH): {e}"
+
+
+def _oms_run(ssp: Ssp, set_name: str, step: float, signals) -> Series:
+    import csv
+    import tempfile
+
+    from OMSimulator import SSP
+
+    model = SSP(str(ssp.path))
+    if set_name != "default":
+        model.activeVariantName = set_name
+    instance = model.instantiate()
+    with tempfile.TemporaryDirectory(prefix="mechfmu-oms-") as tmp:
+        result = f"{tmp}/result.csv"
+        instance.setResultFile(result)
+        instance.setFixedStepSize(step)
+        instance.setStopTime(ssp.stop)
+        instance.initialize()
+        instance.simulate()
+        instance.terminate()
+        instance.delete()
+        with open(result, newline="") as f:
+            rows = list(csv.reader(f, skipinitialspace=True))
+    header, data = rows[0], rows[1:]
+    columns = {name: i for i, name in enumerate(header)}
+    # two rows per step (before and after the exchange): the last one of each time
+    last: dict[float, list[str]] = {}
+    for row in data:
+        last[float(row[0])] = row
+    times = np.array(sorted(last))
+    out = {s: np.array([float(last[t][columns[f"{ssp.name}.{s[0]}.{s[1]}"]]) for t in times]) for s in signals}
+    return times, out
+
+
 IMPORTERS = (
     SspImporter("FMPy SSP", _fmpy_available, _fmpy_run, scheme=(False, True)),
     SspImporter("libcosim SSP", _libcosim_available, _libcosim_run, scheme=(False, False),
                 applies_to=frozenset({"parameter", "input"})),
+    SspImporter("Ecos SSP", _ecos_available, _ecos_run, scheme=(False, False)),
+    SspImporter("OMSimulator SSP", _oms_available, _oms_run, scheme=(True, False)),
 )

@@ -62,7 +62,7 @@ def _importer_row(importer, ssp, set_name, case, signals, times, solution, basel
               tolerance=FACTOR * scheme_error)
     ok, why = importer.available()
     if not ok:
-        row.update(passed=True, skipped=True, notes=[why])
+        row.update(passed=True, skipped=True, max_error=None, notes=[why])
         return row
     unapplied = sorted(f"{c}.{v}" for (c, v) in ssp.sets[set_name]
                        if importer.applies_to is not None and causality.get((c, v)) not in importer.applies_to)
