@@ -87,7 +87,7 @@ def test_every_platform_is_there_and_self_contained(inspected, path, version):
             assert len([e for e in exports if e.startswith("fmi3")]) == 75
             assert sorted(e for e in exports if not e.startswith(("fmi2", "fmi3"))) == [
                 "mechfmu_documentation", "mechfmu_documentation_fmi3", "mechfmu_interface",
-                "mechfmu_model_description", "mechfmu_model_description_fmi3"]
+                "mechfmu_model_description", "mechfmu_model_description_fmi3", "mechfmu_terminals_and_icons"]
         assert b["exports"] == exports, b["path"]
         # (the Windows DLL keeps msvcrt's in code no call reaches: MinGW's single-precision
         # wrappers, num-dual functions its linker does not drop; test_platforms.py runs it)

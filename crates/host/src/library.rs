@@ -23,6 +23,9 @@ pub enum Extra {
     Documentation(Version),
     /// Its interface page (`mechfmu_interface`): the Markdown of `docs/mechanisms/`.
     Interface,
+    /// Its FMI 3.0 FMU's `terminalsAndIcons/terminalsAndIcons.xml`
+    /// (`mechfmu_terminals_and_icons`), empty for a mechanism without terminals.
+    TerminalsAndIcons,
     /// A system crate's declaration (`mechfmu_system_declaration`, of
     /// `mechfmu::export_system!`): the JSON `mechfmu build` packages the system from.
     SystemDeclaration,
@@ -38,6 +41,7 @@ impl Extra {
             Extra::Documentation(Version::Fmi3) => "mechfmu_documentation_fmi3",
             Extra::Interface => "mechfmu_interface",
             Extra::SystemDeclaration => "mechfmu_system_declaration",
+            Extra::TerminalsAndIcons => "mechfmu_terminals_and_icons",
         }
     }
 
@@ -48,6 +52,7 @@ impl Extra {
             Extra::Documentation(_) => "documentation",
             Extra::Interface => "interface page",
             Extra::SystemDeclaration => "system declaration",
+            Extra::TerminalsAndIcons => "terminals",
         }
     }
 }
@@ -102,6 +107,12 @@ impl Library {
     /// length, then a buffer of that length plus the NUL). A binary that cannot render it
     /// answers `error: ...`, which becomes the message.
     pub fn text(&self, extra: Extra) -> Result<String, String> {
+        self.optional_text(extra)?
+            .ok_or_else(|| format!("{} rendered no {}", self.path.display(), extra.what()))
+    }
+
+    /// [`Library::text`], `None` for an empty text (a mechanism without terminals).
+    pub fn optional_text(&self, extra: Extra) -> Result<Option<String>, String> {
         let (symbol, what, path) = (extra.symbol(), extra.what(), self.path.display());
         // SAFETY: the extras are exported by `export_fmu!` and `export_system!` with this
         // signature.
@@ -114,16 +125,19 @@ impl Library {
         // SAFETY: `write_text`'s protocol: NULL asks for the length; then a buffer with room
         // for the text and its NUL.
         let len = unsafe { render(std::ptr::null_mut(), 0) };
+        if len == 0 {
+            return Ok(None);
+        }
         let mut buf = vec![0u8; len + 1];
         let written = unsafe { render(buf.as_mut_ptr(), buf.len()) };
-        if written != len || len == 0 {
+        if written != len {
             return Err(format!("{path} rendered no {what}"));
         }
         buf.truncate(len);
         let text = String::from_utf8(buf).map_err(|e| format!("{what} is not UTF-8: {e}"))?;
         match text.strip_prefix("error: ") {
             Some(message) => Err(format!("{path}: cannot render its {what}: {message}")),
-            None => Ok(text),
+            None => Ok(Some(text)),
         }
     }
 }

@@ -8,6 +8,8 @@
 //!   `modelDescription.xml` of each version (`mechfmu build`);
 //! - `mechfmu_documentation`, `mechfmu_documentation_fmi3`: its `documentation/index.html`
 //!   of each version (`mechfmu build`);
+//! - `mechfmu_terminals_and_icons`: its FMI 3.0 FMU's `terminalsAndIcons.xml`, empty without
+//!   terminals (`mechfmu build`);
 //! - `mechfmu_interface`: its interface page in Markdown
 //!   ([`docs::interface`](crate::docs::interface()), `mechfmu docs`).
 //!
@@ -34,6 +36,10 @@ macro_rules! export_fmu {
         const _: () = $crate::model::check_arrays(
             <$mechanism as $crate::model::Declaration>::VARIABLES,
             <$mechanism as $crate::model::Mechanism>::ARRAYS,
+        );
+        const _: () = $crate::model::check_terminals(
+            <$mechanism as $crate::model::Declaration>::VARIABLES,
+            <$mechanism as $crate::model::Mechanism>::TERMINALS,
         );
         const _: () = $crate::model::check_moving_case(
             <$mechanism as $crate::model::Declaration>::VARIABLES,
@@ -127,6 +133,26 @@ macro_rules! export_fmu {
                 unsafe {
                     $crate::export::write_text(
                         $crate::docs::documentation_fmi3::<$mechanism>,
+                        buffer,
+                        capacity,
+                    )
+                }
+            }
+
+            /// Not FMI: the terminalsAndIcons/terminalsAndIcons.xml of this binary's FMI 3.0
+            /// FMU, empty for a mechanism without terminals. Used by `mechfmu build`.
+            #[no_mangle]
+            pub unsafe extern "C" fn mechfmu_terminals_and_icons(
+                buffer: *mut u8,
+                capacity: usize,
+            ) -> usize {
+                // SAFETY: the caller's buffer, as `write_text` asks.
+                unsafe {
+                    $crate::export::write_text(
+                        || {
+                            $crate::xml::terminals_and_icons::<$mechanism>()
+                                .map(::core::option::Option::unwrap_or_default)
+                        },
                         buffer,
                         capacity,
                     )

@@ -7,7 +7,7 @@
 
 #![forbid(unsafe_code)]
 
-use mechfmu::model::{sin_cos, Experiment, Mechanism, Scalar, Variable};
+use mechfmu::model::{sin_cos, Experiment, Mechanism, Scalar, Terminal, Variable};
 
 mechfmu::mechanism! {
     /// The control law of a luffing crane's drives: feed-forward of the static loads, PD
@@ -53,6 +53,28 @@ mechfmu::mechanism! {
 
 impl Mechanism for CraneController {
     const EXPERIMENT: Experiment = Experiment::until(1.0).step(0.01).tolerance(1e-6);
+
+    // CraneDynamics' terminals, the other way round
+    const TERMINALS: &'static [Terminal] = &[
+        Terminal::new(
+            "drives",
+            "org.mechfmu.crane.drives",
+            "The drive force on the trolley and the torque on the boom",
+            &[("F", "F"), ("tau", "tau")],
+        ),
+        Terminal::new(
+            "motion",
+            "org.mechfmu.crane.motion",
+            "What the controller measures: the trolley's and the boom's positions and speeds, the payload's swing rate",
+            &[
+                ("x", "x"),
+                ("x_dot", "x_dot"),
+                ("theta", "theta"),
+                ("theta_dot", "theta_dot"),
+                ("phi_dot", "phi_dot"),
+            ],
+        ),
+    ];
 
     const NOTES: &'static str = "
         A controller for `CraneDynamics`, to be connected to it: it reads the crane's trolley

@@ -28,7 +28,9 @@ use crane_kinematics::{
     cable_tension, check_trolley_start, normal_acceleration, payload_kinetic_energy,
     payload_position, payload_velocity, radial_acceleration,
 };
-use mechfmu::model::{lit, sin_cos, Experiment, Mechanism, Monitor, MovingCase, Scalar, Variable};
+use mechfmu::model::{
+    lit, sin_cos, Experiment, Mechanism, Monitor, MovingCase, Scalar, Terminal, Variable,
+};
 
 mechfmu::mechanism! {
     /// A luffing crane driven by its drives' force and torque: a boom of moment of inertia
@@ -91,6 +93,27 @@ mechfmu::mechanism! {
 
 impl Mechanism for CraneDynamics {
     const EXPERIMENT: Experiment = Experiment::until(20.0).step(0.01).tolerance(1e-6);
+
+    const TERMINALS: &'static [Terminal] = &[
+        Terminal::new(
+            "drives",
+            "org.mechfmu.crane.drives",
+            "The drive force on the trolley and the torque on the boom",
+            &[("F", "F"), ("tau", "tau")],
+        ),
+        Terminal::new(
+            "motion",
+            "org.mechfmu.crane.motion",
+            "What a controller measures: the trolley's and the boom's positions and speeds, the payload's swing rate",
+            &[
+                ("x", "x"),
+                ("x_dot", "x_dot"),
+                ("theta", "theta"),
+                ("theta_dot", "theta_dot"),
+                ("phi_dot", "phi_dot"),
+            ],
+        ),
+    ];
 
     /// The default experiment is an equilibrium, a saddle under constant loads (see the
     /// notes' static loads): the documentation plots a nudge off it instead.

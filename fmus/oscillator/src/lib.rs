@@ -5,7 +5,7 @@
 
 #![forbid(unsafe_code)]
 
-use mechfmu::model::{sin, Experiment, Mechanism, Scalar, Variable};
+use mechfmu::model::{sin, Experiment, Mechanism, Scalar, Terminal, Variable, TRANSLATIONAL};
 
 mechfmu::mechanism! {
     /// A mass on a spring and a damper, driven by an input force F and a harmonic force
@@ -38,6 +38,13 @@ mechfmu::mechanism! {
 
 impl Mechanism for Oscillator {
     const EXPERIMENT: Experiment = Experiment::until(20.0).step(0.01).tolerance(1e-6);
+
+    const TERMINALS: &'static [Terminal] = &[Terminal::new(
+        "flange",
+        TRANSLATIONAL,
+        "The mass: its position and velocity, and the force on it",
+        &[("s", "x"), ("v", "x_dot"), ("f", "F")],
+    )];
 
     const NOTES: &'static str = "
         Newton's second law on the mass (MIT 2.003 final review, sections 3 and 4):

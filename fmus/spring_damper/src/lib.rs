@@ -5,7 +5,7 @@
 
 #![forbid(unsafe_code)]
 
-use mechfmu::model::{lit, Experiment, Mechanism, Scalar, Variable};
+use mechfmu::model::{lit, Experiment, Mechanism, Scalar, Terminal, Variable, TRANSLATIONAL};
 
 mechfmu::mechanism! {
     /// A massless spring and damper between points a and b on a line: the forces on its ends
@@ -36,6 +36,21 @@ mechfmu::mechanism! {
 
 impl Mechanism for SpringDamper {
     const EXPERIMENT: Experiment = Experiment::until(1.0).step(0.01).tolerance(1e-6);
+
+    const TERMINALS: &'static [Terminal] = &[
+        Terminal::new(
+            "a",
+            TRANSLATIONAL,
+            "End a: its position and velocity, and the force the spring exerts on it",
+            &[("s", "x_a"), ("v", "v_a"), ("f", "F_a")],
+        ),
+        Terminal::new(
+            "b",
+            TRANSLATIONAL,
+            "End b: its position and velocity, and the force the spring exerts on it",
+            &[("s", "x_b"), ("v", "v_b"), ("f", "F_b")],
+        ),
+    ];
 
     const NOTES: &'static str = "
         A coupling element: it joins two mechanisms in a system (as the third spring and

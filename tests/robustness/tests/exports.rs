@@ -144,12 +144,13 @@ const HEADER_FUNCTIONS_FMI3: [&str; 75] = [
 ];
 
 /// What docs/architecture.md lists besides the FMI functions.
-const DOCUMENTED_EXTRAS: [&str; 5] = [
+const DOCUMENTED_EXTRAS: [&str; 6] = [
     "mechfmu_documentation",
     "mechfmu_documentation_fmi3",
     "mechfmu_interface",
     "mechfmu_model_description",
     "mechfmu_model_description_fmi3",
+    "mechfmu_terminals_and_icons",
 ];
 
 #[test]

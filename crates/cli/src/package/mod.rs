@@ -261,6 +261,9 @@ fn shipped_binaries(
 /// version) and the crate's reference files (in an FMI 3.0 FMU, the columns of scalars that
 /// are array elements there named as the elements, from its model description `xml`).
 /// Sorted by archive path.
+/// Where an FMI 3.0 FMU keeps its terminals (FMI 3.0 §2.4.9).
+pub const TERMINALS_AND_ICONS: &str = "terminalsAndIcons/terminalsAndIcons.xml";
+
 fn extra_files(
     model: &str,
     library: &Library,
@@ -272,6 +275,11 @@ fn extra_files(
         "documentation/index.html".to_string(),
         library.text(Extra::Documentation(version))?.into_bytes(),
     )];
+    if version == Version::Fmi3 {
+        if let Some(terminals) = library.optional_text(Extra::TerminalsAndIcons)? {
+            files.push((TERMINALS_AND_ICONS.to_string(), terminals.into_bytes()));
+        }
+    }
     if let Some(dir) = crate_dir {
         let mut found = references::reference_files(model, &dir.join("reference"))?;
         if version == Version::Fmi3 {

@@ -12,6 +12,7 @@ mod declare;
 mod layout;
 mod order;
 pub(crate) mod scalar;
+mod terminal;
 pub mod units;
 mod values;
 mod variable;
@@ -32,6 +33,7 @@ pub use layout::{
 pub use layout::{event_indicator_references, Layout};
 pub(crate) use order::states_before_derivatives;
 pub use scalar::{cos, lit, sin, sin_cos, Scalar};
+pub use terminal::{check_terminals, terminal_named, Terminal, TRANSLATIONAL};
 #[doc(hidden)]
 pub use values::{copy_one_by_one, get_one_by_one, Fields};
 pub use variable::{Causality, Initial, SetPhase, Variability, Variable};
@@ -253,6 +255,12 @@ pub trait Mechanism: Declaration {
     /// this case instead of flat lines. A name that is not a variable settable before
     /// initialization does not compile.
     const MOVING_CASE: Option<MovingCase> = None;
+
+    /// The mechanism's ports, each a group of its variables that connects as one (a mass's
+    /// position, velocity and the force on it): a system connects terminal to terminal, and
+    /// the FMI 3.0 FMU lists them in `terminalsAndIcons/terminalsAndIcons.xml`. A member that
+    /// names no declared variable does not compile.
+    const TERMINALS: &'static [Terminal] = &[];
 }
 
 /// The variable whose field `select` picks from a mechanism's values (`|v| &v.theta`). Tests

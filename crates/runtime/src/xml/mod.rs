@@ -20,6 +20,7 @@
 pub mod fmi3;
 mod shared;
 pub mod structure;
+mod terminals;
 pub mod units;
 
 use std::io;
@@ -27,6 +28,7 @@ use std::io;
 use quick_xml::Writer;
 
 pub use structure::{ModelStructure, Unknown};
+pub use terminals::terminals_and_icons;
 
 use crate::contract::{Capabilities, CAPABILITIES, LOG_CATEGORIES};
 use crate::model::{Experiment, Mechanism, Variable};
