@@ -165,3 +165,37 @@ def test_mechfmu_validate_runs_every_set_in_every_ssp_importer(validated):
         assert r["limited"] and "b.x" in r["notes"][0], r
     for set_name in ("default", "reach"):
         assert not rows[("ControlledCrane", f"{set_name} (SSP)", "libcosim SSP")].get("limited")
+
+
+#: the mechanisms whose FMI 3.0 FMU declares terminals, and their terminals
+TERMINALS = {"Oscillator": {"flange"}, "SpringDamper": {"a", "b"}, "CraneDynamics": {"drives", "motion"},
+             "CraneController": {"drives", "motion"}}
+
+
+@pytest.mark.parametrize("model", sorted(TERMINALS))
+def test_the_fmi3_terminals_are_valid_and_name_the_fmus_variables(model):
+    """terminalsAndIcons/terminalsAndIcons.xml against FMI 3.0's schema (FMPy's copy): each
+    member a variable of the FMU, members matched by name (`plug`), one kind on both sides of
+    the terminals a system joins."""
+    schema = etree.XMLSchema(etree.parse(str(Path(fmpy.__file__).parent / "schema" / "fmi3" /
+                                             "fmi3TerminalsAndIcons.xsd")))
+    path = fmutest.FMU_DIR / "fmi3" / f"{model}.fmu"
+    with zipfile.ZipFile(path) as z:
+        doc = etree.fromstring(z.read("terminalsAndIcons/terminalsAndIcons.xml"))
+        md = etree.fromstring(z.read("modelDescription.xml"))
+    assert schema.validate(doc), schema.error_log
+    variables = {v.get("name") for v in md.find("ModelVariables")}
+    terminals = doc.findall("Terminals/Terminal")
+    assert {t.get("name") for t in terminals} == TERMINALS[model]
+    for t in terminals:
+        assert t.get("matchingRule") == "plug" and t.get("terminalKind").startswith("org.mechfmu.")
+        for member in t.findall("TerminalMemberVariable"):
+            assert member.get("variableName") in variables, (t.get("name"), member.get("variableName"))
+            assert member.get("variableKind") == "signal"
+
+
+def test_an_fmu_without_terminals_has_no_terminals_file():
+    with zipfile.ZipFile(fmutest.FMU_DIR / "fmi3" / "TwoMassOscillator.fmu") as z:
+        assert not any(n.startswith("terminalsAndIcons/") for n in z.namelist())
+    with zipfile.ZipFile(fmutest.FMU_DIR / "Oscillator.fmu") as z:  # FMI 2.0 has no terminals
+        assert not any(n.startswith("terminalsAndIcons/") for n in z.namelist())

@@ -18,14 +18,12 @@ mechfmu::system! {
             /// The control law: drive force and torque
             controller: CraneController,
         }
-        connections {
-            crane.x => controller.x,
-            crane.x_dot => controller.x_dot,
-            crane.theta => controller.theta,
-            crane.theta_dot => controller.theta_dot,
-            crane.phi_dot => controller.phi_dot,
-            controller.F => crane.F,
-            controller.tau => crane.tau,
+        connections {}
+        // the trolley's and the boom's positions and speeds and the payload's swing rate to
+        // the controller, its force and torque back to the drives
+        terminals {
+            crane.motion <=> controller.motion,
+            controller.drives <=> crane.drives,
         }
         parameter_sets {
             /// The components' defaults: the crane at rest at x = 10 m, θ = 0.5 rad, moved

@@ -22,13 +22,11 @@ mechfmu::system! {
             /// The second mass, on its spring to the ground
             b: Oscillator,
         }
-        connections {
-            a.x => spring.x_a,
-            a.x_dot => spring.v_a,
-            b.x => spring.x_b,
-            b.x_dot => spring.v_b,
-            spring.F_a => a.F,
-            spring.F_b => b.F,
+        connections {}
+        // each mass's position and velocity to its end of the spring, the spring's force back
+        terminals {
+            a.flange <=> spring.a,
+            b.flange <=> spring.b,
         }
         parameter_sets {
             /// TwoMassOscillator's defaults: unit masses and springs, no damping, the first

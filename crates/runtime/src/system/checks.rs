@@ -3,7 +3,7 @@
 //! set or value. They know a mechanism's variables from its declaration; an FMU file's are
 //! checked by the `mechfmu` command, which reads them.
 
-use super::{Port, SystemDeclaration};
+use super::{joined_members, member_connection, terminal_of, Connection, Port, SystemDeclaration};
 use crate::model::units::{base_units, BaseUnit};
 use crate::model::{
     closest_name, edit_distance, str_eq, variable_position, Causality, ConstMessage, SetPhase,
@@ -91,34 +91,181 @@ pub const fn connection_mistake(system: &SystemDeclaration, index: usize) -> Opt
             return Some(m);
         }
     }
-    // every connection into the same input names all of them
-    let mut feeding = 0;
-    let mut i = 0;
-    while i < system.connections.len() {
-        if same_port(system.connections[i].to, connection.to) {
-            feeding += 1;
-        }
-        i += 1;
-    }
-    if feeding > 1 {
-        m.push("input ");
-        quoted_port(&mut m, connection.to).push(" is fed by ");
-        let mut i = 0;
-        let mut listed = 0;
-        while i < system.connections.len() {
-            if same_port(system.connections[i].to, connection.to) {
-                if listed > 0 {
-                    m.push(if listed + 1 == feeding { " and " } else { ", " });
-                }
-                quoted_port(&mut m, system.connections[i].from);
-                listed += 1;
-            }
-            i += 1;
-        }
-        m.push(": an input takes one output");
+    if fed_twice(system, connection.to, &mut m) {
         return Some(m);
     }
     None
+}
+
+/// Whether more than one connection (a terminal's members among them) feeds `input`: then
+/// `m` names them all.
+const fn fed_twice(system: &SystemDeclaration, input: Port, m: &mut ConstMessage) -> bool {
+    let feeding = feeders(system, input, None);
+    if feeding <= 1 {
+        return false;
+    }
+    m.push("input ");
+    quoted_port(m, input).push(" is fed by ");
+    feeders(system, input, Some(m));
+    m.push(": an input takes one output");
+    true
+}
+
+/// How many connections feed `input`; each one's start written to `m` when given.
+const fn feeders(
+    system: &SystemDeclaration,
+    input: Port,
+    mut m: Option<&mut ConstMessage>,
+) -> usize {
+    let mut count = 0;
+    let mut i = 0;
+    while i < system.connections.len() {
+        count = listed(system.connections[i], input, count, &mut m);
+        i += 1;
+    }
+    let mut j = 0;
+    while j < system.terminal_connections.len() {
+        let joined = &system.terminal_connections[j];
+        let mut k = 0;
+        while k < joined_members(system, joined) {
+            if let Some(c) = member_connection(system, joined, k) {
+                count = listed(c, input, count, &mut m);
+            }
+            k += 1;
+        }
+        j += 1;
+    }
+    count
+}
+
+/// `count`, plus one when `c` feeds `input` (its start then written to `m`, after a comma).
+const fn listed(
+    c: Connection,
+    input: Port,
+    count: usize,
+    m: &mut Option<&mut ConstMessage>,
+) -> usize {
+    if !same_port(c.to, input) {
+        return count;
+    }
+    if let Some(m) = m {
+        if count > 0 {
+            m.push(" and ");
+        }
+        quoted_port(m, c.from);
+    }
+    count + 1
+}
+
+/// What is wrong with terminal connection `index`: an end that is no terminal of a
+/// mechanism, terminals of different kinds or members, a member pair that is not an output
+/// and an input of alike units, or an input another connection feeds too.
+pub const fn terminal_connection_mistake(
+    system: &SystemDeclaration,
+    index: usize,
+) -> Option<ConstMessage> {
+    let joined = &system.terminal_connections[index];
+    let mut m = ConstMessage::new();
+    m.push("system!: terminals ");
+    port_text(&mut m, joined.a);
+    m.push(" <=> ");
+    port_text(&mut m, joined.b);
+    m.push(": ");
+    let ends = [joined.a, joined.b];
+    let mut e = 0;
+    while e < 2 {
+        if terminal_of(system, ends[e]).is_none() {
+            if component_position(system, ends[e].component).is_none() {
+                m.push("there is no component ").quoted(ends[e].component);
+            } else {
+                quoted_port(&mut m, ends[e])
+                    .push(" is no terminal of a mechanism (an FMU file's terminals are not known: connect its variables)");
+            }
+            return Some(m);
+        }
+        e += 1;
+    }
+    let (Some((ta, va)), Some((tb, vb))) =
+        (terminal_of(system, joined.a), terminal_of(system, joined.b))
+    else {
+        return None;
+    };
+    if !str_eq(ta.kind, tb.kind) {
+        m.push("terminals of different kinds, ")
+            .quoted(ta.kind)
+            .push(" and ")
+            .quoted(tb.kind);
+        return Some(m);
+    }
+    let sides = [(ta, joined.b), (tb, joined.a)];
+    let others = [tb, ta];
+    let mut s = 0;
+    while s < 2 {
+        let (terminal, other_end) = sides[s];
+        let mut k = 0;
+        while k < terminal.members.len() {
+            if others[s].variable_of(terminal.members[k].0).is_none() {
+                m.push("member ")
+                    .quoted(terminal.members[k].0)
+                    .push(" has no match in ");
+                quoted_port(&mut m, other_end);
+                return Some(m);
+            }
+            k += 1;
+        }
+        s += 1;
+    }
+    let mut k = 0;
+    while k < ta.members.len() {
+        let member = ta.members[k].0;
+        let (a, b) = (ta.members[k].1, tb.variable_of(member));
+        let Some(b) = b else { return None };
+        let (Some(ia), Some(ib)) = (variable_position(va, a), variable_position(vb, b)) else {
+            return None;
+        };
+        let Some(c) = member_connection(system, joined, k) else {
+            m.push("member ")
+                .quoted(member)
+                .push(" joins ")
+                .push(article(va[ia].causality))
+                .push(va[ia].causality.as_str())
+                .push(" to ")
+                .push(article(vb[ib].causality))
+                .push(vb[ib].causality.as_str())
+                .push(": a member joins an output to an input");
+            return Some(m);
+        };
+        if !units_alike(va[ia].unit, vb[ib].unit) {
+            m.push("member ")
+                .quoted(member)
+                .push(" joins unlike units, ")
+                .quoted(va[ia].unit)
+                .push(" and ")
+                .quoted(vb[ib].unit);
+            return Some(m);
+        }
+        if fed_twice(system, c.to, &mut m) {
+            return Some(m);
+        }
+        k += 1;
+    }
+    None
+}
+
+/// `system!`'s check of the terminal connection `a <=> b`: panics with its mistake.
+#[doc(hidden)]
+pub const fn check_terminal_connection(system: &SystemDeclaration, a: Port, b: Port) {
+    let mut i = 0;
+    while i < system.terminal_connections.len() {
+        let c = &system.terminal_connections[i];
+        if same_port(c.a, a) && same_port(c.b, b) {
+            if let Some(m) = terminal_connection_mistake(system, i) {
+                panic!("{}", m.as_str());
+            }
+            return;
+        }
+        i += 1;
+    }
 }
 
 /// What is wrong with parameter set `index`: another set has its name.
@@ -211,7 +358,9 @@ const fn resolve(
     };
     let component = &system.components[c];
     let (model, variables) = match component.source {
-        super::Source::Mechanism { model, variables } => (model, variables),
+        super::Source::Mechanism {
+            model, variables, ..
+        } => (model, variables),
         super::Source::Fmu { .. } => return Ok(None),
     };
     match variable_position(variables, port.variable) {

@@ -9,6 +9,10 @@
 ///   type, or `fmu("path/to/Model.fmu")` for an FMU file (its path from the crate's folder);
 ///   a doc comment describes it.
 /// - `connections`: `from.output => to.input`, each input fed by one output at most.
+/// - `terminals` (optional): `a.terminal <=> b.terminal`, two mechanisms' terminals
+///   ([`Mechanism::TERMINALS`](crate::model::Mechanism::TERMINALS)) of one kind joined member
+///   by member, each member from the side where it is an output to the side where it is an
+///   input.
 /// - `parameter_sets` (optional): named sets of values for parameters, inputs and the start
 ///   values of states, `component.variable = value`. The set called `default` is the one an
 ///   importer applies when none is chosen; every other set is the default set with its own
@@ -106,6 +110,11 @@ macro_rules! system {
                 $( $from:ident . $output:ident => $to:ident . $input:ident ),* $(,)?
             }
             $(
+                terminals {
+                    $( $a:ident . $a_terminal:ident <=> $b:ident . $b_terminal:ident ),* $(,)?
+                }
+            )?
+            $(
                 parameter_sets {
                     $(
                         $(#[doc = $sdoc:literal])*
@@ -146,6 +155,18 @@ macro_rules! system {
                             },
                         },
                     )*],
+                    terminal_connections: &[$($(
+                        $crate::system::TerminalConnection {
+                            a: $crate::system::Port {
+                                component: ::core::stringify!($a),
+                                variable: ::core::stringify!($a_terminal),
+                            },
+                            b: $crate::system::Port {
+                                component: ::core::stringify!($b),
+                                variable: ::core::stringify!($b_terminal),
+                            },
+                        },
+                    )*)?],
                     parameter_sets: &[$($(
                         $crate::system::ParameterSet {
                             name: ::core::stringify!($set),
@@ -169,11 +190,13 @@ macro_rules! system {
             }
 
             // Each check carries the span of what it checks: a mistake is reported at its line.
+            #[allow(unused_imports)]
             use $crate::system::{
                 check_binding as __mechfmu_check_binding,
                 check_component as __mechfmu_check_component,
                 check_connection as __mechfmu_check_connection,
                 check_set as __mechfmu_check_set,
+                check_terminal_connection as __mechfmu_check_terminal_connection,
             };
             use $crate::system::Port as __MechfmuPort;
             $(
@@ -192,6 +215,16 @@ macro_rules! system {
                     );
                 }
             )*
+            $($(
+                $crate::__at_span! {
+                    ($a)
+                    const _: () = __mechfmu_check_terminal_connection(
+                        &DECLARATION,
+                        __MechfmuPort { component: ::core::stringify!($a), variable: ::core::stringify!($a_terminal) },
+                        __MechfmuPort { component: ::core::stringify!($b), variable: ::core::stringify!($b_terminal) },
+                    );
+                }
+            )*)?
             $($(
                 $crate::__at_span! {
                     ($set)

@@ -7,7 +7,7 @@ use std::fmt::Write;
 /// The declaration as one JSON object: `name`, `description`, `experiment` (`start`,
 /// `stop`, `step`, `tolerance`), `components` (`name`, `description`, and `model` for a
 /// mechanism or `fmu` for an FMU file's path), `connections` (`from` and `to`, each
-/// `[component, variable]`) and `parameter_sets` (`name`, `description` and `values`, each
+/// `[component, variable]`; a terminal connection's members among them) and `parameter_sets` (`name`, `description` and `values`, each
 /// `[component, variable, value]`: the set as applied, the `default` set's values with the
 /// set's own over them; the `default` set first, also when not declared).
 pub fn declaration_json(system: &SystemDeclaration) -> Result<String, String> {
@@ -38,7 +38,7 @@ pub fn declaration_json(system: &SystemDeclaration) -> Result<String, String> {
         );
     }
     out.push_str("],\"connections\":[");
-    for (i, c) in system.connections.iter().enumerate() {
+    for (i, c) in system.all_connections().iter().enumerate() {
         let _ = write!(
             out,
             "{}{{\"from\":{},\"to\":{}}}",

@@ -13,14 +13,17 @@ mod graph;
 mod json;
 
 pub use checks::{
-    binding_mistake, component_mistake, connection_mistake, set_mistake, units_alike,
+    binding_mistake, component_mistake, connection_mistake, set_mistake,
+    terminal_connection_mistake, units_alike,
 };
 #[doc(hidden)]
-pub use checks::{check_binding, check_component, check_connection, check_set};
+pub use checks::{
+    check_binding, check_component, check_connection, check_set, check_terminal_connection,
+};
 pub use graph::{feedthrough_cycle, Feedthrough, PortName};
 pub use json::declaration_json;
 
-use crate::model::{Declaration, Experiment, Variable};
+use crate::model::{Causality, Experiment, Mechanism, Terminal, Variable};
 
 /// A system: implemented by [`system!`](crate::system); do not implement it by hand.
 pub trait System: Send + Sync + 'static {
@@ -35,6 +38,8 @@ pub struct SystemDeclaration {
     pub description: &'static str,
     pub components: &'static [Component],
     pub connections: &'static [Connection],
+    /// Terminals joined member by member (each member one more connection).
+    pub terminal_connections: &'static [TerminalConnection],
     /// Every set is the `default` set (when declared) with its own values over it.
     pub parameter_sets: &'static [ParameterSet],
     pub experiment: Experiment,
@@ -55,6 +60,7 @@ pub enum Source {
     Mechanism {
         model: &'static str,
         variables: &'static [Variable],
+        terminals: &'static [Terminal],
     },
     /// An FMU file, by its path from the system crate's folder; its variables are known
     /// when its model description is read.
@@ -63,10 +69,11 @@ pub enum Source {
 
 impl Source {
     /// The mechanism `M`.
-    pub const fn mechanism<M: Declaration>() -> Source {
+    pub const fn mechanism<M: Mechanism>() -> Source {
         Source::Mechanism {
             model: M::NAME,
             variables: M::VARIABLES,
+            terminals: M::TERMINALS,
         }
     }
 
@@ -96,6 +103,15 @@ pub struct Port {
 pub struct Connection {
     pub from: Port,
     pub to: Port,
+}
+
+/// Two terminals joined: each member of one to the member of the same name of the other,
+/// from the one that is an output to the one that is an input.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TerminalConnection {
+    /// `component.terminal`.
+    pub a: Port,
+    pub b: Port,
 }
 
 /// A named set of values for the components' parameters and start values.
@@ -144,6 +160,20 @@ impl SystemDeclaration {
         Some(values)
     }
 
+    /// Every connection: those declared, then each terminal connection's, member by member
+    /// (a terminal connection whose terminals are not known, or do not match, gives none:
+    /// `system!` refuses it at compile time).
+    pub fn all_connections(&self) -> Vec<Connection> {
+        let mut all = self.connections.to_vec();
+        for joined in self.terminal_connections {
+            all.extend(
+                (0..joined_members(self, joined))
+                    .filter_map(|k| member_connection(self, joined, k)),
+            );
+        }
+        all
+    }
+
     /// The names of the parameter sets, `default` first (also when not declared).
     pub fn set_names(&self) -> Vec<&'static str> {
         let mut names = vec![DEFAULT_SET];
@@ -155,6 +185,89 @@ impl SystemDeclaration {
         );
         names
     }
+}
+
+/// How many members the terminals of `joined` have (0 when either is not known).
+pub(crate) const fn joined_members(
+    system: &SystemDeclaration,
+    joined: &TerminalConnection,
+) -> usize {
+    match terminal_of(system, joined.a) {
+        Some((terminal, _)) => terminal.members.len(),
+        None => 0,
+    }
+}
+
+/// The connection member `k` of `joined` makes, from its output to its input (`None` where
+/// the terminals do not match).
+pub(crate) const fn member_connection(
+    system: &SystemDeclaration,
+    joined: &TerminalConnection,
+    k: usize,
+) -> Option<Connection> {
+    let (Some((ta, va)), Some((tb, vb))) =
+        (terminal_of(system, joined.a), terminal_of(system, joined.b))
+    else {
+        return None;
+    };
+    if k >= ta.members.len() {
+        return None;
+    }
+    let (member, variable_a) = ta.members[k];
+    let Some(variable_b) = tb.variable_of(member) else {
+        return None;
+    };
+    let (Some(a), Some(b)) = (
+        crate::model::variable_position(va, variable_a),
+        crate::model::variable_position(vb, variable_b),
+    ) else {
+        return None;
+    };
+    let port_a = Port {
+        component: joined.a.component,
+        variable: variable_a,
+    };
+    let port_b = Port {
+        component: joined.b.component,
+        variable: variable_b,
+    };
+    match (va[a].causality, vb[b].causality) {
+        (Causality::Output, Causality::Input) => Some(Connection {
+            from: port_a,
+            to: port_b,
+        }),
+        (Causality::Input, Causality::Output) => Some(Connection {
+            from: port_b,
+            to: port_a,
+        }),
+        _ => None,
+    }
+}
+
+/// The terminal `port` names (`component.terminal`) and its component's variables.
+pub(crate) const fn terminal_of(
+    system: &SystemDeclaration,
+    port: Port,
+) -> Option<(Terminal, &'static [Variable])> {
+    let mut i = 0;
+    while i < system.components.len() {
+        let component = &system.components[i];
+        if crate::model::str_eq(component.name, port.component) {
+            return match component.source {
+                Source::Mechanism {
+                    variables,
+                    terminals,
+                    ..
+                } => match crate::model::terminal_named(terminals, port.variable) {
+                    Some(terminal) => Some((terminal, variables)),
+                    None => None,
+                },
+                Source::Fmu { .. } => None,
+            };
+        }
+        i += 1;
+    }
+    None
 }
 
 #[cfg(test)]

@@ -1,5 +1,5 @@
 use super::*;
-use crate::model::{Experiment, Mechanism, Scalar, Variable};
+use crate::model::{Experiment, Mechanism, Scalar, Terminal, Variable, TRANSLATIONAL};
 
 crate::mechanism! {
     /// A mass on a spring, pushed by a force.
@@ -21,6 +21,10 @@ crate::mechanism! {
 
 impl Mechanism for Body {
     const EXPERIMENT: Experiment = Experiment::until(1.0);
+    const TERMINALS: &'static [Terminal] = &[
+        Terminal::new("flange", TRANSLATIONAL, "", &[("s", "x"), ("f", "F")]),
+        Terminal::new("speed", TRANSLATIONAL, "", &[("s", "v"), ("f", "F")]),
+    ];
     fn evaluate<S: Scalar>(v: &mut BodyValues<S>) {
         v.a = v.F / v.m;
     }
@@ -44,6 +48,11 @@ crate::mechanism! {
 
 impl Mechanism for Link {
     const EXPERIMENT: Experiment = Experiment::until(1.0);
+    const TERMINALS: &'static [Terminal] = &[
+        Terminal::new("a", TRANSLATIONAL, "", &[("s", "x_a"), ("f", "F_a")]),
+        Terminal::new("b", TRANSLATIONAL, "", &[("s", "x_b"), ("f", "F_b")]),
+        Terminal::new("both", "other", "", &[("s", "x_a")]),
+    ];
     fn evaluate<S: Scalar>(v: &mut LinkValues<S>) {
         v.F_a = v.k * (v.x_b - v.x_a);
         v.F_b = -v.F_a;
@@ -328,4 +337,84 @@ fn the_json_holds_every_part_of_the_declaration() {
     ));
     assert!(json.contains("{\"from\":[\"link\",\"F_b\"],\"to\":[\"b\",\"F\"]}"));
     assert!(json.contains("{\"name\":\"heavy\",\"description\":\"Heavier\",\"values\":[[\"b\",\"x\",0.0],[\"link\",\"k\",5.0],[\"b\",\"m\",3.0]]}"));
+}
+
+crate::system! {
+    /// The pair joined terminal to terminal.
+    pub struct Joined {
+        components {
+            a: Body,
+            link: Link,
+            b: Body,
+        }
+        connections {}
+        terminals {
+            a.flange <=> link.a,
+            link.b <=> b.flange,
+        }
+        experiment: Experiment::until(1.0),
+    }
+}
+
+#[test]
+fn terminals_join_member_by_member_from_output_to_input() {
+    let all: Vec<_> = Joined::DECLARATION
+        .all_connections()
+        .iter()
+        .map(|c| {
+            (
+                c.from.component,
+                c.from.variable,
+                c.to.component,
+                c.to.variable,
+            )
+        })
+        .collect();
+    assert_eq!(
+        all,
+        [
+            ("a", "x", "link", "x_a"),
+            ("link", "F_a", "a", "F"),
+            ("b", "x", "link", "x_b"),
+            ("link", "F_b", "b", "F"),
+        ]
+    );
+    assert!(declaration_json(&Joined::DECLARATION)
+        .unwrap()
+        .contains("{\"from\":[\"link\",\"F_b\"],\"to\":[\"b\",\"F\"]}"));
+}
+
+#[test]
+fn a_terminal_connection_names_what_is_wrong_with_it() {
+    let error = |a: Port, b: Port, extra: &[Connection]| -> String {
+        let system = SystemDeclaration {
+            connections: leak(extra),
+            terminal_connections: leak(&[TerminalConnection { a, b }]),
+            ..Joined::DECLARATION
+        };
+        terminal_connection_mistake(&system, 0)
+            .map(|m| m.as_str().to_string())
+            .unwrap_or_default()
+    };
+    assert_eq!(error(port("a", "flange"), port("link", "a"), &[]), "");
+    assert!(error(port("a", "flange"), port("link", "both"), &[])
+        .ends_with("terminals of different kinds, `org.mechfmu.translational` and `other`"));
+    assert!(error(port("a", "flange"), port("link", "c"), &[])
+        .ends_with("`link.c` is no terminal of a mechanism (an FMU file's terminals are not known: connect its variables)"));
+    assert!(
+        error(port("q", "flange"), port("link", "a"), &[]).ends_with("there is no component `q`")
+    );
+    assert!(
+        error(port("a", "flange"), port("b", "flange"), &[]).ends_with(
+            "member `s` joins an output to an output: a member joins an output to an input"
+        )
+    );
+    assert!(error(port("a", "speed"), port("link", "a"), &[])
+        .ends_with("member `s` joins unlike units, `m/s` and `m`"));
+    let also = [Connection {
+        from: port("b", "x"),
+        to: port("link", "x_a"),
+    }];
+    assert!(error(port("a", "flange"), port("link", "a"), &also)
+        .ends_with("input `link.x_a` is fed by `b.x` and `a.x`: an input takes one output"));
 }

@@ -1,4 +1,4 @@
-use mechfmu::model::{Experiment, Mechanism, Scalar, Variable};
+use mechfmu::model::{Experiment, Mechanism, Scalar, Terminal, Variable, TRANSLATIONAL};
 
 mechfmu::mechanism! {
     /// A mass pushed by a force.
@@ -18,6 +18,8 @@ mechfmu::mechanism! {
 
 impl Mechanism for Body {
     const EXPERIMENT: Experiment = Experiment::until(1.0);
+    const TERMINALS: &'static [Terminal] =
+        &[Terminal::new("flange", TRANSLATIONAL, "", &[("s", "x"), ("v", "v"), ("f", "F")])];
     fn evaluate<S: Scalar>(v: &mut BodyValues<S>) {
         v.a = v.F / v.m;
     }
@@ -37,6 +39,8 @@ mechfmu::mechanism! {
 
 impl Mechanism for Anchor {
     const EXPERIMENT: Experiment = Experiment::until(1.0);
+    const TERMINALS: &'static [Terminal] =
+        &[Terminal::new("end", TRANSLATIONAL, "", &[("s", "x"), ("f", "F")])];
     fn evaluate<S: Scalar>(v: &mut AnchorValues<S>) {
         v.F = -v.k * v.x;
     }
@@ -59,6 +63,11 @@ mechfmu::system! {
             anchor.F => body.a,
             anchor.F => body.F,
             anchor.F => body.F,
+        }
+        terminals {
+            body.flange <=> anchor.end,
+            body.flange <=> body.flange,
+            body.flange <=> anchor.start,
         }
         parameter_sets {
             default { body.a = 1.0, body.m = 0.0, anchor.k = -1.0, body.m = 2.0 }
