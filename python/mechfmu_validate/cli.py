@@ -80,7 +80,7 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--junit", type=Path, metavar="FILE", help="write the results as JUnit XML (one testcase per row)")
     p.add_argument("--readme", type=Path, metavar="DIR",
                    help="write DIR/validation.md (the validation tables) and the highlighted cases' plots "
-                        "in DIR/validation/")
+                        "in DIR/validation/; for an SSP, its coupling figure there")
     p.add_argument("--cross-check-results", type=Path, metavar="DIR",
                    help="for each FMU of an FMI cross-check tree, write what an importer submits to "
                         "DIR/results/<version>/<cs|me>/<platform>/mechfmu/<version>/<tool>/<version>/<model>/")
@@ -286,7 +286,7 @@ def main(argv: list[str] | None = None) -> int:
         from .systems import validate_system
 
         for ssp in ssps:
-            rows += validate_system(ssp)
+            rows += validate_system(ssp, args.readme / "validation" if args.readme else None)
     # the Windows binaries run under one wine session (when scripts/cross-runners prepared it)
     with platform_session(selection.uses(PLATFORMS)):
         for path in paths:
@@ -318,7 +318,7 @@ def main(argv: list[str] | None = None) -> int:
         for e in plots:
             e["png_path"] = args.report / e["png"]
         print(f"report: {args.report / 'index.html'} (and index.md)")
-    if args.readme:
+    if args.readme and paths:
         from .validation_tables import write_readme
 
         for path in write_readme(args.readme, rows, plots, header):

@@ -134,12 +134,17 @@ def test_the_solution_of_the_controlled_crane_is_the_closed_loops(tmp_path):
 
 @pytest.fixture(scope="module")
 def validated(tmp_path_factory) -> list[dict]:
-    out = tmp_path_factory.mktemp("validate") / "systems.json"
+    folder = tmp_path_factory.mktemp("validate")
+    out = folder / "systems.json"
     done = subprocess.run(["cargo", "run", "--release", "--quiet", "--", "validate",
-                           *(str(ssp_path(n)) for n in NAMES), "--json", str(out)],
+                           *(str(ssp_path(n)) for n in NAMES), "--json", str(out), "--readme", str(folder / "docs")],
                           cwd=fmutest.REPO_ROOT, capture_output=True, text=True, timeout=1800)
     assert out.is_file(), f"{done.stdout[-4000:]}\n{done.stderr[-4000:]}"
     assert done.returncode == 0, f"{done.stdout[-4000:]}\n{done.stderr[-4000:]}"
+    # --readme with SSPs alone: each system's coupling figure, and no validation tables
+    for figure in ("two-oscillators-coupling.png", "controlled-crane-coupling.png"):
+        assert (folder / "docs" / "validation" / figure).stat().st_size > 20_000
+    assert not (folder / "docs" / "validation.md").exists()
     return json.loads(out.read_text())["rows"]
 
 

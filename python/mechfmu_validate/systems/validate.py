@@ -12,13 +12,16 @@ import numpy as np
 
 from ..rows import Row
 from . import archive, jacobi
+from .figure import write_figure
 from .importers import IMPORTERS
 
 #: how many times the plain Jacobi scheme's coupling error an importer's may be
 FACTOR = 5.0
 
 
-def validate_system(path: Path) -> list[Row]:
+def validate_system(path: Path, figure_dir: Path | None = None) -> list[Row]:
+    """The rows of the SSP at ``path``; with ``figure_dir``, also its coupling figure
+    (:mod:`.figure`, the default set's first connected state) written there."""
     rows: list[Row] = []
     with tempfile.TemporaryDirectory(prefix="mechfmu-ssp-") as tmp:
         work = Path(tmp)
@@ -36,6 +39,10 @@ def validate_system(path: Path) -> list[Row]:
         # the system's trajectory: its connected states (an output computed from held inputs,
         # a stateless element's, shows each importer's scheme rather than where it leads)
         signals = [s for s in connected if s in states] or connected
+        if figure_dir is not None:
+            slug = "".join(f"-{c.lower()}" if c.isupper() else c for c in ssp.name).lstrip("-")
+            figure = write_figure(ssp, "default", signals[0], figure_dir / f"{slug}-coupling.png", work)
+            print(f"figure: {figure}")
         for set_name, values in ssp.sets.items():
             case = f"{set_name} (SSP)"
             times, solution = jacobi.solution(ssp, values, ssp.stop, signals, work)

@@ -54,7 +54,8 @@ pub struct Args {
     #[arg(long = "case", value_name = "TEXT")]
     cases: Vec<String>,
     /// Write the README material: DIR/validation.md (the table) and the PNGs of the cases
-    /// marked as highlights.
+    /// marked as highlights; for an SSP, DIR/validation/<system>-coupling.png (its plain
+    /// Jacobi co-simulation at three steps against the system's solution).
     #[arg(long, value_name = "DIR")]
     readme: Option<PathBuf>,
     /// For each FMU of an FMI cross-check tree, write what an importer submits (its result,
