@@ -64,12 +64,8 @@ def test_the_default_set_is_bound_and_every_other_set_is_a_variant(name, tmp_pat
         assert (tmp_path / component.get("source")).is_file()
         bindings = [b.get("source") for b in
                     component.findall(f"{archive.SSD}ParameterBindings/{archive.SSD}ParameterBinding")]
-        # the default set first (libcosim applies the first), every set between (Ecos selects
-        # one by name) and the default set last (OMSimulator applies all in turn)
-        if bindings:
-            name = component.get("name")
-            assert bindings[0] == bindings[-1] == f"resources/default/{name}.ssv", bindings
-            assert sorted(bindings[1:-1]) == sorted(f"resources/{s}/{name}.ssv" for s in ssp.sets if s != "default")
+        # one set bound, once (libcosim applies the first binding, OMSimulator every one)
+        assert bindings in ([], [f"resources/default/{component.get('name')}.ssv"]), bindings
         # every input that is not connected is left out (FMPy fails on one)
         connected = {to for _, to in ssp.connections}
         for connector in component.iterfind(f"{archive.SSD}Connectors/{archive.SSD}Connector"):
@@ -155,11 +151,16 @@ def test_mechfmu_validate_runs_every_set_in_every_ssp_importer(validated):
         for set_name in names:
             case = f"{set_name} (SSP)"
             jacobi_row = rows[(name, case, "plain Jacobi")]
-            for importer in ("FMPy SSP", "libcosim SSP", "Ecos SSP", "OMSimulator SSP"):
+            for importer in ("FMPy SSP", "libcosim SSP", "Ecos SSP", "OMSimulator SSP", "OMSimulator CLI"):
                 r = rows[(name, case, importer)]
-                # OMSimulator has no wheel: it runs where it was built from source
-                assert r["passed"] and (not r.get("skipped") or importer == "OMSimulator SSP"), r
+                # OMSimulator has no wheel: it runs where it was built from source; Ecos and
+                # OMSimulator's command line load no variant: the default set only
+                optional = importer.startswith("OMSimulator") or (importer == "Ecos SSP" and set_name != "default")
+                assert r["passed"] and (not r.get("skipped") or optional), r
                 if r.get("limited") or r.get("skipped"):
+                    continue
+                if importer == "OMSimulator CLI":  # the SSD's step only
+                    assert r["max_error"] <= r["tolerance"], r
                     continue
                 # within its own scheme's error, and first order: half the error at half the step
                 assert r["max_error"] <= r["tolerance"] and r["tolerance"] <= FACTOR * 30 * jacobi_row["max_error"]

@@ -9,10 +9,12 @@ returns the connected outputs at the times it reached them, or says why it canno
   than the default) and applies a set only to parameters and inputs: a start value of a state
   it leaves at the FMU's own (logged as "Non-input causality"). Its master passes each output
   once per step, as read after the step.
-- Ecos (``ecospy``, which needs Debian's ``libtbb12``) applies the set ``init`` names, from the
-  default SSD's bindings.
+- Ecos (``ecospy``, which needs Debian's ``libtbb12``) applies the set ``init`` names among
+  those ``SystemStructure.ssd`` binds, the default set alone (it loads no variant).
 - OMSimulator's Python API (no wheel: it builds from source; used when ``OMSimulator`` can
   be imported) runs the variant of the set, and writes two rows per step (the last is kept).
+  Its command line (``MECHFMU_OMSIMULATOR``, or ``OMSimulator`` on the PATH) runs
+  ``SystemStructure.ssd``, the default set, at the SSD's own step whatever ``--stepSize`` says.
 """
 
 from __future__ import annotations
@@ -39,6 +41,10 @@ class SspImporter:
     scheme: tuple[bool, bool] = (True, False)
     #: the causalities a set's values reach in this importer (None: every variable)
     applies_to: frozenset[str] | None = None
+    #: it runs the default set only (it loads no variant)
+    default_only: bool = False
+    #: it runs at the SSP's own step only (a command line that takes no other)
+    own_step_only: bool = False
 
 
 def _fmpy_available() -> tuple[bool, str]:
@@ -137,7 +143,6 @@ def _oms_available() -> tuple[bool, str]:
 
 
 def _oms_run(ssp: Ssp, set_name: str, step: float, signals) -> Series:
-    import csv
     import tempfile
 
     from OMSimulator import SSP
@@ -155,23 +160,60 @@ def _oms_run(ssp: Ssp, set_name: str, step: float, signals) -> Series:
         instance.simulate()
         instance.terminate()
         instance.delete()
-        with open(result, newline="") as f:
-            rows = list(csv.reader(f, skipinitialspace=True))
-    header, data = rows[0], rows[1:]
-    columns = {name: i for i, name in enumerate(header)}
-    # two rows per step (before and after the exchange): the last one of each time
+        return _oms_result(result, ssp.name, signals)
+
+
+def _oms_executable() -> str | None:
+    import os
+    import shutil
+
+    return os.environ.get("MECHFMU_OMSIMULATOR") or shutil.which("OMSimulator")
+
+
+def _oms_cli_available() -> tuple[bool, str]:
+    executable = _oms_executable()
+    if executable is None:
+        return False, "no OMSimulator executable (MECHFMU_OMSIMULATOR, or OMSimulator on PATH)"
+    return True, f"OMSimulator command line ({executable})"
+
+
+def _oms_cli_run(ssp: Ssp, set_name: str, step: float, signals) -> Series:
+    import subprocess
+    import tempfile
+
+    with tempfile.TemporaryDirectory(prefix="mechfmu-oms-cli-") as tmp:
+        result = f"{tmp}/result.csv"
+        done = subprocess.run([_oms_executable(), f"--resultFile={result}", f"--stopTime={ssp.stop!r}",
+                               f"--tempDir={tmp}", str(ssp.path)], capture_output=True, text=True, cwd=tmp,
+                              timeout=1800)
+        if done.returncode != 0:
+            raise RuntimeError(f"OMSimulator exited with {done.returncode}: {done.stdout[-2000:]}")
+        times, out = _oms_result(result, f"{ssp.name}.{ssp.name}", signals)
+    return times, out
+
+
+def _oms_result(path: str, prefix: str, signals) -> Series:
+    """OMSimulator's result file: its columns ``<prefix>.<component>.<variable>``, two rows
+    per step (before and after the exchange), of which the last of each time is kept."""
+    import csv
+
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f, skipinitialspace=True))
+    columns = {name: i for i, name in enumerate(rows[0])}
     last: dict[float, list[str]] = {}
-    for row in data:
+    for row in rows[1:]:
         last[float(row[0])] = row
     times = np.array(sorted(last))
-    out = {s: np.array([float(last[t][columns[f"{ssp.name}.{s[0]}.{s[1]}"]]) for t in times]) for s in signals}
-    return times, out
+    return times, {s: np.array([float(last[t][columns[f"{prefix}.{s[0]}.{s[1]}"]]) for t in times])
+                   for s in signals}
 
 
 IMPORTERS = (
     SspImporter("FMPy SSP", _fmpy_available, _fmpy_run, scheme=(False, True)),
     SspImporter("libcosim SSP", _libcosim_available, _libcosim_run, scheme=(False, False),
                 applies_to=frozenset({"parameter", "input"})),
-    SspImporter("Ecos SSP", _ecos_available, _ecos_run, scheme=(False, False)),
+    SspImporter("Ecos SSP", _ecos_available, _ecos_run, scheme=(False, False), default_only=True),
     SspImporter("OMSimulator SSP", _oms_available, _oms_run, scheme=(True, False)),
+    SspImporter("OMSimulator CLI", _oms_cli_available, _oms_cli_run, scheme=(True, False), default_only=True,
+                own_step_only=True),
 )

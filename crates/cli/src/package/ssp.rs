@@ -10,12 +10,13 @@
 //!   unknown algorithm.
 //! - Parameter sets: each component's values of each set in `resources/<set>/<component>.ssv`,
 //!   every set giving a value to every variable any set gives one to (the default set takes
-//!   the FMU's start value where the declaration gives none), so that applying a set undoes
-//!   any other. The tools take sets three ways, and each component of `SystemStructure.ssd`
-//!   binds the default set, then every other set, then the default set again: libcosim
-//!   applies a component's first binding, OMSimulator every binding in turn (the last one
-//!   wins), Ecos the set `init` names. Every other set is also the variant `<set>.ssd` (the
-//!   same system binding that set alone), which libcosim and OMSimulator run by name.
+//!   the FMU's start value where the declaration gives none). Each SSD binds one set, one
+//!   binding per component: `SystemStructure.ssd` the default set, the variant `<set>.ssd`
+//!   every other one (libcosim and OMSimulator run a variant by name). The tools apply
+//!   several bindings each its own way (libcosim the first, OMSimulator's Python API every
+//!   one in turn, its command line every one whose values differ from the FMU's start values,
+//!   Ecos the one its `init` names), so that binding more than one set in
+//!   `SystemStructure.ssd` makes one of them run another set than the default.
 //!   Bindings are the components': libcosim ignores a system's.
 
 use super::archive::write_zip;
@@ -201,35 +202,16 @@ fn structure(system: &Declaration, components: &[Component], set: &str) -> Strin
             x.push_str("/></ssd:Connector>\n");
         }
         x.push_str("        </ssd:Connectors>\n");
-        let has_values = |set: &str| {
-            (system.parameter_sets.iter())
-                .find(|s| s.name == set)
-                .is_some_and(|s| s.values.iter().any(|(c, _, _)| c == name))
-        };
-        // the default SSD: the default set first (libcosim) and last (OMSimulator), every
-        // set by name between (Ecos); a variant: its set alone
-        let mut bound: Vec<&str> = vec![set];
-        if set == DEFAULT_SET {
-            bound.extend(
-                system
-                    .parameter_sets
-                    .iter()
-                    .map(|s| s.name.as_str())
-                    .filter(|s| *s != DEFAULT_SET),
+        // each SSD binds its own set alone (see the module's documentation)
+        let bound = (system.parameter_sets.iter())
+            .find(|s| s.name == set)
+            .is_some_and(|s| s.values.iter().any(|(c, _, _)| c == name));
+        if bound {
+            let _ = writeln!(
+                x,
+                r#"        <ssd:ParameterBindings><ssd:ParameterBinding source="{}"/></ssd:ParameterBindings>"#,
+                escape(&values_file(set, name))
             );
-            bound.push(DEFAULT_SET);
-        }
-        bound.retain(|s| has_values(s));
-        if !bound.is_empty() {
-            x.push_str("        <ssd:ParameterBindings>\n");
-            for s in bound {
-                let _ = writeln!(
-                    x,
-                    r#"          <ssd:ParameterBinding source="{}"/>"#,
-                    escape(&values_file(s, name))
-                );
-            }
-            x.push_str("        </ssd:ParameterBindings>\n");
         }
         x.push_str("      </ssd:Component>\n");
     }
