@@ -205,3 +205,68 @@ def test_an_fmu_without_terminals_has_no_terminals_file():
         assert not any(n.startswith("terminalsAndIcons/") for n in z.namelist())
     with zipfile.ZipFile(fmutest.FMU_DIR / "Oscillator.fmu") as z:  # FMI 2.0 has no terminals
         assert not any(n.startswith("terminalsAndIcons/") for n in z.namelist())
+
+
+def test_an_ssp_mechfmu_did_not_write_validates_too(tmp_path):
+    """An SSP written as another tool writes one: its step in OpenModelica's annotation
+    alone, a parameter set inline in the SSD, connectors without units, a system named
+    apart from its file. `mechfmu validate` runs it in every importer and measures each
+    against its solution, here TwoMassOscillator's closed form at its defaults."""
+    ssd = """<?xml version="1.0" encoding="UTF-8"?>
+<ssd:SystemStructureDescription xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription"
+    xmlns:ssc="http://ssp-standard.org/SSP1/SystemStructureCommon"
+    xmlns:ssv="http://ssp-standard.org/SSP1/SystemStructureParameterValues"
+    xmlns:oms="https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd"
+    version="1.0" name="Pair">
+  <ssd:System name="Pair">
+    <ssd:Elements>
+      {components}
+    </ssd:Elements>
+    <ssd:Connections>
+      {connections}
+    </ssd:Connections>
+    <ssd:Annotations><ssc:Annotation type="org.openmodelica"><oms:Annotations><oms:SimulationInformation>
+      <oms:FixedStepMaster description="oms-ma" stepSize="0.01" absoluteTolerance="1e-4" relativeTolerance="1e-4"/>
+    </oms:SimulationInformation></oms:Annotations></ssc:Annotation></ssd:Annotations>
+  </ssd:System>
+  <ssd:DefaultExperiment startTime="0" stopTime="10"/>
+</ssd:SystemStructureDescription>"""
+    links = [("a", "x", "s", "x_a"), ("a", "x_dot", "s", "v_a"), ("b", "x", "s", "x_b"), ("b", "x_dot", "s", "v_b"),
+             ("s", "F_a", "a", "F"), ("s", "F_b", "b", "F")]
+    values = {"a": {"k": 1.0, "c": 0.0}, "b": {"k": 1.0, "c": 0.0, "x": 0.0}}
+    components = []
+    for name, model in (("a", "Oscillator"), ("s", "SpringDamper"), ("b", "Oscillator")):
+        connectors = "".join(f'<ssd:Connector name="{v}" kind="output"><ssc:Real/></ssd:Connector>'
+                             for c, v, _, _ in links if c == name)
+        connectors += "".join(f'<ssd:Connector name="{v}" kind="input"><ssc:Real/></ssd:Connector>'
+                              for _, _, c, v in links if c == name)
+        bound = ""
+        if name in values:
+            parameters = "".join(f'<ssv:Parameter name="{k}"><ssv:Real value="{x}"/></ssv:Parameter>'
+                                 for k, x in values[name].items())
+            bound = ('<ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues>'
+                     f'<ssv:ParameterSet version="1.0" name="start"><ssv:Parameters>{parameters}</ssv:Parameters>'
+                     '</ssv:ParameterSet></ssd:ParameterValues></ssd:ParameterBinding></ssd:ParameterBindings>')
+        components.append(f'<ssd:Component name="{name}" type="application/x-fmu-sharedlibrary" '
+                          f'source="resources/{model}.fmu"><ssd:Connectors>{connectors}</ssd:Connectors>{bound}'
+                          '</ssd:Component>')
+    connections = "".join(f'<ssd:Connection startElement="{a}" startConnector="{x}" endElement="{b}" endConnector="{y}"/>'
+                          for a, x, b, y in links)
+    path = tmp_path / "pair.ssp"
+    with zipfile.ZipFile(path, "w") as z:
+        z.writestr("SystemStructure.ssd", ssd.format(components="".join(components), connections=connections))
+        for model in ("Oscillator", "SpringDamper"):
+            z.write(fmutest.fmu_path(model), f"resources/{model}.fmu")
+    ssp = archive.read(path, tmp_path / "read")
+    assert ssp.step == 0.01 and ssp.stop == 10.0 and ssp.sets["start"][("b", "x")] == 0.0
+    from mechfmu_validate.systems import validate_system
+
+    rows = {r.importer: r for r in validate_system(path)}
+    assert rows["FMPy SSP"].passed and rows["FMPy SSP"].max_error < 0.1, rows["FMPy SSP"]
+    assert rows["plain Jacobi"].max_error < 0.05
+    # libcosim reads an inline set too, and leaves the state's start value (a LIMIT)
+    assert rows["libcosim SSP"].passed and rows["libcosim SSP"].limited
+    # and the solution is the monolithic one: TwoMassOscillator at its defaults
+    t, solution = jacobi.solution(ssp, ssp.sets["start"], ssp.stop, [("a", "x")], tmp_path)
+    exact = 0.5 * np.cos(t) + 0.5 * np.cos(np.sqrt(3.0) * t)
+    assert np.max(np.abs(solution[("a", "x")] - exact)) < 1e-4

@@ -84,7 +84,12 @@ def _bound_set(folder: Path, ssd: str) -> tuple[str | None, dict[tuple[str, str]
     name = None
     for component in root.iterfind(f"{SSD}System/{SSD}Elements/{SSD}Component"):
         for binding in component.iterfind(f"{SSD}ParameterBindings/{SSD}ParameterBinding"):
-            ssv = etree.parse(str(folder / binding.get("source"))).getroot()
+            # a file of its own, or the values inline
+            source = binding.get("source")
+            ssv = (etree.parse(str(folder / source)).getroot() if source
+                   else binding.find(f"{SSD}ParameterValues/{SSV}ParameterSet"))
+            if ssv is None:
+                continue
             name = ssv.get("name", name)
             for p in ssv.iterfind(f"{SSV}Parameters/{SSV}Parameter"):
                 real = p.find(f"{SSV}Real")

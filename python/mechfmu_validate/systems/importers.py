@@ -26,7 +26,7 @@ from typing import Callable
 import fmpy
 import numpy as np
 
-from .archive import Ssp
+from .archive import DEFAULT_SSD, Ssp
 
 Series = tuple[np.ndarray, dict[tuple[str, str], np.ndarray]]
 
@@ -79,9 +79,9 @@ def _libcosim_run(ssp: Ssp, set_name: str, step: float, signals) -> Series:
 
     log_output_level(CosimLogLevel.ERROR)
     ssd = ssp.folder / ssp.set_files[set_name]
-    # libcosimpy takes a step in integer nanoseconds; none: the SSD's own
-    own = abs(step - ssp.step) <= 1e-15 * ssp.step
-    execution = CosimExecution.from_ssp_file(str(ssd), step_size=None if own else int(round(step * 1e9)))
+    # always a step, in integer nanoseconds (libcosimpy's unit): libcosim fails without one,
+    # and an SSP may give its step to OMSimulator alone
+    execution = CosimExecution.from_ssp_file(str(ssd), step_size=int(round(step * 1e9)))
     slaves = {info.name.decode(): info.index for info in execution.slave_infos()}
     refs = {}
     for name, index in slaves.items():
@@ -148,7 +148,7 @@ def _oms_run(ssp: Ssp, set_name: str, step: float, signals) -> Series:
     from OMSimulator import SSP
 
     model = SSP(str(ssp.path))
-    if set_name != "default":
+    if ssp.set_files[set_name] != DEFAULT_SSD:
         model.activeVariantName = set_name
     instance = model.instantiate()
     with tempfile.TemporaryDirectory(prefix="mechfmu-oms-") as tmp:

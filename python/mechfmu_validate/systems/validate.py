@@ -71,7 +71,7 @@ def _importer_row(importer, ssp, set_name, case, signals, times, solution, basel
     if not ok:
         row.update(passed=True, skipped=True, max_error=None, notes=[why])
         return row
-    if importer.default_only and set_name != "default":
+    if importer.default_only and ssp.set_files[set_name] != archive.DEFAULT_SSD:
         row.update(passed=True, skipped=True, max_error=None,
                    notes=[f"{importer.name} runs the default set only (SystemStructure.ssd; it loads no variant)"])
         return row
