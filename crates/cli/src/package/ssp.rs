@@ -14,8 +14,9 @@
 //!   binding per component: `SystemStructure.ssd` the default set, the variant `<set>.ssd`
 //!   every other one (libcosim and OMSimulator run a variant by name). The tools apply
 //!   several bindings each its own way (libcosim the first, OMSimulator's Python API every
-//!   one in turn, its command line every one whose values differ from the FMU's start values,
-//!   Ecos the one its `init` names), so that binding more than one set in
+//!   one in turn, the last winning; its command line ran a set other than the default
+//!   whenever one was bound, first or last; Ecos the one its `init` names), so that binding
+//!   more than one set in
 //!   `SystemStructure.ssd` makes one of them run another set than the default.
 //!   Bindings are the components': libcosim ignores a system's.
 
