@@ -52,6 +52,21 @@ def log_mark():
     return fmutest.LogMark()
 
 
+#: the files that take longest, longest first: run first, so that under pytest-xdist
+#: (scripts/test: one worker per core, a file to a worker) no core is left with one of them
+#: at the end while the others idle
+LONGEST_FIRST = ("test_new_mechanism.py", "test_install.py", "test_validate.py", "test_fmi3.py",
+                 "test_systems.py", "test_cross_check.py", "test_model_exchange.py", "test_platforms.py")
+
+
+def pytest_collection_modifyitems(session, config, items):
+    def rank(item) -> int:
+        name = item.path.name
+        return LONGEST_FIRST.index(name) if name in LONGEST_FIRST else len(LONGEST_FIRST)
+
+    items.sort(key=rank)  # stable: a file's tests keep their order
+
+
 def pytest_sessionfinish(session, exitstatus):
     fmutest.cleanup_extracted()
 
