@@ -21,7 +21,7 @@ import pytest
 from lxml import etree
 
 import fmutest
-from mechanisms import systems
+from mechanisms import models, systems
 from mechfmu_validate.systems import FACTOR, archive, jacobi
 from refs import controlled_crane
 
@@ -173,31 +173,33 @@ def test_mechfmu_validate_runs_every_set_in_every_ssp_importer(validated):
         assert not rows[("ControlledCrane", f"{set_name} (SSP)", "libcosim SSP")].get("limited")
 
 
-#: the mechanisms whose FMI 3.0 FMU declares terminals, and their terminals
-TERMINALS = {"Oscillator": {"flange"}, "SpringDamper": {"a", "b"}, "CraneDynamics": {"drives", "motion"},
-             "CraneController": {"drives", "motion"}}
-
-
-@pytest.mark.parametrize("model", sorted(TERMINALS))
-def test_the_fmi3_terminals_are_valid_and_name_the_fmus_variables(model):
+def test_the_fmi3_terminals_are_valid_and_name_the_fmus_variables():
     """terminalsAndIcons/terminalsAndIcons.xml against FMI 3.0's schema (FMPy's copy): each
-    member a variable of the FMU, members matched by name (`plug`), one kind on both sides of
-    the terminals a system joins."""
+    member a variable of the FMU, members matched by name (`plug`); every mechanism the shipped
+    systems are made of (they join terminal to terminal) has the file."""
     schema = etree.XMLSchema(etree.parse(str(Path(fmpy.__file__).parent / "schema" / "fmi3" /
                                              "fmi3TerminalsAndIcons.xsd")))
-    path = fmutest.FMU_DIR / "fmi3" / f"{model}.fmu"
-    with zipfile.ZipFile(path) as z:
-        doc = etree.fromstring(z.read("terminalsAndIcons/terminalsAndIcons.xml"))
-        md = etree.fromstring(z.read("modelDescription.xml"))
-    assert schema.validate(doc), schema.error_log
-    variables = {v.get("name") for v in md.find("ModelVariables")}
-    terminals = doc.findall("Terminals/Terminal")
-    assert {t.get("name") for t in terminals} == TERMINALS[model]
-    for t in terminals:
-        assert t.get("matchingRule") == "plug" and t.get("terminalKind").startswith("org.mechfmu.")
-        for member in t.findall("TerminalMemberVariable"):
-            assert member.get("variableName") in variables, (t.get("name"), member.get("variableName"))
-            assert member.get("variableKind") == "signal"
+    with_terminals = set()
+    for model in models():
+        with zipfile.ZipFile(fmutest.FMU_DIR / "fmi3" / f"{model}.fmu") as z:
+            if "terminalsAndIcons/terminalsAndIcons.xml" not in z.namelist():
+                continue
+            doc = etree.fromstring(z.read("terminalsAndIcons/terminalsAndIcons.xml"))
+            md = etree.fromstring(z.read("modelDescription.xml"))
+        assert schema.validate(doc), (model, schema.error_log)
+        variables = {v.get("name") for v in md.find("ModelVariables")}
+        terminals = doc.findall("Terminals/Terminal")
+        assert terminals, model
+        for terminal in terminals:
+            assert terminal.get("matchingRule") == "plug" and terminal.get("terminalKind").startswith("org.mechfmu.")
+            for member in terminal.findall("TerminalMemberVariable"):
+                assert member.get("variableName") in variables, (model, terminal.get("name"), member.get("variableName"))
+                assert member.get("variableKind") == "signal"
+        with_terminals.add(model)
+    for name in NAMES:
+        with zipfile.ZipFile(ssp_path(name)) as z:
+            components = {Path(n).stem for n in z.namelist() if n.startswith("resources/") and n.endswith(".fmu")}
+        assert components <= with_terminals, (name, components - with_terminals)
 
 
 def test_an_fmu_without_terminals_has_no_terminals_file():
