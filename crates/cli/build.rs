@@ -44,11 +44,16 @@ const WORKSPACE_MANIFEST: &str = "\
 members = [\"tools/fmi-run\"]
 resolver = \"2\"
 
-# The importer only drives the FMU, whose binary does the numbers: built for a short build
-# (as `scripts/cross-runners` builds it for the other platforms), not for speed.
-[profile.release]
+# The importer only drives the FMU, whose binary does the numbers: built for a short build,
+# not for speed (the checkout's own profile `importer`).
+[profile.importer]
+inherits = \"release\"
 opt-level = 1
 codegen-units = 16
+strip = \"symbols\"
+
+[profile.importer.package.\"*\"]
+opt-level = 0
 ";
 
 fn main() {

@@ -22,6 +22,7 @@ import math
 import os
 import re
 import shutil
+import subprocess
 import tempfile
 import threading
 from ctypes import c_double, c_uint
@@ -47,6 +48,17 @@ FMU_DIR = Path(os.environ.get("MECHFMU_FMU_DIR") or REPO_ROOT / "fmus").resolve(
 FIGURES_DIR = REPO_ROOT / "target" / "test-figures"
 
 BUILD_HINT = "run `cargo run --release -- build` first"
+
+
+def built_fmi_run() -> Path:
+    """mechfmu-fmi-run (the fmi crate's importer) built as `mechfmu validate` builds it: cargo
+    profile `importer` (scripts/cross-runners has built it already, so this is quick)."""
+    exe = REPO_ROOT / "target" / "importer" / "mechfmu-fmi-run"
+    done = subprocess.run(["cargo", "build", "--profile", "importer", "--quiet", "-p", "mechfmu-fmi-run"],
+                          cwd=REPO_ROOT, capture_output=True, text=True)
+    assert done.returncode == 0 and exe.is_file(), f"cannot build mechfmu-fmi-run:\n{done.stderr[-3000:]}"
+    return exe
+
 
 # ---------------------------------------------------------------------------------------
 # FMU files

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import os
 import re
-import subprocess
 
 import numpy as np
 import pytest
@@ -49,10 +48,7 @@ fmu_of = fmutest.validation_fmu
 @pytest.fixture(scope="module")
 def fmi_run():
     """mechfmu-fmi-run, built as `mechfmu validate` builds it, named in $MECHFMU_FMI_RUN."""
-    exe = fmutest.REPO_ROOT / "target" / "release" / "mechfmu-fmi-run"
-    done = subprocess.run(["cargo", "build", "--release", "--quiet", "-p", "mechfmu-fmi-run"],
-                          cwd=fmutest.REPO_ROOT, capture_output=True, text=True)
-    assert done.returncode == 0 and exe.is_file(), f"cannot build mechfmu-fmi-run:\n{done.stderr[-3000:]}"
+    exe = fmutest.built_fmi_run()
     before = os.environ.get(FMI_RUN_ENV)
     os.environ[FMI_RUN_ENV] = str(exe)
     yield exe

@@ -82,10 +82,7 @@ def build(directory: Path, *defines: str, name: str = "FirstOrder.fmu", binary_f
 @pytest.fixture(scope="module")
 def fmi_run():
     """mechfmu-fmi-run (the fmi crate's importer), as `mechfmu validate` builds and names it."""
-    exe = REPO / "target" / "release" / "mechfmu-fmi-run"
-    done = subprocess.run(["cargo", "build", "--release", "--quiet", "-p", "mechfmu-fmi-run"], cwd=REPO,
-                          capture_output=True, text=True)
-    assert done.returncode == 0 and exe.is_file(), f"cannot build mechfmu-fmi-run:\n{done.stderr[-3000:]}"
+    exe = fmutest.built_fmi_run()
     return exe
 
 

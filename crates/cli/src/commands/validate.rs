@@ -18,7 +18,7 @@
 //! the venv that [`ensure_venv`]
 //! provisions (editable, so the venv's interpreter imports it as is). The
 //! fmi-crate importer is a separate executable, `mechfmu-fmi-run` (`tools/fmi-run`), which
-//! this command builds first (`cargo build --release -p mechfmu-fmi-run` in mechfmu's files,
+//! this command builds first (`cargo build --profile importer -p mechfmu-fmi-run` in mechfmu's files,
 //! a few minutes the first time; it needs libclang) and names to the Python side in `MECHFMU_FMI_RUN`. If it cannot
 //! be built, the command says why and goes on: the fmi-crate rows then fail.
 
@@ -248,8 +248,12 @@ fn validation_arguments(crates: &[MechanismCrate], args: &Args) -> Result<Vec<St
 /// The environment variable that names `mechfmu-fmi-run` to the Python side.
 const FMI_RUN_ENV: &str = "MECHFMU_FMI_RUN";
 
+/// The cargo profile the fmi-crate importer is built with (the workspace's, and the copy's
+/// that the installed command carries): built for a short build, since the FMU does the numbers.
+const IMPORTER_PROFILE: &str = "importer";
+
 /// Builds `mechfmu-fmi-run` (the fmi-crate importer, `tools/fmi-run`) in mechfmu's files,
-/// in release mode; returns the executable's path. In a checkout, a no-op when it is up to
+/// with the profile [`IMPORTER_PROFILE`]; returns the executable's path. In a checkout, a no-op when it is up to
 /// date. The installed command's copy of the files never changes, so the importer built
 /// from it is kept where [`crate::home::kept_importer`] says and the build's own files
 /// (some 350 MB) are removed.
@@ -265,7 +269,7 @@ fn build_fmi_run(home: &Path) -> Result<PathBuf, String> {
         target_dir(home)?
     };
     let exe = target
-        .join("release")
+        .join(IMPORTER_PROFILE)
         .join(format!("mechfmu-fmi-run{}", std::env::consts::EXE_SUFFIX));
     if !exe.is_file() {
         eprintln!(
@@ -275,7 +279,8 @@ fn build_fmi_run(home: &Path) -> Result<PathBuf, String> {
     let out = Command::new(cargo())
         .args([
             "build",
-            "--release",
+            "--profile",
+            IMPORTER_PROFILE,
             "--quiet",
             "-p",
             "mechfmu-fmi-run",
@@ -299,7 +304,7 @@ fn build_fmi_run(home: &Path) -> Result<PathBuf, String> {
             format!("cargo build failed ({})", out.status)
         };
         return Err(format!(
-            "cannot build the fmi-crate importer (`cargo build --release -p mechfmu-fmi-run` in {}): \
+            "cannot build the fmi-crate importer (`cargo build --profile {IMPORTER_PROFILE} -p mechfmu-fmi-run` in {}): \
              {cause}\n  cargo said:\n    {}",
             home.display(),
             tail.join("\n    ")
