@@ -23,7 +23,14 @@ use std::panic::catch_unwind;
 /// [`export`](crate::export). Checks the mechanism's event indicators, arrays and moving
 /// case at compile time.
 ///
+/// A mechanism crate that can be a component of a system's FMU exports under
+/// `#[cfg(not(feature = "component"))]`, and a system crate under `#[cfg(feature = "fmu")]`
+/// (a [`system!`](crate::system) whose components are all mechanisms is one): the system's
+/// feature `fmu` turns its components' feature `component` on, so that its binary exports the
+/// system's functions and none of theirs.
+///
 /// ```ignore
+/// #[cfg(not(feature = "component"))]
 /// mechfmu::export_fmu!(Oscillator);
 /// ```
 #[macro_export]

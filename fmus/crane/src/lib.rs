@@ -182,4 +182,6 @@ impl Mechanism for Crane {
     }
 }
 
+// The FMU's functions; none when the crate is compiled into a system's FMU.
+#[cfg(not(feature = "component"))]
 mechfmu::export_fmu!(Crane);

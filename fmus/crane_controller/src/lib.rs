@@ -104,4 +104,6 @@ impl Mechanism for CraneController {
     }
 }
 
+// The FMU's functions; none when the crate is compiled into a system's FMU.
+#[cfg(not(feature = "component"))]
 mechfmu::export_fmu!(CraneController);

@@ -278,4 +278,6 @@ impl Mechanism for CraneDynamics {
     }
 }
 
+// The FMU's functions; none when the crate is compiled into a system's FMU.
+#[cfg(not(feature = "component"))]
 mechfmu::export_fmu!(CraneDynamics);

@@ -203,4 +203,6 @@ impl Mechanism for DoublePendulumCart {
     }
 }
 
+// The FMU's functions; none when the crate is compiled into a system's FMU.
+#[cfg(not(feature = "component"))]
 mechfmu::export_fmu!(DoublePendulumCart);

@@ -90,4 +90,6 @@ impl Mechanism for Oscillator {
     }
 }
 
+// The FMU's functions; none when the crate is compiled into a system's FMU.
+#[cfg(not(feature = "component"))]
 mechfmu::export_fmu!(Oscillator);

@@ -165,4 +165,6 @@ impl Mechanism for PendulumCart {
     }
 }
 
+// The FMU's functions; none when the crate is compiled into a system's FMU.
+#[cfg(not(feature = "component"))]
 mechfmu::export_fmu!(PendulumCart);

@@ -527,4 +527,6 @@ fn inverse_of_inertia(i_b: &Matrix3<f64>) -> Matrix3<f64> {
     inverse
 }
 
+// The FMU's functions; none when the crate is compiled into a system's FMU.
+#[cfg(not(feature = "component"))]
 mechfmu::export_fmu!(RigidBody);

@@ -77,4 +77,6 @@ impl Mechanism for SpringDamper {
     }
 }
 
+// The FMU's functions; none when the crate is compiled into a system's FMU.
+#[cfg(not(feature = "component"))]
 mechfmu::export_fmu!(SpringDamper);

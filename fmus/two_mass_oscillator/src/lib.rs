@@ -188,4 +188,6 @@ impl Mechanism for TwoMassOscillator {
     }
 }
 
+// The FMU's functions; none when the crate is compiled into a system's FMU.
+#[cfg(not(feature = "component"))]
 mechfmu::export_fmu!(TwoMassOscillator);

@@ -37,3 +37,7 @@ mechfmu::system! {
 }
 
 mechfmu::export_system!(ControlledCrane);
+
+// The system as one FMU: its components' equations integrated together.
+#[cfg(feature = "fmu")]
+mechfmu::export_fmu!(ControlledCrane);

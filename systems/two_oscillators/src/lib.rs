@@ -48,3 +48,7 @@ mechfmu::system! {
 }
 
 mechfmu::export_system!(TwoOscillators);
+
+// The system as one FMU: its components' equations integrated together.
+#[cfg(feature = "fmu")]
+mechfmu::export_fmu!(TwoOscillators);

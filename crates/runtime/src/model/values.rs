@@ -1,5 +1,6 @@
 //! The values of a mechanism by value reference: the one place that reads the named fields
-//! `mechanism!` declares as the array they are laid out as.
+//! `mechanism!` declares (and a system's values, made of them) as the array they are laid
+//! out as.
 
 use super::Scalar;
 use std::mem::{align_of, size_of};
@@ -24,8 +25,28 @@ use std::mem::{align_of, size_of};
 /// ```
 #[doc(hidden)]
 pub unsafe trait Fields<S: Scalar>: Sized {
-    /// The number of fields: the variables plus the time.
+    /// The number of fields: the variables plus the time (plus, for a system, each
+    /// component's own time).
     const LEN: usize;
+
+    /// The field holding value reference `vr`, or `None` when `vr` is not a variable: the
+    /// one after the time, as `mechanism!` lays them out. A system's values, its components'
+    /// one after the other, say otherwise. (A field out of range is a panic, never a read.)
+    #[inline(always)]
+    fn field_of(vr: usize) -> Option<usize> {
+        if vr < Self::LEN - 1 {
+            Some(vr + 1)
+        } else {
+            None
+        }
+    }
+
+    /// The value reference `field` holds, or `None` for a time: the inverse of
+    /// [`Fields::field_of`].
+    #[inline(always)]
+    fn reference_at(field: usize) -> Option<usize> {
+        field.checked_sub(1).filter(|&vr| vr < Self::LEN - 1)
+    }
 }
 
 /// `V` has exactly the size and alignment of `[S; LEN]`: no padding, nothing but its
@@ -60,28 +81,25 @@ fn fields_mut<S: Scalar, V: Fields<S>>(values: &mut V) -> &mut [S] {
 /// variable. O(1): an index, not a search.
 #[inline(always)]
 pub fn get<S: Scalar, V: Fields<S>>(values: &V, vr: usize) -> Option<S> {
-    if vr < V::LEN - 1 {
-        Some(fields(values)[vr + 1])
-    } else {
-        None
-    }
+    V::field_of(vr).map(|i| fields(values)[i])
 }
 
 /// Sets value reference `vr`; false when `vr` is not a variable.
 #[inline(always)]
 pub fn set<S: Scalar, V: Fields<S>>(values: &mut V, vr: usize, value: S) -> bool {
-    if vr < V::LEN - 1 {
-        fields_mut(values)[vr + 1] = value;
-        true
-    } else {
-        false
+    match V::field_of(vr) {
+        Some(i) => {
+            fields_mut(values)[i] = value;
+            true
+        }
+        None => false,
     }
 }
 
 /// The value reference of the field `field` refers to, if it is one of `values`' variables.
 pub fn reference_of<S: Scalar, V: Fields<S>>(values: &V, field: &S) -> Option<usize> {
     let position = fields(values).iter().position(|f| std::ptr::eq(f, field))?;
-    position.checked_sub(1) // field 0 is the time
+    V::reference_at(position)
 }
 
 /// The values of `vrs` into `to`, each by an 8-byte load of its own (volatile: the compiler
@@ -93,8 +111,9 @@ pub fn reference_of<S: Scalar, V: Fields<S>>(values: &V, field: &S) -> Option<us
 pub fn get_one_by_one<V: Fields<f64>>(values: &V, vrs: &[usize], to: &mut [f64]) {
     let fields = fields(values);
     for (t, &vr) in to.iter_mut().zip(vrs) {
+        let field = &fields[V::field_of(vr).unwrap_or(usize::MAX)];
         // SAFETY: a reference to an initialized f64 of the values (bounds-checked index).
-        *t = unsafe { std::ptr::read_volatile(&fields[vr + 1]) };
+        *t = unsafe { std::ptr::read_volatile(field) };
     }
 }
 

@@ -242,7 +242,157 @@ macro_rules! system {
                 )*
             )*)?
         };
+
+        $crate::__system_mechanism! {
+            $name
+            notes: ::core::concat!(
+                "A system of mechanisms compiled into one FMU: its components' equations, \
+                 evaluated in an order in which every connected input is known when its \
+                 component's equations run, integrated together by one solver (no \
+                 co-simulation, so no coupling error). Each variable is a component's, \
+                 named `component.variable`; an input that a connection feeds is a local \
+                 variable holding the connected output's value.\n\n## Components\n\n"
+                $(, "- `", ::core::stringify!($component), "`: ",
+                    ::core::stringify!($($source)::+ $(($path))?) $(, " ", $cdoc)*, "\n")*
+                , "\n## Connections\n\n"
+                $(, "- `", ::core::stringify!($from), ".", ::core::stringify!($output), "` \u{2192} `",
+                    ::core::stringify!($to), ".", ::core::stringify!($input), "`\n")*
+                $($(, "- terminal `", ::core::stringify!($a), ".", ::core::stringify!($a_terminal),
+                    "` \u{2194} `", ::core::stringify!($b), ".", ::core::stringify!($b_terminal),
+                    "`, member by member\n")*)?
+                $($(
+                    , "\n## Parameter set `", ::core::stringify!($set), "`\n\n"
+                    $(, $sdoc)*, "\n\n"
+                    $(, "- `", ::core::stringify!($bound), ".", ::core::stringify!($variable), " = ",
+                        ::core::stringify!($value), "`\n")*
+                )*)?
+            );
+            [] $( $component : $($source)::+ $(($path))? ),*
+        }
     };
+}
+
+/// A system's [`Declaration`](crate::model::Declaration) and
+/// [`Mechanism`](crate::model::Mechanism), when every component is a mechanism: the system as
+/// one mechanism ([`composite`](super::composite)), which
+/// [`export_fmu!`](crate::export_fmu) exports as an FMU. Nothing when a component
+/// is an FMU file.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __system_mechanism {
+    // an FMU file among the components: the system is an SSP only
+    ($name:ident notes: $notes:expr; [$($done:tt)*] $component:ident : fmu ($path:literal) $(, $($rest:tt)*)?) => {};
+    ($name:ident notes: $notes:expr; [$($done:tt)*] $component:ident : $($source:ident)::+ $(, $($rest:tt)*)?) => {
+        $crate::__system_mechanism! { $name notes: $notes; [$($done)* ($($source)::+)] $($($rest)*)? }
+    };
+    ($name:ident notes: $notes:expr; [$(($($mechanism:tt)*))*]) => {
+        const _: () = {
+            use $crate::model::{count_selected, Selection, Variable};
+            use $crate::system::composite;
+
+            type Components = $crate::__system_list!($(($($mechanism)*))*);
+            const SYSTEM: &$crate::system::SystemDeclaration =
+                &<$name as $crate::system::System>::DECLARATION;
+            const N: usize = composite::variable_count(SYSTEM);
+            const NAMES_LEN: usize = composite::names_len(SYSTEM);
+            const NAMES: [u8; NAMES_LEN] = composite::names::<NAMES_LEN>(SYSTEM);
+            const ALL_VARIABLES: [Variable; N] = composite::variables::<N>(SYSTEM, &NAMES);
+            const VARIABLES: &[Variable] = &ALL_VARIABLES;
+            const _: () = assert!(
+                <Components as $crate::system::Components>::VARIABLES == N,
+                "the components' values and the declaration disagree"
+            );
+            const PLAN_LEN: usize = composite::plan_len(SYSTEM);
+            const PLAN: [composite::Step; PLAN_LEN] = composite::plan::<PLAN_LEN>(SYSTEM);
+            const EVENT_LISTS: &[&[&str]] =
+                &[$(<$($mechanism)* as $crate::model::Mechanism>::EVENT_INDICATORS),*];
+            const N_EVENTS: usize = composite::event_indicator_count(EVENT_LISTS);
+            const EVENTS: [&str; N_EVENTS] =
+                composite::event_indicators::<N_EVENTS>(SYSTEM, EVENT_LISTS, VARIABLES);
+            const N_STATES: usize = count_selected(VARIABLES, Selection::States);
+            const N_CONTINUOUS: usize = count_selected(VARIABLES, Selection::Continuous);
+            const N_INPUTS: usize = count_selected(VARIABLES, Selection::Inputs);
+            const N_CONTINUOUS_UNCHECKED: usize =
+                count_selected(VARIABLES, Selection::ContinuousUnchecked);
+
+            impl $crate::model::Declaration for $name {
+                const NAME: &'static str = SYSTEM.name;
+                const DESCRIPTION: &'static str = SYSTEM.description;
+                const VARIABLES: &'static [Variable] = VARIABLES;
+                type Values<S: $crate::model::Scalar> = $crate::system::SystemValues<S, Components>;
+                type State = [f64; N_STATES];
+                const STATES: &'static [usize] =
+                    &$crate::model::selected_references::<N_STATES>(VARIABLES, Selection::States);
+                const DERIVATIVES: &'static [usize] =
+                    &$crate::model::derivative_references::<N_STATES>(VARIABLES);
+                const DERIVATIVES_AMONG_STATES: &'static [Option<usize>] =
+                    &$crate::model::derivatives_among_states::<N_STATES>(VARIABLES);
+                const CONTINUOUS: &'static [usize] = &$crate::model::selected_references::<
+                    N_CONTINUOUS,
+                >(VARIABLES, Selection::Continuous);
+                const CONTINUOUS_UNCHECKED: &'static [usize] =
+                    &$crate::model::selected_references::<N_CONTINUOUS_UNCHECKED>(
+                        VARIABLES,
+                        Selection::ContinuousUnchecked,
+                    );
+                const INPUTS: &'static [usize] =
+                    &$crate::model::selected_references::<N_INPUTS>(VARIABLES, Selection::Inputs);
+
+                fn zeros<S: $crate::model::Scalar>() -> Self::Values<S> {
+                    $crate::system::values::zeros()
+                }
+
+                fn map_values<A: $crate::model::Scalar, B: $crate::model::Scalar>(
+                    values: &Self::Values<A>,
+                    f: impl Fn(A) -> B,
+                ) -> Self::Values<B> {
+                    $crate::system::values::map_values(values, f)
+                }
+            }
+
+            impl $crate::model::Mechanism for $name {
+                const EXPERIMENT: $crate::model::Experiment = SYSTEM.experiment;
+                const NOTES: &'static str = $notes;
+                const PROJECTED: bool = <Components as $crate::system::Components>::PROJECTED;
+                const MONITORED: bool = <Components as $crate::system::Components>::MONITORED;
+                const EVENT_INDICATORS: &'static [&'static str] = &EVENTS;
+
+                fn calculate(values: &mut Self::Values<f64>) -> Result<(), String> {
+                    $crate::system::equations::calculate(values, SYSTEM)
+                }
+
+                #[inline(always)]
+                fn evaluate<S: $crate::model::Scalar>(values: &mut Self::Values<S>) {
+                    $crate::system::equations::evaluate(values, &PLAN)
+                }
+
+                #[inline]
+                fn outputs<S: $crate::model::Scalar>(values: &mut Self::Values<S>) {
+                    $crate::system::equations::outputs(values, &PLAN)
+                }
+
+                fn diagnose(values: &Self::Values<f64>) -> Option<String> {
+                    $crate::system::equations::diagnose(values, SYSTEM)
+                }
+
+                fn project(values: &mut Self::Values<f64>) {
+                    $crate::system::equations::project(values, SYSTEM)
+                }
+
+                fn monitor(values: &Self::Values<f64>) -> $crate::model::Monitor {
+                    $crate::system::equations::monitor(values, SYSTEM)
+                }
+            }
+        };
+    };
+}
+
+/// The components of a system as a list in types, `(A, (B, ()))`, from `(A) (B)`.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __system_list {
+    () => { () };
+    (($($head:tt)*) $($rest:tt)*) => { ($($head)*, $crate::__system_list!($($rest)*)) };
 }
 
 /// What a component of [`system!`] is: `fmu("path")` or a mechanism's type.

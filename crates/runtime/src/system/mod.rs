@@ -6,11 +6,22 @@
 //! (an FMU file's variables, the direct feedthrough that can close a loop) is checked by the
 //! `mechfmu` command when it builds the system, with [`feedthrough_cycle`] and the same
 //! messages.
+//!
+//! A system whose components are all mechanisms is also one mechanism (`system!` implements
+//! [`Mechanism`] for it: [`composite`] lays out its variables and the order of its equations,
+//! [`values`] its values, [`equations`] runs them), which
+//! [`export_fmu!`](crate::export_fmu) exports as one FMU.
 
 mod checks;
+#[doc(hidden)]
+pub mod composite;
 mod declare;
+#[doc(hidden)]
+pub mod equations;
 mod graph;
 mod json;
+#[doc(hidden)]
+pub mod values;
 
 pub use checks::{
     binding_mistake, component_mistake, connection_mistake, set_mistake,
@@ -22,6 +33,7 @@ pub use checks::{
 };
 pub use graph::{feedthrough_cycle, Feedthrough, PortName};
 pub use json::declaration_json;
+pub use values::{Components, SystemValues};
 
 use crate::model::{Causality, Experiment, Mechanism, Terminal, Variable};
 
@@ -272,3 +284,6 @@ pub(crate) const fn terminal_of(
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod composite_tests;
