@@ -18,12 +18,14 @@ pub(super) struct Library {
     pub path: PathBuf,
 }
 
-/// Builds the crates' cdylibs in release mode for each of `platforms`.
+/// Builds the crates' cdylibs in release mode for each of `platforms`, with `features`
+/// (`package/feature`) on.
 pub(super) fn build(
     crates: &[MechanismCrate],
     manifest_path: Option<&Path>,
     flavor: &Flavor,
     platforms: &[Platform],
+    features: &[String],
 ) -> Result<Vec<Library>, String> {
     let host = Platform::host();
     let mut libraries = Vec::new();
@@ -34,6 +36,7 @@ pub(super) fn build(
             flavor,
             &[host],
             Targets::Host,
+            features,
         )?);
     }
     let cross: Vec<Platform> = platforms
@@ -52,7 +55,14 @@ pub(super) fn build(
         let targets = Targets::Cross {
             macos_sdk: macos_sdk.as_deref(),
         };
-        libraries.extend(invoke(crates, manifest_path, flavor, &cross, targets)?);
+        libraries.extend(invoke(
+            crates,
+            manifest_path,
+            flavor,
+            &cross,
+            targets,
+            features,
+        )?);
     }
     Ok(libraries)
 }
@@ -73,9 +83,13 @@ fn invoke(
     flavor: &Flavor,
     platforms: &[Platform],
     targets: Targets,
+    features: &[String],
 ) -> Result<Vec<Library>, String> {
     let with_targets = matches!(targets, Targets::Cross { .. });
     let mut cmd = command(crates, manifest_path, flavor, platforms, targets);
+    if !features.is_empty() {
+        cmd.args(["--features", &features.join(",")]);
+    }
     let tuples: Vec<&str> = platforms.iter().map(|p| p.tuple()).collect();
     eprintln!(
         "building {} crate(s) with cargo (release) for {} ...",

@@ -125,49 +125,51 @@ pub(crate) fn systems_named(
     Ok((chosen, others.into_iter().cloned().collect()))
 }
 
-/// The system crates `systems`, built in release mode for this machine only (their binary
-/// says what the system is; the SSP carries its components' FMUs, not it).
+/// The system crates `systems`, built in release mode: those that are one FMU (their
+/// feature `fmu`) for `platforms` and this machine, with the feature on (in a cargo
+/// invocation of their own: there their components export nothing, which would not do for
+/// the mechanisms' own FMUs); the others for this machine only (their binary says what the
+/// system is; the SSP carries its components' FMUs, not it).
 pub(crate) fn built_systems(
     systems: &[MechanismCrate],
-    manifest_path: Option<&Path>,
-) -> Result<Vec<Built>, String> {
-    if systems.is_empty() {
-        return Ok(Vec::new());
-    }
-    let host = host()?;
-    let libraries = cargo::build(systems, manifest_path, &Flavor::Shipped, &[host])?;
-    systems
-        .iter()
-        .map(|krate| {
-            let library = libraries
-                .iter()
-                .find(|l| l.package == krate.package)
-                .ok_or_else(|| format!("cargo built no shared library for `{}`", krate.package))?;
-            Ok(Built {
-                krate: krate.clone(),
-                libraries: BTreeMap::from([(host, library.path.clone())]),
-            })
-        })
-        .collect()
-}
-
-/// The mechanism crates named (every one when `names` is empty), built in release mode
-/// for this machine and for `platforms`.
-pub(crate) fn built_libraries(
-    names: &[String],
     manifest_path: Option<&Path>,
     flavor: &Flavor,
     platforms: &[Platform],
 ) -> Result<Vec<Built>, String> {
     let host = host()?;
+    let (one_fmu, declared_only): (Vec<MechanismCrate>, Vec<MechanismCrate>) =
+        systems.iter().cloned().partition(|s| s.one_fmu);
     let mut targets = platforms.to_vec();
     if !targets.contains(&host) {
         targets.push(host);
     }
     targets.sort();
-    let selected = select(mechanism_crates(manifest_path)?, names)?;
-    let libraries = cargo::build(&selected, manifest_path, flavor, &targets)?;
-    selected
+    let features: Vec<String> = one_fmu
+        .iter()
+        .map(|s| format!("{}/{}", s.package, workspace::SYSTEM_FMU_FEATURE))
+        .collect();
+    let mut built = Vec::new();
+    for (crates, targets, features) in [
+        (one_fmu, targets.as_slice(), features.as_slice()),
+        (declared_only, &[host][..], &[][..]),
+    ] {
+        if crates.is_empty() {
+            continue;
+        }
+        let libraries = cargo::build(&crates, manifest_path, flavor, targets, features)?;
+        built.extend(libraries_of(crates, &libraries, targets)?);
+    }
+    built.sort_by(|a, b| a.krate.model.cmp(&b.krate.model));
+    Ok(built)
+}
+
+/// Each crate of `crates` with its library for each of `targets`, among those cargo built.
+fn libraries_of(
+    crates: Vec<MechanismCrate>,
+    libraries: &[cargo::Library],
+    targets: &[Platform],
+) -> Result<Vec<Built>, String> {
+    crates
         .into_iter()
         .map(|krate| {
             let mine: BTreeMap<Platform, PathBuf> = libraries
@@ -188,4 +190,23 @@ pub(crate) fn built_libraries(
             })
         })
         .collect()
+}
+
+/// The mechanism crates named (every one when `names` is empty), built in release mode
+/// for this machine and for `platforms`.
+pub(crate) fn built_libraries(
+    names: &[String],
+    manifest_path: Option<&Path>,
+    flavor: &Flavor,
+    platforms: &[Platform],
+) -> Result<Vec<Built>, String> {
+    let host = host()?;
+    let mut targets = platforms.to_vec();
+    if !targets.contains(&host) {
+        targets.push(host);
+    }
+    targets.sort();
+    let selected = select(mechanism_crates(manifest_path)?, names)?;
+    let libraries = cargo::build(&selected, manifest_path, flavor, &targets, &[])?;
+    libraries_of(selected, &libraries, &targets)
 }

@@ -13,7 +13,13 @@ pub struct MechanismCrate {
     pub manifest: PathBuf,
     /// The package's description (`The <Model> FMU: what it is`).
     pub description: String,
+    /// A system crate with the feature `fmu`, under which its binary is the system as one
+    /// FMU (`export_fmu!`; its components' crates then export nothing of their own).
+    pub one_fmu: bool,
 }
+
+/// The feature of a system crate under which its binary is the system's FMU.
+pub const SYSTEM_FMU_FEATURE: &str = "fmu";
 
 /// The mechanism crates of the workspace (or crate) at `manifest_path`.
 pub fn mechanism_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCrate>, String> {
@@ -42,6 +48,7 @@ fn crates_declaring(
                 package: p["name"].as_str()?.to_string(),
                 manifest: PathBuf::from(p["manifest_path"].as_str()?),
                 description: p["description"].as_str().unwrap_or_default().to_string(),
+                one_fmu: key == "system" && p["features"].get(SYSTEM_FMU_FEATURE).is_some(),
             })
         })
         .collect();

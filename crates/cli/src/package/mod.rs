@@ -3,7 +3,8 @@
 //! the Mac ones given their install name and made universal by `macho`),
 //! the model description and documentation its binary renders of itself, and its reference
 //! results (`references`); and, when asked, the FMUs laid out as an FMI cross-check tree
-//! (`cross_check`); each system of the workspace as an SSP of its components' FMUs (`ssp`).
+//! (`cross_check`); each system of the workspace as an SSP of its components' FMUs (`ssp`),
+//! and, when its components are all mechanisms, as one FMU like a mechanism's.
 
 pub mod archive;
 pub mod binaries;
@@ -26,7 +27,8 @@ use std::time::Instant;
 /// Builds the mechanism crates named (every one when `names` is empty) for `platforms` and
 /// writes their FMUs of both versions under `out`, and as a cross-check tree under
 /// `cross_check` when given, saying what it wrote; then each system named (every one when
-/// `names` is empty) as `out/<System>.ssp`, its mechanisms built with the others.
+/// `names` is empty) as `out/<System>.ssp`, its mechanisms built with the others, and as
+/// one FMU of each version when its crate has the feature `fmu`.
 pub fn write_fmus(
     names: &[String],
     out: &Path,
@@ -41,13 +43,14 @@ pub fn write_fmus(
         eprintln!("warning: {m}");
     }
     let (system_crates, mut mechanisms) = systems_named(names, manifest_path)?;
-    let systems: Vec<(Built, Declaration)> = built_systems(&system_crates, manifest_path)?
-        .into_iter()
-        .map(|b| {
-            let json = Library::open(b.host_library())?.text(Extra::SystemDeclaration)?;
-            Declaration::parse(&json).map(|d| (b, d))
-        })
-        .collect::<Result<_, String>>()?;
+    let systems: Vec<(Built, Declaration)> =
+        built_systems(&system_crates, manifest_path, &flavor, &platforms)?
+            .into_iter()
+            .map(|b| {
+                let json = Library::open(b.host_library())?.text(Extra::SystemDeclaration)?;
+                Declaration::parse(&json).map(|d| (b, d))
+            })
+            .collect::<Result<_, String>>()?;
     // Named systems bring their mechanisms (no names: every mechanism is built anyway).
     if !names.is_empty() {
         for model in systems.iter().flat_map(|(_, d)| d.mechanisms()) {
@@ -62,7 +65,8 @@ pub fn write_fmus(
         built_libraries(&mechanisms, manifest_path, &flavor, &platforms)?
     };
     std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
-    for b in &built {
+    let one_fmu = systems.iter().map(|(b, _)| b).filter(|b| b.krate.one_fmu);
+    for b in built.iter().chain(one_fmu) {
         for version in [Version::Fmi2, Version::Fmi3] {
             let packaged = package_fmu(b, &platforms, out, version)?;
             let folders: Vec<&str> = platforms.iter().map(|p| p.folder(version)).collect();
@@ -87,10 +91,12 @@ pub fn write_fmus(
         }
     }
     let tuples: Vec<&str> = platforms.iter().map(|p| p.tuple()).collect();
+    let fmus = built.len() + systems.iter().filter(|(b, _)| b.krate.one_fmu).count();
     println!(
-        "built {} mechanism{} as FMI 2.0 and FMI 3.0 FMUs for {} in {:.1} s",
-        built.len(),
-        if built.len() == 1 { "" } else { "s" },
+        "built {} mechanism{} and system{} as FMI 2.0 and FMI 3.0 FMUs for {} in {:.1} s",
+        fmus,
+        if fmus == 1 { "" } else { "s" },
+        if fmus == 1 { "" } else { "s" },
         tuples.join(", "),
         started.elapsed().as_secs_f64()
     );

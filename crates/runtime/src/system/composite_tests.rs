@@ -82,8 +82,20 @@ fn variables_are_the_components_named_component_dot_variable() {
     assert_eq!(
         names,
         [
-            "left.m", "left.F", "left.x", "left.v", "left.a", "right.m", "right.F", "right.x",
-            "right.v", "right.a", "spring.k", "spring.x_a", "spring.x_b", "spring.F_a",
+            "left.m",
+            "left.F",
+            "left.x",
+            "left.v",
+            "left.a",
+            "right.m",
+            "right.F",
+            "right.x",
+            "right.v",
+            "right.a",
+            "spring.k",
+            "spring.x_a",
+            "spring.x_b",
+            "spring.F_a",
             "spring.F_b"
         ]
     );
@@ -97,7 +109,11 @@ fn variables_are_the_components_named_component_dot_variable() {
     // a connected input is the system's to compute
     for connected in ["left.F", "spring.x_a"] {
         let v = variable(connected);
-        assert_eq!((v.causality, v.start), (Causality::Local, None), "{connected}");
+        assert_eq!(
+            (v.causality, v.start),
+            (Causality::Local, None),
+            "{connected}"
+        );
     }
     assert_eq!(Pair::INPUTS, [] as [usize; 0]);
     assert_eq!(Pair::STATES, [2, 3, 7, 8]);
@@ -113,11 +129,20 @@ fn the_spring_is_evaluated_before_the_masses_it_pushes() {
         [
             Step::Copy { from: 2, to: 11 },
             Step::Copy { from: 7, to: 12 },
-            Step::Evaluate { component: 2, outputs: true },
+            Step::Evaluate {
+                component: 2,
+                outputs: true
+            },
             Step::Copy { from: 13, to: 1 },
-            Step::Evaluate { component: 0, outputs: false },
+            Step::Evaluate {
+                component: 0,
+                outputs: false
+            },
             Step::Copy { from: 14, to: 6 },
-            Step::Evaluate { component: 1, outputs: false },
+            Step::Evaluate {
+                component: 1,
+                outputs: false
+            },
         ]
     );
 }
@@ -138,7 +163,10 @@ fn the_equations_are_the_components_through_their_connections() {
     };
     // spring: 2 (3 - 1) = 4 N on the left mass, -4 N on the right one
     assert_eq!((get("left.a"), get("right.a")), (4.0, -4.0));
-    assert_eq!(v.components.head.time, 0.25, "each component has the system's time");
+    assert_eq!(
+        v.components.head.time, 0.25,
+        "each component has the system's time"
+    );
     assert_eq!(v.components.tail.tail.head.time, 0.25);
 }
 
@@ -204,5 +232,8 @@ fn without_an_order_each_round_makes_one_more_link_exact() {
         v.get(vr).unwrap()
     };
     // one.u = 2 · 5, two.u = 2 · 1
-    assert_eq!((get("one.x_dot"), get("two.x_dot")), (10.0 - 1.0, 2.0 - 5.0));
+    assert_eq!(
+        (get("one.x_dot"), get("two.x_dot")),
+        (10.0 - 1.0, 2.0 - 5.0)
+    );
 }

@@ -84,20 +84,24 @@ pub fn model_description<M: Mechanism>() -> Result<String, String> {
     shared::finish(name, write::<M>(&rows, &units, &lists))
 }
 
-/// Checks the names FMI 3.0 sees: identifiers (`structured` names without hierarchy or
-/// quotes), unique, none `time` but the independent variable, none the name of a type.
+/// Checks the names FMI 3.0 sees: `structured` names without quotes, identifiers joined by
+/// dots (a system's `component.variable`), unique, none `time` but the independent
+/// variable, none the name of a type.
 fn check_names(model: &str, shapes: &Shapes, units: &[UnitInfo]) -> Result<(), String> {
     let mut seen = BTreeSet::from(["time"]);
     for s in &shapes.variables {
-        let mut chars = s.name.chars();
-        let identifier = chars
-            .next()
-            .is_some_and(|c| c == '_' || c.is_ascii_alphabetic())
-            && chars.all(|c| c == '_' || c.is_ascii_alphanumeric());
-        if !identifier {
+        let identifier = |part: &str| {
+            let mut chars = part.chars();
+            chars
+                .next()
+                .is_some_and(|c| c == '_' || c.is_ascii_alphabetic())
+                && chars.all(|c| c == '_' || c.is_ascii_alphanumeric())
+        };
+        if !s.name.split('.').all(identifier) {
             return Err(format!(
                 "{model}: `{}` is not a name of variableNamingConvention=\"structured\" \
-                 (ASCII letters, digits and `_`, not starting with a digit)",
+                 (identifiers of ASCII letters, digits and `_`, not starting with a digit, \
+                 joined by `.`)",
                 s.name
             ));
         }
