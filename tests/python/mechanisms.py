@@ -1,7 +1,8 @@
 """The mechanisms of a workspace and what the test suite expects of each, read from their crates.
 
 The list is cargo's: every package of the workspace whose Cargo.toml names its model in
-``[package.metadata.mechfmu] model = "Name"`` (as ``mechfmu build`` finds them). What a test
+``[package.metadata.mechfmu] model = "Name"`` (as ``mechfmu build`` finds them), and every
+system that is compiled into one FMU (``system = "Name"`` and the feature ``fmu``). What a test
 expects of one mechanism lives in its crate's ``validation/`` folder, next to its reference
 cases (``cases.py``):
 
@@ -95,7 +96,9 @@ def _read(manifest: Path) -> tuple[Mechanism, ...]:
         raise RuntimeError(f"cargo metadata failed for {manifest}:\n{done.stderr}")
     found = []
     for package in json.loads(done.stdout)["packages"]:
-        model = ((package.get("metadata") or {}).get("mechfmu") or {}).get("model")
+        declared = (package.get("metadata") or {}).get("mechfmu") or {}
+        # a system compiled into one FMU (its feature `fmu`) is an FMU like a mechanism's
+        model = declared.get("model") or (declared.get("system") if "fmu" in package.get("features", {}) else None)
         if model:
             found.append(Mechanism(model, package["name"], Path(package["manifest_path"]).parent))
     return tuple(sorted(found, key=lambda m: m.model))

@@ -26,6 +26,16 @@ pub fn mechanism_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCra
     crates_declaring(manifest_path, "model")
 }
 
+/// The crates of the workspace (or crate) at `manifest_path` that each build one FMU with
+/// reference cases of its own: the mechanism crates, then the systems that are one FMU, by
+/// name.
+pub fn fmu_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCrate>, String> {
+    let mut crates = mechanism_crates(manifest_path)?;
+    crates.extend(system_crates(manifest_path)?.into_iter().filter(|s| s.one_fmu));
+    crates.sort_by(|a, b| a.model.cmp(&b.model));
+    Ok(crates)
+}
+
 /// The system crates of the workspace (or crate) at `manifest_path`.
 pub fn system_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCrate>, String> {
     crates_declaring(manifest_path, "system")

@@ -22,7 +22,7 @@
 //! a few minutes the first time; it needs libclang) and names to the Python side in `MECHFMU_FMI_RUN`. If it cannot
 //! be built, the command says why and goes on: the fmi-crate rows then fail.
 
-use crate::build::workspace::{cargo, mechanism_crates, target_directory, MechanismCrate};
+use crate::build::workspace::{cargo, fmu_crates, target_directory, MechanismCrate};
 use crate::home::python::{ensure_venv, exit_status};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -149,10 +149,10 @@ pub fn run(args: Args) -> Result<(), String> {
     }
 }
 
-/// The workspace's mechanism crates (none, with a note, when only FMU files are given and
-/// there is no workspace).
+/// The workspace's crates that build one FMU each, mechanisms and systems (none, with a note,
+/// when only FMU files are given and there is no workspace).
 fn workspace_crates(args: &Args) -> Result<Vec<MechanismCrate>, String> {
-    match mechanism_crates(args.manifest_path.as_deref()) {
+    match fmu_crates(args.manifest_path.as_deref()) {
         Ok(c) => Ok(c),
         Err(e)
             if args.manifest_path.is_none()
