@@ -168,6 +168,9 @@ def _paragraph(text: str) -> str:
 
 
 def _why(case: Case, default: Case | None, fmu: Fmu) -> str:
+    if case.default_experiment and not fmu.inputs():
+        return _paragraph("The case is the DefaultExperiment: an importer runs it with the settings of `_ref.opt`, "
+                          "nothing else (the FMU has no input, so there is no `_in.csv`).")
     if case.default_experiment:
         return _paragraph("The case is the DefaultExperiment: an importer runs it with the settings of `_ref.opt` "
                           "and the inputs of `_in.csv`, nothing else.")
@@ -229,7 +232,8 @@ def write_references(fmu: Fmu, case: Case, directory: Path, default: Case | None
         inputs_text = "the inputs (held at their start values)"
     files = {
         f"{model}_ref.csv": ref_text,
-        f"{model}_in.csv": csv_text(in_names, in_cols, digits=17),
+        # without inputs there is nothing to give (the cross-check rules make the file optional)
+        **({f"{model}_in.csv": csv_text(in_names, in_cols, digits=17)} if len(in_names) > 1 else {}),
         f"{model}_ref.opt": (f"StartTime, {start!r}\nStopTime, {stop!r}\nStepSize, {step!r}\n"
                              f"RelTol, {rtol!r}\nOutputIntervalLength, {step!r}\n"),
         "README.md": README.format(model=model, source=_source(model, case), why=_why(case, default, fmu),
@@ -237,6 +241,10 @@ def write_references(fmu: Fmu, case: Case, directory: Path, default: Case | None
                                    inputs=inputs_text, notes=_notes(case, names, cols), start=start, stop=stop,
                                    step=step, rtol=rtol),
     }
+    if len(in_names) == 1:
+        files["README.md"] = "\n".join(line for line in files["README.md"].split("\n")
+                                        if not line.startswith(f"| `{model}_in.csv`"))
+        (directory / f"{model}_in.csv").unlink(missing_ok=True)
     written = []
     for name, text in files.items():
         path = directory / name

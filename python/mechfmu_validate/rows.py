@@ -56,6 +56,10 @@ class Row:
     step: float | _Unset = UNSET
     observed_order: float | _Unset = UNSET
     half_step_error: float | _Unset = UNSET
+    #: a co-simulation's order (its coupling error at the step and at half of it), and the
+    #: largest communication step that keeps that error under the coupling tolerance (systems)
+    coupling_order: float | None | _Unset = UNSET
+    largest_step: float | None | _Unset = UNSET
     #: the platforms an FMU has binaries for and which ran (its platforms row)
     platforms: dict[str, Any] | _Unset = UNSET
     #: a foreign binary's run equals this machine's bit for bit

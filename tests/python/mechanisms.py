@@ -19,13 +19,17 @@ Adding a mechanism is adding its crate: every test that runs on every mechanism 
 from __future__ import annotations
 
 import json
+import shutil
 import subprocess
+import tempfile
 import tomllib
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
-from contracts import Contract, read_contract
+from contracts import Contract, Variable, read_contract
+from fmutest import FMU_DIR
+from mechfmu_validate.systems import archive
 from mechfmu_validate.importers.fmi_crate import RK4
 from mechfmu_validate.importers.fmpy import CVODE, EULER
 
@@ -54,11 +58,13 @@ class Expectations:
 
 @dataclass(frozen=True)
 class Mechanism:
-    """One mechanism crate of the workspace."""
+    """One mechanism crate of the workspace (or a system crate compiled into one FMU)."""
 
     model: str
     package: str
     crate: Path
+    #: a system: its FMU's contract is its components', connected as its SSP says
+    system: bool = False
 
     @property
     def validation(self) -> Path:
@@ -70,7 +76,10 @@ class Mechanism:
 
     @property
     def contract(self) -> Contract | None:
-        """``validation/contract.toml``, or None."""
+        """``validation/contract.toml``, or None; a system's, from its components' (see
+        :func:`system_contract`)."""
+        if self.system:
+            return system_contract(self.model)
         return _contract(self.validation / "contract.toml", self.model)
 
     @property
@@ -98,9 +107,10 @@ def _read(manifest: Path) -> tuple[Mechanism, ...]:
     for package in json.loads(done.stdout)["packages"]:
         declared = (package.get("metadata") or {}).get("mechfmu") or {}
         # a system compiled into one FMU (its feature `fmu`) is an FMU like a mechanism's
-        model = declared.get("model") or (declared.get("system") if "fmu" in package.get("features", {}) else None)
+        one_fmu = "system" in declared and "fmu" in package.get("features", {})
+        model = declared.get("model") or (declared["system"] if one_fmu else None)
         if model:
-            found.append(Mechanism(model, package["name"], Path(package["manifest_path"]).parent))
+            found.append(Mechanism(model, package["name"], Path(package["manifest_path"]).parent, one_fmu))
     return tuple(sorted(found, key=lambda m: m.model))
 
 
@@ -164,3 +174,38 @@ def read_expectations(path: Path) -> Expectations:
 @cache
 def _contract(path: Path, model: str) -> Contract | None:
     return read_contract(path, model)
+
+
+@cache
+def system_contract(model: str) -> Contract:
+    """The contract of the system ``model`` compiled into one FMU (docs/mechanisms/README.md,
+    section 10), from what its SSP (``fmus/<model>.ssp``) says of it and its components'
+    contracts: each component's variables named ``component.variable``, an input a connection
+    feeds a local variable without start value, the ``default`` set's values as start values,
+    the states' derivatives and the event indicators the components'. A component's FMI 3.0
+    arrays are scalars there (a system has none)."""
+    folder = Path(tempfile.mkdtemp(prefix="mechfmu-contract-"))
+    try:
+        ssp = archive.read(FMU_DIR / f"{model}.ssp", folder)
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+    fed = {to for _, to in ssp.connections}
+    default = ssp.sets.get("default", {})
+    variables, min_zero, derivatives, indicators = {}, [], {}, 0
+    unchecked = False  # a component's contract leaves its derivatives unchecked
+    for component in ssp.components:
+        part = mechanism(Path(component.source).stem).contract
+        assert part is not None, f"{model}: component {component.name} ({component.source}) has no contract"
+        name = lambda n: f"{component.name}.{n}"  # noqa: E731
+        for n, v in part.variables.items():
+            if (component.name, n) in fed:
+                v = Variable("local", "continuous", "calculated", None, v.unit)
+            elif v.start is not None and (component.name, n) in default:
+                v = v._replace(start=default[(component.name, n)])
+            variables[name(n)] = v
+        min_zero += [name(n) for n in part.min_zero]
+        unchecked |= part.derivatives is None
+        derivatives.update({name(s): name(d) for s, d in (part.derivatives or {}).items()})
+        indicators += part.event_indicators
+    return Contract(FMU_DIR / f"{model}.ssp", model, (ssp.start, ssp.stop, ssp.step), variables, tuple(min_zero),
+                    None if unchecked else derivatives, {}, indicators)

@@ -118,6 +118,10 @@ def test_committed_references_are_current_and_packaged(model):
     with zipfile.ZipFile(fmu.path) as z:
         for suffix in ("_ref.csv", "_in.csv", "_ref.opt"):
             name = f"{model}{suffix}"
+            if suffix == "_in.csv" and not (d / "reference" / name).is_file():
+                # an FMU without inputs has no input file, packaged or committed
+                assert f"{REFERENCE_DIR}/{name}" not in z.namelist() and not fmu.inputs()
+                continue
             packaged = z.read(f"{REFERENCE_DIR}/{name}")
             assert packaged == (d / "reference" / name).read_bytes(), \
                 f"the FMU's {name} is not the committed one: rebuild with `cargo run --release -- build {model}`"

@@ -500,3 +500,30 @@ def test_a_discarded_step_is_a_failed_case_and_the_next_case_runs():
     assert "trolley reached the pivot" in rows[0]["message"], rows[0]["message"]
     assert "fmi2DoStep discarded the step from t = 0.9" in rows[0]["message"]
     assert rows[1]["final(x)"] == rows[3]["final(x)"] == 1.0
+
+
+# =======================================================================================
+# A system compiled into one FMU sweeps like any FMU: its variables are `component.variable`
+
+
+@pytest.mark.parametrize("engine", ["native", "fmpy"])
+def test_a_system_fmu_sweeps_by_its_components_variables(engine, tmp_path):
+    """`spring.k` of TwoOscillators.fmu, on the command line (the native engine) and through
+    the Python package (the FMPy engine): each case's summary is FMPy's own run at that value."""
+    out = tmp_path / "two.csv"
+    args = [fmu_path("TwoOscillators"), "--param", "spring.k=0.5,1,2", "--param", "b.m=1,3",
+            "--summary", "max_abs(b.x)", "--summary", "final(a.x)", "--stop-time", "10", "--engine", engine,
+            "--workers", "1", "--out", out, "--no-progress"]
+    if engine == "native":
+        p = mechfmu(*args)
+        assert p.returncode == 0, p.stderr
+    else:
+        assert run_sweep(args) == 0
+    rows = table_rows(read_results(out))
+    assert [(r["spring.k"], r["b.m"]) for r in rows] == [(k, m) for k in (0.5, 1.0, 2.0) for m in (1.0, 3.0)]
+    for r in rows:
+        assert r["status"] == "ok", r
+        res = fmpy.simulate_fmu(str(fmu_path("TwoOscillators")), stop_time=10.0,
+                                start_values={"spring.k": r["spring.k"], "b.m": r["b.m"]}, output=["a.x", "b.x"])
+        assert math.isclose(r["max_abs(b.x)"], float(np.max(np.abs(res["b.x"]))), rel_tol=1e-9), r
+        assert math.isclose(r["final(a.x)"], float(res["a.x"][-1]), rel_tol=1e-9, abs_tol=1e-12), r

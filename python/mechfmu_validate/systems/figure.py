@@ -1,6 +1,7 @@
 """The figure of a system's coupling error (``docs/validation/<system>-coupling.png``): the
 plain Jacobi co-simulation of its SSP at its communication step, twice and four times it,
-against the system's solution, the first connected state above and the errors below."""
+against the system's solution (its FMU, where there is one: :mod:`.solution`), the first
+connected state above and the errors below."""
 
 from __future__ import annotations
 
@@ -8,23 +9,25 @@ from pathlib import Path
 
 import numpy as np
 
-from . import jacobi
+from . import jacobi, solution as truth
 from .archive import Ssp
 
 #: the communication steps drawn, as multiples of the SSP's
 MULTIPLES = (4, 2, 1)
 
 
-def write_figure(ssp: Ssp, set_name: str, signal: tuple[str, str], path: Path, work: Path) -> Path:
+def write_figure(ssp: Ssp, set_name: str, signal: tuple[str, str], path: Path, work: Path,
+                 fmu: Path | None = None) -> Path:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     values = ssp.sets[set_name]
-    times, solution = jacobi.solution(ssp, values, ssp.stop, [signal], work)
+    times, solution, _ = truth.solve(ssp, values, [signal], work, fmu)
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(9, 6), sharex=True, height_ratios=(3, 2))
-    top.plot(times, solution[signal], color="black", linewidth=2.2, label="solution (monolithic)")
+    label = f"the system's FMU ({fmu.name})" if fmu is not None else "solution (monolithic)"
+    top.plot(times, solution[signal], color="black", linewidth=2.2, label=label)
     colors = {4: "tab:red", 2: "tab:orange", 1: "tab:blue"}
     for k in MULTIPLES:
         h = k * ssp.step
@@ -34,7 +37,9 @@ def write_figure(ssp: Ssp, set_name: str, signal: tuple[str, str], path: Path, w
         bottom.plot(run_times, run[signal] - exact, color=colors[k], linewidth=1.0, label=f"h = {h:g} s")
     name = f"{signal[0]}.{signal[1]}"
     top.set_ylabel(name)
-    top.set_title(f"{ssp.name} ({set_name}): plain Jacobi co-simulation against the system's solution")
+    top.set_title(f"{ssp.name} ({set_name}): plain Jacobi co-simulation against the system's FMU"
+                  if fmu is not None else f"{ssp.name} ({set_name}): plain Jacobi co-simulation against the "
+                  "system's solution")
     top.legend(loc="upper right", fontsize=8)
     bottom.set_ylabel(f"error of {name}")
     bottom.set_xlabel("time (s)")

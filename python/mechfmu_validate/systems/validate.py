@@ -1,5 +1,6 @@
 """The rows of one SSP: per parameter set, the plain Jacobi scheme's coupling error and each
-importer's at the communication step and at half of it (see the package's documentation)."""
+importer's at the communication step and at half of it, the order they show, and the largest
+step that keeps the error under :data:`COUPLING_TOLERANCE` (see the package's documentation)."""
 
 from __future__ import annotations
 
@@ -11,12 +12,16 @@ import fmpy
 import numpy as np
 
 from ..rows import Row
-from . import archive, jacobi
+from . import archive, jacobi, solution as truth
 from .figure import write_figure
 from .importers import IMPORTERS
 
 #: how many times the plain Jacobi scheme's coupling error an importer's may be
 FACTOR = 5.0
+
+#: the coupling error a user may accept, relative to each signal's range: each row says the
+#: largest communication step that keeps the error under it
+COUPLING_TOLERANCE = 1e-3
 
 
 def validate_system(path: Path, figure_dir: Path | None = None) -> list[Row]:
@@ -39,19 +44,29 @@ def validate_system(path: Path, figure_dir: Path | None = None) -> list[Row]:
         # the system's trajectory: its connected states (an output computed from held inputs,
         # a stateless element's, shows each importer's scheme rather than where it leads)
         signals = [s for s in connected if s in states] or connected
+        one_fmu = truth.system_fmu(path, ssp)
         if figure_dir is not None:
             slug = "".join(f"-{c.lower()}" if c.isupper() else c for c in ssp.name).lstrip("-")
-            figure = write_figure(ssp, "default", signals[0], figure_dir / f"{slug}-coupling.png", work)
+            figure = write_figure(ssp, "default", signals[0], figure_dir / f"{slug}-coupling.png", work, one_fmu)
             print(f"figure: {figure}")
         for set_name, values in ssp.sets.items():
             case = f"{set_name} (SSP)"
-            times, solution = jacobi.solution(ssp, values, ssp.stop, signals, work)
-            _, plain = jacobi.run(ssp, values, ssp.step, ssp.stop, signals, work)
-            baseline = _error((times, plain), times, solution)
+            try:
+                times, solution, solved_by = truth.solve(ssp, values, signals, work, one_fmu)
+            except Exception as e:  # noqa: BLE001 (a solution that cannot be had is one FAIL row)
+                rows.append(Row(kind="check", fmu=ssp.name, case=case, importer="solution", passed=False,
+                                problems=[f"cannot solve the system: {type(e).__name__}: {e}"]))
+                continue
+            plain = jacobi.run(ssp, values, ssp.step, ssp.stop, signals, work)
+            baseline = _error(plain, times, solution)
+            baseline_half = _error(jacobi.run(ssp, values, ssp.step / 2, ssp.stop, signals, work), times, solution)
+            order = _order(baseline, baseline_half)
             rows.append(Row(kind="case", fmu=ssp.name, case=case, importer="plain Jacobi", max_error=baseline,
-                            tolerance=None, passed=True, step=ssp.step, file=str(path),
+                            tolerance=None, passed=True, step=ssp.step, file=str(path), half_step_error=baseline_half,
+                            coupling_order=order, largest_step=_largest_step(ssp.step, baseline, order),
                             notes=[f"coupling error of a plain Jacobi co-simulation at h = {ssp.step:g} s against "
-                                   f"the system's solution (the same scheme at h/8 and h/16, extrapolated)"]))
+                                   f"{solved_by}; {baseline_half:.2e} at half the step ({_order_text(order)}); "
+                                   f"{_step_text(ssp.step, baseline, order)}"]))
             schemes = {(True, False): baseline}
             for importer in IMPORTERS:
                 if importer.scheme not in schemes:
@@ -80,10 +95,13 @@ def _importer_row(importer, ssp, set_name, case, signals, times, solution, basel
     try:
         at_step = _error(importer.run(ssp, set_name, ssp.step, signals), times, solution)
         if importer.own_step_only:
-            # the SSD's own step only: held to its master's error at that step
-            order_note = f"{at_step / baseline:.2g} times the plain Jacobi scheme's coupling error, at the SSD's step"
+            # the SSD's own step only: held to its master's error at that step, its order taken
+            # to be the plain scheme's
+            largest = _largest_step(ssp.step, at_step, 1.0)
+            order_note = (f"{at_step / baseline:.2g} times the plain Jacobi scheme's coupling error, at the SSD's "
+                          f"step; {_step_text(ssp.step, at_step, 1.0)} (taking it first order)")
             passed = at_step <= FACTOR * scheme_error
-            row.update(max_error=at_step, passed=passed, notes=[order_note],
+            row.update(max_error=at_step, passed=passed, notes=[order_note], largest_step=largest,
                        problems=[] if passed else [f"the coupling error, {at_step:.3e}, is more than {FACTOR:g} times "
                                                    f"that of the scheme {importer.name} runs, {scheme_error:.3e}"])
             return row
@@ -91,12 +109,13 @@ def _importer_row(importer, ssp, set_name, case, signals, times, solution, basel
     except Exception as e:  # noqa: BLE001 (an importer that fails is one FAIL row)
         row.update(passed=False, problems=[f"{type(e).__name__}: {e}"])
         return row
-    order = math.log2(at_step / at_half) if at_half > 0 and at_step > 0 else None
-    order_text = f"order {order:.2f}" if order is not None else "no order"
-    row.update(max_error=at_step, half_step_error=at_half,
+    order = _order(at_step, at_half)
+    row.update(max_error=at_step, half_step_error=at_half, coupling_order=order,
+               largest_step=_largest_step(ssp.step, at_step, order),
                notes=[f"{at_step / baseline:.2g} times the plain Jacobi scheme's coupling error; "
                       f"{at_step / scheme_error:.3g} times its own scheme's, run by mechfmu; "
-                      f"{at_half:.2e} at half the step ({order_text})"])
+                      f"{at_half:.2e} at half the step ({_order_text(order)}); "
+                      f"{_step_text(ssp.step, at_step, order)}"])
     if unapplied:
         row.update(passed=True, limited=True,
                    notes=[f"{importer.name} applies a parameter set to parameters and inputs only: "
@@ -111,6 +130,31 @@ def _importer_row(importer, ssp, set_name, case, signals, times, solution, basel
                         f"{at_half:.3e} at h/2)")
     row.update(passed=not problems, problems=problems)
     return row
+
+
+def _order(at_step: float, at_half: float) -> float | None:
+    """The order the errors at a step and at half of it show."""
+    return math.log2(at_step / at_half) if at_half > 0 and at_step > 0 else None
+
+
+def _order_text(order: float | None) -> str:
+    return f"order {order:.2f}" if order is not None else "no order"
+
+
+def _largest_step(step: float, error: float, order: float | None) -> float | None:
+    """The largest communication step whose coupling error stays under
+    :data:`COUPLING_TOLERANCE`, from the error at ``step`` and the order (``error ~ h^order``);
+    None where the error does not shrink with the step."""
+    if order is None or order <= 0.1 or error <= 0:
+        return None
+    return step * (COUPLING_TOLERANCE / error) ** (1.0 / order)
+
+
+def _step_text(step: float, error: float, order: float | None) -> str:
+    largest = _largest_step(step, error, order)
+    if largest is None:
+        return f"no step keeps it under {COUPLING_TOLERANCE:g} (it does not shrink with the step)"
+    return f"h <= {largest:.2g} s keeps it under {COUPLING_TOLERANCE:g} of each signal's range"
 
 
 def _error(run, times: np.ndarray, solution) -> float:

@@ -31,7 +31,11 @@ pub fn mechanism_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCra
 /// name.
 pub fn fmu_crates(manifest_path: Option<&Path>) -> Result<Vec<MechanismCrate>, String> {
     let mut crates = mechanism_crates(manifest_path)?;
-    crates.extend(system_crates(manifest_path)?.into_iter().filter(|s| s.one_fmu));
+    crates.extend(
+        system_crates(manifest_path)?
+            .into_iter()
+            .filter(|s| s.one_fmu),
+    );
     crates.sort_by(|a, b| a.model.cmp(&b.model));
     Ok(crates)
 }

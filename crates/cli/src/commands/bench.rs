@@ -5,7 +5,7 @@
 //! runtime's `bench` feature, provisions the Python environment when asked, and runs the
 //! lab's valgrind probe when the lab re-invokes it (`--probe`).
 
-use crate::build::workspace::{cargo, mechanism_crates, workspace_root};
+use crate::build::workspace::{cargo, fmu_crates, workspace_root};
 use crate::build::{select, Flavor, Platforms};
 use crate::home::python::ensure_venv;
 use crate::package::write_fmus;
@@ -68,10 +68,7 @@ pub fn run(args: Args) -> Result<(), String> {
     }
     let root = workspace_root(args.manifest_path.as_deref())?;
     let fmus_dir = root.join(&args.fmus);
-    let crates = select(
-        mechanism_crates(args.manifest_path.as_deref())?,
-        &args.names,
-    )?;
+    let crates = select(fmu_crates(args.manifest_path.as_deref())?, &args.names)?;
     let names: Vec<String> = crates.iter().map(|c| c.model.clone()).collect();
     if !args.no_build {
         let target_dir = root.join("target/bench/build");

@@ -206,6 +206,7 @@ mod tests {
             package: "spring-fmu".into(),
             manifest: PathBuf::from("fmus/spring/Cargo.toml"),
             description: "The Spring FMU: a linear spring".into(),
+            one_fmu: false,
         };
         let table = index(&[spring], "docs/");
         assert_eq!(
