@@ -20,6 +20,7 @@ returns the connected outputs at the times it reached them, or says why it canno
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 from types import SimpleNamespace
 from typing import Callable
 
@@ -184,7 +185,8 @@ def _oms_cli_run(ssp: Ssp, set_name: str, step: float, signals) -> Series:
     with tempfile.TemporaryDirectory(prefix="mechfmu-oms-cli-") as tmp:
         result = f"{tmp}/result.csv"
         done = subprocess.run([_oms_executable(), f"--resultFile={result}", f"--stopTime={ssp.stop!r}",
-                               f"--tempDir={tmp}", str(ssp.path)], capture_output=True, text=True, cwd=tmp,
+                               f"--tempDir={tmp}", str(Path(ssp.path).resolve())], capture_output=True,
+                              text=True, cwd=tmp,
                               timeout=1800)
         if done.returncode != 0:
             raise RuntimeError(f"OMSimulator exited with {done.returncode}: {done.stdout[-2000:]}")

@@ -55,6 +55,7 @@ def validate_system(path: Path, figure_dir: Path | None = None) -> list[Row]:
                 times, solution, solved_by = truth.solve(ssp, values, signals, work, one_fmu)
             except Exception as e:  # noqa: BLE001 (a solution that cannot be had is one FAIL row)
                 rows.append(Row(kind="check", fmu=ssp.name, case=case, importer="solution", passed=False,
+                                max_error=None, tolerance=None,
                                 problems=[f"cannot solve the system: {type(e).__name__}: {e}"]))
                 continue
             plain = jacobi.run(ssp, values, ssp.step, ssp.stop, signals, work)
@@ -107,7 +108,7 @@ def _importer_row(importer, ssp, set_name, case, signals, times, solution, basel
             return row
         at_half = _error(importer.run(ssp, set_name, ssp.step / 2, signals), times, solution)
     except Exception as e:  # noqa: BLE001 (an importer that fails is one FAIL row)
-        row.update(passed=False, problems=[f"{type(e).__name__}: {e}"])
+        row.update(passed=False, max_error=None, problems=[f"{type(e).__name__}: {e}"])
         return row
     order = _order(at_step, at_half)
     row.update(max_error=at_step, half_step_error=at_half, coupling_order=order,
