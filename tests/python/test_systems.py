@@ -165,6 +165,12 @@ def test_mechfmu_validate_runs_every_set_in_every_ssp_importer(validated):
                 # within its own scheme's error, and first order: half the error at half the step
                 assert r["max_error"] <= r["tolerance"] and r["tolerance"] <= FACTOR * 30 * jacobi_row["max_error"]
                 assert 1.6 < r["max_error"] / r["half_step_error"] < 2.6, r
+                # the step a user reads: the error under 1e-3 of range at that order
+                order = r["coupling_order"]
+                assert 0.7 < order < 1.4, r
+                assert r["largest_step"] == pytest.approx(0.01 * (1e-3 / r["max_error"]) ** (1 / order), rel=1e-9)
+            # measured against the system's own FMU, beside the SSP
+            assert "the system's FMU" in jacobi_row["notes"][0], jacobi_row
     # libcosim cannot set a state's start value from a parameter set: TwoOscillators' b.x = 0
     for set_name in ("default", "damped"):
         r = rows[("TwoOscillators", f"{set_name} (SSP)", "libcosim SSP")]
@@ -272,3 +278,23 @@ def test_an_ssp_mechfmu_did_not_write_validates_too(tmp_path):
     t, solution = jacobi.solution(ssp, ssp.sets["start"], ssp.stop, [("a", "x")], tmp_path)
     exact = 0.5 * np.cos(t) + 0.5 * np.cos(np.sqrt(3.0) * t)
     assert np.max(np.abs(solution[("a", "x")] - exact)) < 1e-4
+
+
+@pytest.mark.parametrize("version", ["2.0", "3.0"])
+@pytest.mark.parametrize("interface", ["CoSimulation", "ModelExchange"])
+def test_the_system_fmu_is_two_mass_oscillator(version, interface):
+    """TwoOscillators.fmu, the system compiled into one FMU, is TwoMassOscillator.fmu at equal
+    parameters: 1e-8 of each state's range at relative tolerance 1e-10 (FMPy's CVode in Model
+    Exchange), with the `damped` set's values and a start apart."""
+    folder = fmutest.FMU_DIR if version == "2.0" else fmutest.FMU_DIR / "fmi3"
+    system = {"b.m": 2.0, "b.k": 0.5, "spring.k": 2.0, "a.c": 0.1, "b.c": 0.2, "spring.c": 0.05, "a.x": 0.3,
+              "b.x": -0.2}
+    two_mass = {"m2": 2.0, "k2": 0.5, "k3": 2.0, "c1": 0.1, "c2": 0.2, "c3": 0.05, "x1": 0.3, "x2": -0.2}
+    pairs = {"a.x": "x1", "b.x": "x2", "a.x_dot": "x1_dot", "b.x_dot": "x2_dot"}
+    options = dict(fmi_type=interface, relative_tolerance=1e-10, output_interval=0.01, stop_time=30.0)
+    ours = fmpy.simulate_fmu(str(folder / "TwoOscillators.fmu"), start_values=system, output=list(pairs), **options)
+    theirs = fmpy.simulate_fmu(str(folder / "TwoMassOscillator.fmu"), start_values=two_mass,
+                               output=list(pairs.values()), **options)
+    assert len(ours) == len(theirs) == 3001
+    for a, b in pairs.items():
+        assert np.max(np.abs(ours[a] - theirs[b])) <= 1e-8 * np.ptp(theirs[b]), a
