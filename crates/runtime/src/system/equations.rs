@@ -7,24 +7,28 @@ use super::values::{Components, SystemValues};
 use super::SystemDeclaration;
 use crate::model::{Monitor, Scalar, ValueSet};
 
-/// The derivatives (and the outputs that feed other components): `plan`, step by step.
-/// `plan` is a constant, so the loop unrolls into the components' equations and the copies
-/// between known fields.
+/// One step of the derivatives' evaluation (the connections and the components' equations in
+/// the plan's order): [`system!`](crate::system) calls it once per step of the plan, each
+/// time with a constant, so that every call becomes the component's equations or a copy
+/// between known fields (a loop over the plan, too long for the compiler to unroll, would
+/// look every value reference up at each stage).
 #[inline(always)]
-pub fn evaluate<S: Scalar, L: Components>(values: &mut SystemValues<S, L>, plan: &[Step]) {
-    for step in plan {
-        match *step {
-            Step::Copy { from, to } => {
-                if let Some(value) = values.get(from) {
-                    values.set(to, value);
-                }
+pub fn run_step<S: Scalar, L: Components>(values: &mut SystemValues<S, L>, step: Step) {
+    match step {
+        Step::Copy { from, to } => {
+            if let Some(value) = values.get(from) {
+                values.set(to, value);
             }
-            Step::Evaluate { component, outputs } => {
-                L::evaluate(&mut values.components, component, outputs)
-            }
+        }
+        Step::Evaluate { component, outputs } => {
+            L::evaluate(&mut values.components, component, outputs)
         }
     }
 }
+
+/// The most steps a system's plan may have (each component's equations and the connections
+/// into it): what [`system!`](crate::system) unrolls.
+pub const MAX_PLAN: usize = 256;
 
 /// The outputs of the components whose outputs [`evaluate`] left to this.
 #[inline]
