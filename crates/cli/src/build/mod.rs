@@ -139,11 +139,7 @@ pub(crate) fn built_systems(
     let host = host()?;
     let (one_fmu, declared_only): (Vec<MechanismCrate>, Vec<MechanismCrate>) =
         systems.iter().cloned().partition(|s| s.one_fmu);
-    let mut targets = platforms.to_vec();
-    if !targets.contains(&host) {
-        targets.push(host);
-    }
-    targets.sort();
+    let targets = with_host(platforms, host);
     let features: Vec<String> = one_fmu
         .iter()
         .map(|s| format!("{}/{}", s.package, workspace::SYSTEM_FMU_FEATURE))
@@ -161,6 +157,17 @@ pub(crate) fn built_systems(
     }
     built.sort_by(|a, b| a.krate.model.cmp(&b.krate.model));
     Ok(built)
+}
+
+/// `platforms` and this machine's, in order: the binaries built (the command reads what this
+/// machine's says of itself).
+fn with_host(platforms: &[Platform], host: Platform) -> Vec<Platform> {
+    let mut targets = platforms.to_vec();
+    if !targets.contains(&host) {
+        targets.push(host);
+    }
+    targets.sort();
+    targets
 }
 
 /// Each crate of `crates` with its library for each of `targets`, among those cargo built.
@@ -200,12 +207,7 @@ pub(crate) fn built_libraries(
     flavor: &Flavor,
     platforms: &[Platform],
 ) -> Result<Vec<Built>, String> {
-    let host = host()?;
-    let mut targets = platforms.to_vec();
-    if !targets.contains(&host) {
-        targets.push(host);
-    }
-    targets.sort();
+    let targets = with_host(platforms, host()?);
     let selected = select(mechanism_crates(manifest_path)?, names)?;
     let libraries = cargo::build(&selected, manifest_path, flavor, &targets, &[])?;
     libraries_of(selected, &libraries, &targets)

@@ -192,29 +192,7 @@ macro_rules! __mechanism_expand {
                 const VARIABLES: &'static [$crate::model::Variable] = VARIABLES;
                 type Values<S: $crate::model::Scalar> = $values<S>;
                 type State = [f64; N_STATES];
-                const STATES: &'static [usize] = &$crate::model::selected_references::<N_STATES>(
-                    VARIABLES,
-                    $crate::model::Selection::States,
-                );
-                const DERIVATIVES: &'static [usize] =
-                    &$crate::model::derivative_references::<N_STATES>(VARIABLES);
-                const DERIVATIVES_AMONG_STATES: &'static [Option<usize>] =
-                    &$crate::model::derivatives_among_states::<N_STATES>(VARIABLES);
-                const CONTINUOUS: &'static [usize] = &$crate::model::selected_references::<
-                    N_CONTINUOUS,
-                >(
-                    VARIABLES,
-                    $crate::model::Selection::Continuous,
-                );
-                const CONTINUOUS_UNCHECKED: &'static [usize] =
-                    &$crate::model::selected_references::<N_CONTINUOUS_UNCHECKED>(
-                        VARIABLES,
-                        $crate::model::Selection::ContinuousUnchecked,
-                    );
-                const INPUTS: &'static [usize] = &$crate::model::selected_references::<N_INPUTS>(
-                    VARIABLES,
-                    $crate::model::Selection::Inputs,
-                );
+                $crate::__declared_references!(VARIABLES);
 
                 fn zeros<S: $crate::model::Scalar>() -> $values<S> {
                     $values { time: S::zero(), $( $var: S::zero(), )* }
@@ -228,6 +206,38 @@ macro_rules! __mechanism_expand {
                 }
             }
         };
+    };
+}
+
+/// The value references a [`Declaration`](crate::model::Declaration) lists, worked out from its
+/// variables at compile time (`VARIABLES`, with `N_STATES`, `N_CONTINUOUS`,
+/// `N_CONTINUOUS_UNCHECKED` and `N_INPUTS` counted from them in the same scope): the items of
+/// the impl that `mechanism!` and `system!` write alike.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __declared_references {
+    ($variables:ident) => {
+        const STATES: &'static [usize] = &$crate::model::selected_references::<N_STATES>(
+            $variables,
+            $crate::model::Selection::States,
+        );
+        const DERIVATIVES: &'static [usize] =
+            &$crate::model::derivative_references::<N_STATES>($variables);
+        const DERIVATIVES_AMONG_STATES: &'static [Option<usize>] =
+            &$crate::model::derivatives_among_states::<N_STATES>($variables);
+        const CONTINUOUS: &'static [usize] = &$crate::model::selected_references::<N_CONTINUOUS>(
+            $variables,
+            $crate::model::Selection::Continuous,
+        );
+        const CONTINUOUS_UNCHECKED: &'static [usize] =
+            &$crate::model::selected_references::<N_CONTINUOUS_UNCHECKED>(
+                $variables,
+                $crate::model::Selection::ContinuousUnchecked,
+            );
+        const INPUTS: &'static [usize] = &$crate::model::selected_references::<N_INPUTS>(
+            $variables,
+            $crate::model::Selection::Inputs,
+        );
     };
 }
 

@@ -380,7 +380,8 @@ const fn resolve(
     }
 }
 
-const fn component_position(system: &SystemDeclaration, name: &str) -> Option<usize> {
+/// The position of the component called `name`.
+pub(super) const fn component_position(system: &SystemDeclaration, name: &str) -> Option<usize> {
     let mut i = 0;
     while i < system.components.len() {
         if str_eq(system.components[i].name, name) {

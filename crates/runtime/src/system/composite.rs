@@ -13,6 +13,7 @@
 //! connections exact, and no chain is longer than the components (a chain that closes on
 //! itself is a loop of direct feedthrough, refused at the declaration).
 
+use super::checks::component_position;
 use super::{member_connection, Connection, Port, Source, SystemDeclaration, DEFAULT_SET};
 use crate::model::{str_eq, variable_position, Causality, Initial, Variability, Variable};
 
@@ -62,21 +63,9 @@ const fn offset(system: &SystemDeclaration, k: usize) -> usize {
     n
 }
 
-/// The position of the component called `name`.
-const fn component_index(system: &SystemDeclaration, name: &str) -> Option<usize> {
-    let mut k = 0;
-    while k < system.components.len() {
-        if str_eq(system.components[k].name, name) {
-            return Some(k);
-        }
-        k += 1;
-    }
-    None
-}
-
 /// The system's value reference of `port` (`component.variable`).
 pub const fn reference(system: &SystemDeclaration, port: Port) -> Option<usize> {
-    let Some(k) = component_index(system, port.component) else {
+    let Some(k) = component_position(system, port.component) else {
         return None;
     };
     match variable_position(variables_of(system, k), port.variable) {
@@ -256,7 +245,7 @@ pub const fn variables<const N: usize>(
 /// Whether the value of `port` is known before any equation runs: a state's, or a value
 /// that does not change during a step (a parameter).
 const fn known_before_evaluation(system: &SystemDeclaration, port: Port) -> bool {
-    let Some(k) = component_index(system, port.component) else {
+    let Some(k) = component_position(system, port.component) else {
         return false;
     };
     let variables = variables_of(system, k);
@@ -326,7 +315,7 @@ const fn inputs_known(system: &SystemDeclaration, k: usize, done: u64) -> bool {
             if str_eq(c.to.component, system.components[k].name)
                 && !known_before_evaluation(system, c.from)
             {
-                match component_index(system, c.from.component) {
+                match component_position(system, c.from.component) {
                     Some(source) if done & (1u64 << source) != 0 => {}
                     _ => return false,
                 }

@@ -1,66 +1,20 @@
 //! A system as one mechanism: its variables, its order of evaluation, its equations.
 
 use super::composite::{self, Step};
+use super::tests::{Body, Link};
 use super::System;
 use crate::model::{Causality, Declaration, Experiment, Mechanism, Scalar, ValueSet, Variable};
-
-crate::mechanism! {
-    /// A mass pushed by a force.
-    pub struct Mass / MassValues {
-        /// Mass
-        m: Variable::parameter("kg", 1.0).positive(),
-        /// Force
-        F: Variable::input("N", 0.0),
-        /// Position
-        x: Variable::state("m", 1.0, "v"),
-        /// Velocity
-        v: Variable::state("m/s", 0.0, "a"),
-        /// Acceleration
-        a: Variable::output("m/s2"),
-    }
-}
-
-impl Mechanism for Mass {
-    const EXPERIMENT: Experiment = Experiment::until(1.0);
-    fn evaluate<S: Scalar>(v: &mut MassValues<S>) {
-        v.a = v.F / v.m;
-    }
-}
-
-crate::mechanism! {
-    /// A spring between two points.
-    pub struct Spring / SpringValues {
-        /// Stiffness
-        k: Variable::tunable("N/m", 1.0),
-        /// Position of a
-        x_a: Variable::input("m", 0.0),
-        /// Position of b
-        x_b: Variable::input("m", 0.0),
-        /// Force on a
-        F_a: Variable::output("N"),
-        /// Force on b
-        F_b: Variable::output("N"),
-    }
-}
-
-impl Mechanism for Spring {
-    const EXPERIMENT: Experiment = Experiment::until(1.0);
-    fn evaluate<S: Scalar>(v: &mut SpringValues<S>) {
-        v.F_a = v.k * (v.x_b - v.x_a);
-        v.F_b = -v.F_a;
-    }
-}
 
 crate::system! {
     /// Two masses on a spring, the spring declared last.
     pub struct Pair {
         components {
             /// One mass
-            left: Mass,
+            left: Body,
             /// The other
-            right: Mass,
+            right: Body,
             /// Between them
-            spring: Spring,
+            spring: Link,
         }
         connections {
             left.x => spring.x_a,
@@ -87,11 +41,13 @@ fn variables_are_the_components_named_component_dot_variable() {
             "left.x",
             "left.v",
             "left.a",
+            "left.w",
             "right.m",
             "right.F",
             "right.x",
             "right.v",
             "right.a",
+            "right.w",
             "spring.k",
             "spring.x_a",
             "spring.x_b",
@@ -116,8 +72,8 @@ fn variables_are_the_components_named_component_dot_variable() {
         );
     }
     assert_eq!(Pair::INPUTS, [] as [usize; 0]);
-    assert_eq!(Pair::STATES, [2, 3, 7, 8]);
-    assert_eq!(Pair::DERIVATIVES, [3, 4, 8, 9]);
+    assert_eq!(Pair::STATES, [2, 3, 8, 9]);
+    assert_eq!(Pair::DERIVATIVES, [3, 4, 9, 10]);
 }
 
 #[test]
@@ -127,18 +83,18 @@ fn the_spring_is_evaluated_before_the_masses_it_pushes() {
     assert_eq!(
         plan,
         [
-            Step::Copy { from: 2, to: 11 },
-            Step::Copy { from: 7, to: 12 },
+            Step::Copy { from: 2, to: 13 },
+            Step::Copy { from: 8, to: 14 },
             Step::Evaluate {
                 component: 2,
                 outputs: true
             },
-            Step::Copy { from: 13, to: 1 },
+            Step::Copy { from: 15, to: 1 },
             Step::Evaluate {
                 component: 0,
                 outputs: false
             },
-            Step::Copy { from: 14, to: 6 },
+            Step::Copy { from: 16, to: 7 },
             Step::Evaluate {
                 component: 1,
                 outputs: false

@@ -325,22 +325,7 @@ macro_rules! __system_mechanism {
                 const VARIABLES: &'static [Variable] = VARIABLES;
                 type Values<S: $crate::model::Scalar> = $crate::system::SystemValues<S, Components>;
                 type State = [f64; N_STATES];
-                const STATES: &'static [usize] =
-                    &$crate::model::selected_references::<N_STATES>(VARIABLES, Selection::States);
-                const DERIVATIVES: &'static [usize] =
-                    &$crate::model::derivative_references::<N_STATES>(VARIABLES);
-                const DERIVATIVES_AMONG_STATES: &'static [Option<usize>] =
-                    &$crate::model::derivatives_among_states::<N_STATES>(VARIABLES);
-                const CONTINUOUS: &'static [usize] = &$crate::model::selected_references::<
-                    N_CONTINUOUS,
-                >(VARIABLES, Selection::Continuous);
-                const CONTINUOUS_UNCHECKED: &'static [usize] =
-                    &$crate::model::selected_references::<N_CONTINUOUS_UNCHECKED>(
-                        VARIABLES,
-                        Selection::ContinuousUnchecked,
-                    );
-                const INPUTS: &'static [usize] =
-                    &$crate::model::selected_references::<N_INPUTS>(VARIABLES, Selection::Inputs);
+                $crate::__declared_references!(VARIABLES);
 
                 fn zeros<S: $crate::model::Scalar>() -> Self::Values<S> {
                     $crate::system::values::zeros()
