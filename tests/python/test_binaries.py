@@ -13,7 +13,7 @@ import zipfile
 import pytest
 
 from fmutest import FMU_DIR, REPO_ROOT
-from mechanisms import mechanism, models
+from mechanisms import models
 
 MECHFMU = REPO_ROOT / "target" / "release" / "mechfmu"
 MODELS = models()
@@ -80,17 +80,14 @@ def test_every_platform_is_there_and_self_contained(inspected, path, version):
         assert set(loads) <= stock, f"{b['path']} loads {set(loads) - stock}"
         assert not any(d.startswith(("libgcc", "libwinpthread", "libstdc++")) for d in loads)
         assert b["foreign_dependencies"] == []
-        # the same functions on every platform: FMI 2.0's 44, FMI 3.0's 75, the 6 documented
-        # extras (and a system's declaration, which `mechfmu build` reads for its SSP)
+        # the same functions on every platform: FMI 2.0's 44, FMI 3.0's 75, the 6 documented extras
         if exports is None:
             exports = b["exports"]
             assert len([e for e in exports if e.startswith("fmi2")]) == 44
             assert len([e for e in exports if e.startswith("fmi3")]) == 75
-            extras = ["mechfmu_documentation", "mechfmu_documentation_fmi3", "mechfmu_interface",
-                      "mechfmu_model_description", "mechfmu_model_description_fmi3", "mechfmu_terminals_and_icons"]
-            if mechanism(model).system:
-                extras = sorted([*extras, "mechfmu_system_declaration"])
-            assert sorted(e for e in exports if not e.startswith(("fmi2", "fmi3"))) == extras
+            assert sorted(e for e in exports if not e.startswith(("fmi2", "fmi3"))) == [
+                "mechfmu_documentation", "mechfmu_documentation_fmi3", "mechfmu_interface",
+                "mechfmu_model_description", "mechfmu_model_description_fmi3", "mechfmu_terminals_and_icons"]
         assert b["exports"] == exports, b["path"]
         # (the Windows DLL keeps msvcrt's in code no call reaches: MinGW's single-precision
         # wrappers, num-dual functions its linker does not drop; test_platforms.py runs it)

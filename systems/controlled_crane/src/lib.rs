@@ -36,8 +36,9 @@ mechfmu::system! {
     }
 }
 
+// What the system is (its SSP); with the feature `fmu`, the system as one FMU: its
+// components' equations integrated together.
+#[cfg(not(feature = "fmu"))]
 mechfmu::export_system!(ControlledCrane);
-
-// The system as one FMU: its components' equations integrated together.
 #[cfg(feature = "fmu")]
 mechfmu::export_fmu!(ControlledCrane);

@@ -47,8 +47,9 @@ mechfmu::system! {
     }
 }
 
+// What the system is (its SSP); with the feature `fmu`, the system as one FMU: its
+// components' equations integrated together.
+#[cfg(not(feature = "fmu"))]
 mechfmu::export_system!(TwoOscillators);
-
-// The system as one FMU: its components' equations integrated together.
 #[cfg(feature = "fmu")]
 mechfmu::export_fmu!(TwoOscillators);

@@ -125,38 +125,43 @@ pub(crate) fn systems_named(
     Ok((chosen, others.into_iter().cloned().collect()))
 }
 
-/// The system crates `systems`, built in release mode: those that are one FMU (their
-/// feature `fmu`) for `platforms` and this machine, with the feature on (in a cargo
-/// invocation of their own: there their components export nothing, which would not do for
-/// the mechanisms' own FMUs); the others for this machine only (their binary says what the
-/// system is; the SSP carries its components' FMUs, not it).
+/// The system crates `systems`, built in release mode for this machine, without features:
+/// each binary says what its system is (`mechfmu_system_declaration`; the SSP carries the
+/// components' FMUs, not it).
 pub(crate) fn built_systems(
+    systems: &[MechanismCrate],
+    manifest_path: Option<&Path>,
+    flavor: &Flavor,
+) -> Result<Vec<Built>, String> {
+    if systems.is_empty() {
+        return Ok(Vec::new());
+    }
+    let host = [host()?];
+    let libraries = cargo::build(systems, manifest_path, flavor, &host, &[])?;
+    libraries_of(systems.to_vec(), &libraries, &host)
+}
+
+/// The systems among `systems` that are one FMU (their feature `fmu`), built in release mode
+/// for `platforms` and this machine with that feature on, in a cargo invocation of their own
+/// (there their components export nothing, which would not do for the mechanisms' own FMUs):
+/// each binary is the system's FMU's.
+pub(crate) fn built_system_fmus(
     systems: &[MechanismCrate],
     manifest_path: Option<&Path>,
     flavor: &Flavor,
     platforms: &[Platform],
 ) -> Result<Vec<Built>, String> {
-    let host = host()?;
-    let (one_fmu, declared_only): (Vec<MechanismCrate>, Vec<MechanismCrate>) =
-        systems.iter().cloned().partition(|s| s.one_fmu);
-    let targets = with_host(platforms, host);
+    let one_fmu: Vec<MechanismCrate> = systems.iter().filter(|s| s.one_fmu).cloned().collect();
+    if one_fmu.is_empty() {
+        return Ok(Vec::new());
+    }
+    let targets = with_host(platforms, host()?);
     let features: Vec<String> = one_fmu
         .iter()
         .map(|s| format!("{}/{}", s.package, workspace::SYSTEM_FMU_FEATURE))
         .collect();
-    let mut built = Vec::new();
-    for (crates, targets, features) in [
-        (one_fmu, targets.as_slice(), features.as_slice()),
-        (declared_only, &[host][..], &[][..]),
-    ] {
-        if crates.is_empty() {
-            continue;
-        }
-        let libraries = cargo::build(&crates, manifest_path, flavor, targets, features)?;
-        built.extend(libraries_of(crates, &libraries, targets)?);
-    }
-    built.sort_by(|a, b| a.krate.model.cmp(&b.krate.model));
-    Ok(built)
+    let libraries = cargo::build(&one_fmu, manifest_path, flavor, &targets, &features)?;
+    libraries_of(one_fmu, &libraries, &targets)
 }
 
 /// `platforms` and this machine's, in order: the binaries built (the command reads what this

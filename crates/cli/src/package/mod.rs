@@ -13,8 +13,10 @@ pub mod macho;
 pub mod references;
 pub mod ssp;
 
+use crate::build::workspace::mechanism_crates;
 use crate::build::{
-    built_libraries, built_systems, resolve, systems_named, Built, Flavor, Platforms,
+    built_libraries, built_system_fmus, built_systems, resolve, systems_named, Built, Flavor,
+    Platforms,
 };
 use crate::system::{self, Declaration};
 use mechfmu::contract::Version;
@@ -43,14 +45,15 @@ pub fn write_fmus(
         eprintln!("warning: {m}");
     }
     let (system_crates, mut mechanisms) = systems_named(names, manifest_path)?;
-    let systems: Vec<(Built, Declaration)> =
-        built_systems(&system_crates, manifest_path, &flavor, &platforms)?
-            .into_iter()
-            .map(|b| {
-                let json = Library::open(b.host_library())?.text(Extra::SystemDeclaration)?;
-                Declaration::parse(&json).map(|d| (b, d))
-            })
-            .collect::<Result<_, String>>()?;
+    // each system's declaration, read before its FMU's build overwrites the binary
+    let systems: Vec<(Built, Declaration)> = built_systems(&system_crates, manifest_path, &flavor)?
+        .into_iter()
+        .map(|b| {
+            let json = Library::open(b.host_library())?.text(Extra::SystemDeclaration)?;
+            Declaration::parse(&json).map(|d| (b, d))
+        })
+        .collect::<Result<_, String>>()?;
+    let system_fmus = built_system_fmus(&system_crates, manifest_path, &flavor, &platforms)?;
     // Named systems bring their mechanisms (no names: every mechanism is built anyway).
     if !names.is_empty() {
         for model in systems.iter().flat_map(|(_, d)| d.mechanisms()) {
@@ -59,14 +62,18 @@ pub fn write_fmus(
             }
         }
     }
-    let built = if !names.is_empty() && mechanisms.is_empty() {
+    // Nothing to build: no mechanism named, or a workspace of systems alone (of FMU files)
+    let nothing = match names.is_empty() {
+        true => !systems.is_empty() && mechanism_crates(manifest_path)?.is_empty(),
+        false => mechanisms.is_empty(),
+    };
+    let built = if nothing {
         Vec::new()
     } else {
         built_libraries(&mechanisms, manifest_path, &flavor, &platforms)?
     };
     std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
-    let one_fmu = systems.iter().map(|(b, _)| b).filter(|b| b.krate.one_fmu);
-    for b in built.iter().chain(one_fmu) {
+    for b in built.iter().chain(&system_fmus) {
         for version in [Version::Fmi2, Version::Fmi3] {
             let packaged = package_fmu(b, &platforms, out, version)?;
             let folders: Vec<&str> = platforms.iter().map(|p| p.folder(version)).collect();
@@ -91,7 +98,7 @@ pub fn write_fmus(
         }
     }
     let tuples: Vec<&str> = platforms.iter().map(|p| p.tuple()).collect();
-    let fmus = built.len() + systems.iter().filter(|(b, _)| b.krate.one_fmu).count();
+    let fmus = built.len() + system_fmus.len();
     println!(
         "built {} mechanism{} and system{} as FMI 2.0 and FMI 3.0 FMUs for {} in {:.1} s",
         fmus,
