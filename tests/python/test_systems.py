@@ -10,6 +10,7 @@ error, first order in the step.
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import tempfile
 import zipfile
@@ -298,3 +299,87 @@ def test_the_system_fmu_is_two_mass_oscillator(version, interface):
     assert len(ours) == len(theirs) == 3001
     for a, b in pairs.items():
         assert np.max(np.abs(ours[a] - theirs[b])) <= 1e-8 * np.ptp(theirs[b]), a
+
+
+SYSTEM_OF_FILES = '''//! A system whose components are FMU files.
+
+use mechfmu::model::Experiment;
+
+mechfmu::system! {
+    /// Two oscillators from FMU files, joined by a spring from another.
+    pub struct Pair {
+        components {
+            /// The first mass
+            a: fmu("parts/Oscillator.fmu"),
+            /// The spring
+            spring: fmu("parts/SpringDamper.fmu"),
+            /// The second mass
+            b: fmu("parts/Oscillator.fmu"),
+        }
+        connections {
+            a.x => spring.x_a, a.x_dot => spring.v_a, b.x => spring.x_b, b.x_dot => spring.v_b,
+            spring.F_a => a.F, spring.F_b => b.F,
+        }
+        parameter_sets {
+            /// The second mass at rest at 0
+            default { b.x = 0.0, spring.k = 2.0 }
+        }
+        experiment: Experiment::until(10.0).step(0.01),
+    }
+}
+
+mechfmu::export_system!(Pair);
+'''
+
+
+def test_a_system_of_fmu_files_is_built_into_an_ssp(tmp_path):
+    """A user's system crate of FMU files (`fmu("parts/Oscillator.fmu")`), alone in its
+    workspace: `mechfmu build` reads the files' model descriptions, checks the connections
+    against them and writes the SSP with the files inside (no FMU of the system: the files'
+    equations are not the compiler's); `mechfmu validate` runs it. A connection to a variable
+    the file lacks is refused by the build, naming it."""
+    crate = tmp_path / "pair"
+    (crate / "src").mkdir(parents=True)
+    (crate / "parts").mkdir()
+    for model in ("Oscillator", "SpringDamper"):
+        (crate / "parts" / f"{model}.fmu").write_bytes(fmutest.fmu_path(model).read_bytes())
+    runtime = (fmutest.REPO_ROOT / "crates" / "runtime").as_posix()
+    (crate / "Cargo.toml").write_text(f'''[package]
+name = "pair-system"
+version = "0.1.0"
+edition = "2021"
+publish = false
+
+[lib]
+name = "pair"
+crate-type = ["cdylib", "rlib"]
+
+[dependencies]
+mechfmu = {{ path = "{runtime}" }}
+
+[package.metadata.mechfmu]
+system = "Pair"
+''')
+    (crate / "src" / "lib.rs").write_text(SYSTEM_OF_FILES)
+    env = dict(os.environ, CARGO_TARGET_DIR=str(fmutest.REPO_ROOT / "target" / "user-crates"))
+    mechfmu = fmutest.REPO_ROOT / "target" / "release" / "mechfmu"
+    build = [str(mechfmu), "build", "--manifest-path", str(crate / "Cargo.toml"), "--out", str(crate / "fmus"),
+             "--platform", "x86_64-linux"]
+    done = subprocess.run(build, cwd=crate, env=env, capture_output=True, text=True, timeout=1800)
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert not (crate / "fmus" / "Pair.fmu").exists()
+    ssp = archive.read(crate / "fmus" / "Pair.ssp", tmp_path / "read")
+    assert sorted(c.source for c in ssp.components) == ["resources/Oscillator.fmu", "resources/Oscillator.fmu",
+                                                        "resources/SpringDamper.fmu"]
+    assert len(ssp.connections) == 6 and ssp.sets["default"][("spring", "k")] == 2.0
+    out = tmp_path / "rows.json"
+    done = subprocess.run([str(mechfmu), "validate", str(crate / "fmus" / "Pair.ssp"), "--json", str(out)], cwd=crate,
+                          capture_output=True, text=True, timeout=1800)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    rows = {r["importer"]: r for r in json.loads(out.read_text())["rows"] if r["kind"] == "case"}
+    assert rows["FMPy SSP"]["passed"] and rows["FMPy SSP"]["max_error"] > 0
+    assert "extrapolated" in rows["plain Jacobi"]["notes"][0]  # no system FMU: the Jacobi solution
+
+    (crate / "src" / "lib.rs").write_text(SYSTEM_OF_FILES.replace("spring.F_a => a.F", "spring.F_c => a.F"))
+    done = subprocess.run(build, cwd=crate, env=env, capture_output=True, text=True, timeout=1800)
+    assert done.returncode != 0 and "F_c" in done.stderr, done.stderr[-3000:]

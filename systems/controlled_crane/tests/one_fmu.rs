@@ -8,3 +8,6 @@ use controlled_crane::ControlledCrane;
 fn the_system_fmu_passes_every_check_of_a_mechanism() {
     mechfmu_testkit::conformance::check::<ControlledCrane>();
 }
+
+// its committed model descriptions (modelDescription/) and interface page (docs/mechanisms/)
+mechfmu_testkit::golden_tests!(ControlledCrane);

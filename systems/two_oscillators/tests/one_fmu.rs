@@ -94,3 +94,6 @@ fn other_values_are_two_mass_oscillator_at_the_same_values() {
 fn the_system_fmu_passes_every_check_of_a_mechanism() {
     mechfmu_testkit::conformance::check::<TwoOscillators>();
 }
+
+// its committed model descriptions (modelDescription/) and interface page (docs/mechanisms/)
+mechfmu_testkit::golden_tests!(TwoOscillators);

@@ -9,8 +9,8 @@
 //! the markers `<!-- mechanisms: begin -->` and `<!-- mechanisms: end -->` where a file has
 //! them; `the_indexes_of_this_workspace_are_current` checks this repository's.
 
-use crate::build::workspace::{mechanism_crates, workspace_root, MechanismCrate};
-use crate::build::{built_libraries, Flavor};
+use crate::build::workspace::{fmu_crates, workspace_root, MechanismCrate};
+use crate::build::{built_libraries, built_system_fmus, systems_named, Flavor};
 use mechfmu_host::library::{Extra, Library};
 use std::path::{Path, PathBuf};
 
@@ -38,12 +38,20 @@ enum State {
 }
 
 pub fn run(args: Args) -> Result<(), String> {
-    let built = built_libraries(
-        &args.names,
-        args.manifest_path.as_deref(),
-        &Flavor::Shipped,
-        &[],
-    )?;
+    let manifest_path = args.manifest_path.as_deref();
+    let (systems, mechanisms) = systems_named(&args.names, manifest_path)?;
+    // a system that is one FMU has its page as a mechanism has; built first, since its build
+    // compiles its components under their feature `component`, and the mechanisms' own build
+    // then leaves them as the mechanisms' FMUs want them
+    let mut built = built_system_fmus(&systems, manifest_path, &Flavor::Shipped, &[])?;
+    if args.names.is_empty() || !mechanisms.is_empty() {
+        built.extend(built_libraries(
+            &mechanisms,
+            manifest_path,
+            &Flavor::Shipped,
+            &[],
+        )?);
+    }
     let mut not_current = Vec::new();
     for b in &built {
         let (c, library) = (&b.krate, b.host_library());
@@ -121,7 +129,7 @@ const INDEX_END: &str = "<!-- mechanisms: end -->";
 /// Each file that has the index's markers (the workspace's `README.md`, `<out>/README.md`),
 /// with the index of the workspace's mechanisms between them.
 fn indexes(manifest_path: Option<&Path>, out: &Path) -> Result<Vec<(PathBuf, String)>, String> {
-    let crates = mechanism_crates(manifest_path)?;
+    let crates = fmu_crates(manifest_path)?;
     let root = workspace_root(manifest_path)?;
     let out = std::path::absolute(out).map_err(|e| format!("{}: {e}", out.display()))?;
     // the pages' folder as the workspace's README links it (none outside the workspace)
@@ -152,10 +160,12 @@ fn indexes(manifest_path: Option<&Path>, out: &Path) -> Result<Vec<(PathBuf, Str
 fn index(crates: &[MechanismCrate], folder: &str) -> String {
     let mut table = String::from("| FMU | what it is |\n|---|---|\n");
     for c in crates {
-        let prefix = format!("The {} FMU: ", c.model);
-        let what = c
-            .description
-            .strip_prefix(&prefix)
+        let (fmu, system) = (
+            format!("The {} FMU: ", c.model),
+            format!("The {} system: ", c.model),
+        );
+        let what = (c.description.strip_prefix(&fmu))
+            .or_else(|| c.description.strip_prefix(&system))
             .unwrap_or(&c.description);
         table += &format!("| [`{0}`]({folder}{0}.md) | {what} |\n", c.model);
     }

@@ -53,6 +53,8 @@ pub fn write_fmus(
             Declaration::parse(&json).map(|d| (b, d))
         })
         .collect::<Result<_, String>>()?;
+    // before the mechanisms: it compiles the components under their feature `component`, and
+    // the mechanisms' own build then makes them the mechanisms' FMUs again
     let system_fmus = built_system_fmus(&system_crates, manifest_path, &flavor, &platforms)?;
     // Named systems bring their mechanisms (no names: every mechanism is built anyway).
     if !names.is_empty() {
