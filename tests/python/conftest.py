@@ -53,10 +53,10 @@ def log_mark():
 
 
 #: the files that take longest, longest first: run first, so that under pytest-xdist
-#: (scripts/test: one worker per core, a file to a worker) no core is left with one of them
-#: at the end while the others idle
-LONGEST_FIRST = ("test_new_mechanism.py", "test_install.py", "test_validate.py", "test_fmi3.py",
-                 "test_systems.py", "test_cross_check.py", "test_model_exchange.py", "test_platforms.py")
+#: (scripts/test: one worker per core, a file to a worker, files in this order:
+#: --no-loadscope-reorder) no core is left with one of them at the end while the others idle
+LONGEST_FIRST = ("test_new_mechanism.py", "test_install.py", "test_validate.py", "test_validate_systems.py",
+                 "test_fmi3.py", "test_systems.py", "test_cross_check.py", "test_model_exchange.py", "test_platforms.py")
 
 
 def pytest_collection_modifyitems(session, config, items):
