@@ -27,8 +27,8 @@ The step is the case's output interval over 2, 4 or 8 for Euler, over 1 or 2 for
 case's step, as in Co-Simulation): the first of them at which h is not too coarse. A
 fixed-step row that completes but passes neither way is LIMIT, with its orders reported:
 outside the method's asymptotic range at the finest step tried (a top spinning at 40 rad/s
-under Euler), or limited by what the FMU holds to its own tolerance (the rigid body's |q|,
-renormalized by step events when it drifts by more than the tolerance). It fails when the
+under Euler), or limited by what the FMU holds to its own tolerance (the rigid body's |q|, which
+the importer's solver keeps about its own tolerance from 1). It fails when the
 run does (an error status, a crash, a missed termination).
 """
 

@@ -76,9 +76,13 @@ pub fn events_for<M: Mechanism>(version: Version) -> String {
         text.push_str(&format!(
             "The states are projected back onto the manifold they must stay on: in \
              Co-Simulation at the end of every communication step; in Model Exchange \
-             `{completed}` asks for a step event when the projection would \
-             move a state by more than the tolerance (`atol + rtol |x|`), and \
-             `{update}` projects there (`valuesOfContinuousStatesChanged`).\n\n"
+             `{completed}` asks for a step event only when the projection would \
+             move a state by more than {drift:e} (relative to states beyond 1), a \
+             guard against gross drift, and `{update}` projects there \
+             (`valuesOfContinuousStatesChanged`). The equations hold off the manifold: \
+             the importer's solver keeps the drift near its own tolerance, with no events \
+             at any tolerance.\n\n",
+            drift = crate::simulation::PROJECTION_DRIFT
         ));
     }
     if text.is_empty() {

@@ -220,7 +220,11 @@ pub trait Mechanism: Declaration {
 
     /// Projects the states back onto the manifold they must stay on (e.g. a unit
     /// quaternion), at the end of every communication step. It must not change the physical
-    /// state, only remove the integration's drift off the manifold.
+    /// state, only remove the integration's drift off the manifold. In Model Exchange it
+    /// runs at a step event only when a state would move by more than
+    /// [`PROJECTION_DRIFT`](crate::simulation::PROJECTION_DRIFT): the equations must hold
+    /// off the manifold too (evaluate what the states stand for, as `q/|q|` for a
+    /// quaternion), since the importer's solver leaves them there by about its tolerance.
     fn project(_values: &mut Self::Values<f64>) {}
 
     /// Whether [`Mechanism::monitor`] has anything to say (saves evaluating it).

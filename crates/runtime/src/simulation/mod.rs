@@ -18,6 +18,7 @@ mod tests;
 mod values;
 
 pub use bench::{isolate, Part, ISOLATES};
+pub use model_exchange::PROJECTION_DRIFT;
 pub use saved_state::SavedState;
 pub use step::StepFailure;
 
