@@ -7,7 +7,7 @@
 //!   of it, the binaries it carries;
 //! - [`description`]: the model description of either FMI version, read by one parser;
 //! - [`library`]: the binary loaded as an importer loads it, and the texts it renders of
-//!   itself (the documented extras of `export_fmu!`);
+//!   itself when built to describe itself (the documented extras of `export_fmu!`);
 //! - [`fmi2`] and [`fmi3`]: each standard's C types and functions, typed as its header
 //!   declares them (over `mechfmu::fmi2::ffi` and `mechfmu::fmi3::ffi`): every function in
 //!   one table (`api`) for an importer that calls them as it likes, and an instance whose

@@ -1,5 +1,6 @@
 //! An FMU's binary loaded the way an importer loads it (`libloading`), and the texts a
-//! binary mechfmu built renders of itself through the documented extras of `export_fmu!`.
+//! binary mechfmu built with the runtime's `describe` feature renders of itself through the
+//! documented extras of `export_fmu!`.
 
 use mechfmu::contract::Version;
 use std::path::{Path, PathBuf};
@@ -12,7 +13,8 @@ pub struct Library {
     library: Arc<libloading::Library>,
 }
 
-/// One of the texts a built binary renders of itself.
+/// One of the texts a binary built with the runtime's `describe` feature renders of itself
+/// (a shipped binary has none).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Extra {
     /// Its model description of this version (`mechfmu_model_description`,
@@ -118,8 +120,9 @@ impl Library {
         // signature.
         let render: Render = unsafe { self.function(symbol) }.map_err(|e| {
             format!(
-                "{path} does not export {symbol} (not a mechfmu FMU binary, or built by an \
-                 older mechfmu?): {e}"
+                "{path} does not export {symbol} (a shipped FMU binary, which carries the FMI \
+                 functions alone, or not built by mechfmu with the runtime's `describe` \
+                 feature): {e}"
             )
         })?;
         // SAFETY: `write_text`'s protocol: NULL asks for the length; then a buffer with room

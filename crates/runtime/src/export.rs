@@ -1,8 +1,10 @@
 //! What a mechanism crate's binary exports: [`export_fmu!`](crate::export_fmu) puts the
 //! FMI 2.0 and FMI 3.0 functions (the rows of [`fmi2_functions!`](crate::fmi2_functions)
 //! and [`fmi3_functions!`](crate::fmi3_functions)) into the crate under their C names
-//! (one binary serves an FMU of either version), beside documented extras that the
-//! `mechfmu` command reads from the binaries it builds:
+//! (one binary serves an FMU of either version): all that a shipped binary exports. With
+//! the runtime's `describe` feature, which the `mechfmu` command turns on in a build of its
+//! own for this machine (never shipped), also the documented extras it reads the FMU's
+//! files from:
 //!
 //! - `mechfmu_model_description`, `mechfmu_model_description_fmi3`: the binary's own
 //!   `modelDescription.xml` of each version (`mechfmu build`);
@@ -20,7 +22,7 @@ use std::panic::catch_unwind;
 
 /// Exports a mechanism as an FMU: the 44 FMI 2.0 functions and the 75 FMI 3.0 functions
 /// (Model Exchange and Co-Simulation) under their C names, plus the extras of
-/// [`export`](crate::export). Checks the mechanism's event indicators, arrays and moving
+/// [`export`](crate::export) with the `describe` feature. Checks the mechanism's event indicators, arrays and moving
 /// case at compile time.
 ///
 /// A mechanism crate that can be a component of a system's FMU exports under
@@ -64,108 +66,7 @@ macro_rules! export_fmu {
             type ExportedMechanism = $mechanism;
             $crate::fmi2_functions!($crate::exported_functions);
 
-            /// Not FMI: the modelDescription.xml of this binary, through a buffer (see
-            /// [`write_text`]($crate::export::write_text)). Used by `mechfmu build`.
-            #[no_mangle]
-            pub unsafe extern "C" fn mechfmu_model_description(
-                buffer: *mut u8,
-                capacity: usize,
-            ) -> usize {
-                // SAFETY: the caller's buffer, as `write_text` asks.
-                unsafe {
-                    $crate::export::write_text(
-                        $crate::xml::model_description::<$mechanism>,
-                        buffer,
-                        capacity,
-                    )
-                }
-            }
-
-            /// Not FMI: this FMU's documentation/index.html, through a buffer (see
-            /// [`write_text`]($crate::export::write_text)). Used by `mechfmu build`.
-            #[no_mangle]
-            pub unsafe extern "C" fn mechfmu_documentation(
-                buffer: *mut u8,
-                capacity: usize,
-            ) -> usize {
-                // SAFETY: the caller's buffer, as `write_text` asks.
-                unsafe {
-                    $crate::export::write_text(
-                        $crate::docs::documentation::<$mechanism>,
-                        buffer,
-                        capacity,
-                    )
-                }
-            }
-
-            /// Not FMI: this mechanism's interface page (Markdown), through a buffer (see
-            /// [`write_text`]($crate::export::write_text)). Used by `mechfmu docs`.
-            #[no_mangle]
-            pub unsafe extern "C" fn mechfmu_interface(buffer: *mut u8, capacity: usize) -> usize {
-                // SAFETY: the caller's buffer, as `write_text` asks.
-                unsafe {
-                    $crate::export::write_text(
-                        $crate::docs::interface::<$mechanism>,
-                        buffer,
-                        capacity,
-                    )
-                }
-            }
-
-            /// Not FMI: the FMI 3.0 modelDescription.xml of this binary, as
-            /// `mechfmu_model_description`. Used by `mechfmu build`.
-            #[no_mangle]
-            pub unsafe extern "C" fn mechfmu_model_description_fmi3(
-                buffer: *mut u8,
-                capacity: usize,
-            ) -> usize {
-                // SAFETY: the caller's buffer, as `write_text` asks.
-                unsafe {
-                    $crate::export::write_text(
-                        $crate::xml::fmi3::model_description::<$mechanism>,
-                        buffer,
-                        capacity,
-                    )
-                }
-            }
-
-            /// Not FMI: the documentation/index.html of this binary's FMI 3.0 FMU, as
-            /// `mechfmu_documentation`. Used by `mechfmu build`.
-            #[no_mangle]
-            pub unsafe extern "C" fn mechfmu_documentation_fmi3(
-                buffer: *mut u8,
-                capacity: usize,
-            ) -> usize {
-                // SAFETY: the caller's buffer, as `write_text` asks.
-                unsafe {
-                    $crate::export::write_text(
-                        $crate::docs::documentation_fmi3::<$mechanism>,
-                        buffer,
-                        capacity,
-                    )
-                }
-            }
-
-            /// Not FMI: the terminalsAndIcons/terminalsAndIcons.xml of this binary's FMI 3.0
-            /// FMU, empty for a mechanism without terminals. Used by `mechfmu build`.
-            #[no_mangle]
-            pub unsafe extern "C" fn mechfmu_terminals_and_icons(
-                buffer: *mut u8,
-                capacity: usize,
-            ) -> usize {
-                // SAFETY: the caller's buffer, as `write_text` asks.
-                unsafe {
-                    $crate::export::write_text(
-                        || {
-                            $crate::xml::terminals_and_icons::<$mechanism>()
-                                .map(::core::option::Option::unwrap_or_default)
-                        },
-                        buffer,
-                        capacity,
-                    )
-                }
-            }
-
+            $crate::describe_exports!($mechanism);
             $crate::bench_exports!($mechanism);
         }
 
@@ -260,6 +161,119 @@ macro_rules! export_system {
             }
         }
     };
+}
+
+/// The documented extras of [`export`](crate::export) (what the `mechfmu` command reads of a
+/// binary it built), with the `describe` feature: a shipped binary carries the FMI functions
+/// alone, and the command builds one with the extras, for this machine, to read them from.
+#[cfg(feature = "describe")]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! describe_exports {
+    ($mechanism:ty) => {
+        /// Not FMI: the modelDescription.xml of this binary, through a buffer (see
+        /// [`write_text`]($crate::export::write_text)). Used by `mechfmu build`.
+        #[no_mangle]
+        pub unsafe extern "C" fn mechfmu_model_description(
+            buffer: *mut u8,
+            capacity: usize,
+        ) -> usize {
+            // SAFETY: the caller's buffer, as `write_text` asks.
+            unsafe {
+                $crate::export::write_text(
+                    $crate::xml::model_description::<$mechanism>,
+                    buffer,
+                    capacity,
+                )
+            }
+        }
+
+        /// Not FMI: this FMU's documentation/index.html, through a buffer (see
+        /// [`write_text`]($crate::export::write_text)). Used by `mechfmu build`.
+        #[no_mangle]
+        pub unsafe extern "C" fn mechfmu_documentation(buffer: *mut u8, capacity: usize) -> usize {
+            // SAFETY: the caller's buffer, as `write_text` asks.
+            unsafe {
+                $crate::export::write_text(
+                    $crate::docs::documentation::<$mechanism>,
+                    buffer,
+                    capacity,
+                )
+            }
+        }
+
+        /// Not FMI: this mechanism's interface page (Markdown), through a buffer (see
+        /// [`write_text`]($crate::export::write_text)). Used by `mechfmu docs`.
+        #[no_mangle]
+        pub unsafe extern "C" fn mechfmu_interface(buffer: *mut u8, capacity: usize) -> usize {
+            // SAFETY: the caller's buffer, as `write_text` asks.
+            unsafe {
+                $crate::export::write_text($crate::docs::interface::<$mechanism>, buffer, capacity)
+            }
+        }
+
+        /// Not FMI: the FMI 3.0 modelDescription.xml of this binary, as
+        /// `mechfmu_model_description`. Used by `mechfmu build`.
+        #[no_mangle]
+        pub unsafe extern "C" fn mechfmu_model_description_fmi3(
+            buffer: *mut u8,
+            capacity: usize,
+        ) -> usize {
+            // SAFETY: the caller's buffer, as `write_text` asks.
+            unsafe {
+                $crate::export::write_text(
+                    $crate::xml::fmi3::model_description::<$mechanism>,
+                    buffer,
+                    capacity,
+                )
+            }
+        }
+
+        /// Not FMI: the documentation/index.html of this binary's FMI 3.0 FMU, as
+        /// `mechfmu_documentation`. Used by `mechfmu build`.
+        #[no_mangle]
+        pub unsafe extern "C" fn mechfmu_documentation_fmi3(
+            buffer: *mut u8,
+            capacity: usize,
+        ) -> usize {
+            // SAFETY: the caller's buffer, as `write_text` asks.
+            unsafe {
+                $crate::export::write_text(
+                    $crate::docs::documentation_fmi3::<$mechanism>,
+                    buffer,
+                    capacity,
+                )
+            }
+        }
+
+        /// Not FMI: the terminalsAndIcons/terminalsAndIcons.xml of this binary's FMI 3.0
+        /// FMU, empty for a mechanism without terminals. Used by `mechfmu build`.
+        #[no_mangle]
+        pub unsafe extern "C" fn mechfmu_terminals_and_icons(
+            buffer: *mut u8,
+            capacity: usize,
+        ) -> usize {
+            // SAFETY: the caller's buffer, as `write_text` asks.
+            unsafe {
+                $crate::export::write_text(
+                    || {
+                        $crate::xml::terminals_and_icons::<$mechanism>()
+                            .map(::core::option::Option::unwrap_or_default)
+                    },
+                    buffer,
+                    capacity,
+                )
+            }
+        }
+    };
+}
+
+/// Without the `describe` feature: no extras.
+#[cfg(not(feature = "describe"))]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! describe_exports {
+    ($mechanism:ty) => {};
 }
 
 #[cfg(feature = "bench")]

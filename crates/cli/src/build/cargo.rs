@@ -1,7 +1,9 @@
 //! Running `cargo build` for the mechanism crates and finding the shared libraries it
 //! wrote: this machine's in cargo's own target folder (sharing the dependencies the
 //! `mechfmu` command was built with), then the other platforms' in one invocation with a
-//! `--target` each (so cargo spreads their crates over the cores).
+//! `--target` each (so cargo spreads their crates over the cores); and the describing
+//! build, this machine's library with the runtime's `describe` feature (the extras the
+//! command reads an FMU's files from), in a profile of its own.
 
 use super::toolchain;
 use super::workspace::{cargo, target_directory, MechanismCrate};
@@ -12,6 +14,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 /// A shared library cargo built.
+#[derive(Clone)]
 pub(super) struct Library {
     pub package: String,
     pub platform: Platform,
@@ -67,6 +70,36 @@ pub(super) fn build(
     Ok(libraries)
 }
 
+/// The profile of the describing build: dev's settings without debug information or
+/// incremental caches (it renders a few texts once: optimizing, debugging information and
+/// caches would only lengthen the build), in a folder of its own under the target directory, so
+/// that a library with the extras never takes the place of a shipped one (cargo writes a
+/// crate's shared library to one path whatever its features). Defined on the command line,
+/// so that any workspace has it.
+const DESCRIBE_PROFILE: &str = "mechfmu-describe";
+
+/// Builds this machine's libraries of `crates` with the runtime's `describe` feature and
+/// `features` on (see [`DESCRIBE_PROFILE`]): what the command reads the texts of each FMU
+/// from.
+pub(super) fn describe(
+    crates: &[MechanismCrate],
+    manifest_path: Option<&Path>,
+    flavor: &Flavor,
+    host: Platform,
+    features: &[String],
+) -> Result<Vec<Library>, String> {
+    let mut features = features.to_vec();
+    features.push("mechfmu/describe".into());
+    invoke(
+        crates,
+        manifest_path,
+        flavor,
+        &[host],
+        Targets::Describe,
+        &features,
+    )
+}
+
 /// What a `cargo build` is for.
 #[derive(Clone, Copy)]
 enum Targets<'a> {
@@ -74,6 +107,8 @@ enum Targets<'a> {
     Host,
     /// A `--target` for each platform; the macOS SDK the Mac ones link with, if any.
     Cross { macos_sdk: Option<&'a Path> },
+    /// This machine, the describing build ([`DESCRIBE_PROFILE`]).
+    Describe,
 }
 
 /// One `cargo build` of `crates` for `platforms`.
@@ -92,8 +127,12 @@ fn invoke(
     }
     let tuples: Vec<&str> = platforms.iter().map(|p| p.tuple()).collect();
     eprintln!(
-        "building {} crate(s) with cargo (release) for {} ...",
+        "building {} crate(s) with cargo ({}) for {} ...",
         crates.len(),
+        match targets {
+            Targets::Describe => "the texts of their FMUs",
+            _ => "release",
+        },
         tuples.join(", ")
     );
     // On a terminal, cargo's own progress (its `Compiling` lines and status bar) shows what
@@ -141,15 +180,26 @@ fn command(
     targets: Targets,
 ) -> Command {
     let mut cmd = Command::new(cargo());
-    cmd.args([
-        "build",
-        "--release",
-        "--lib",
-        "--message-format=json-render-diagnostics",
-    ]);
+    cmd.args(["build", "--lib", "--message-format=json-render-diagnostics"]);
+    match targets {
+        Targets::Describe => {
+            cmd.args(["--profile", DESCRIBE_PROFILE]);
+            for setting in ["inherits=\"dev\"", "debug=false", "incremental=false"] {
+                cmd.arg("--config")
+                    .arg(format!("profile.{DESCRIBE_PROFILE}.{setting}"));
+            }
+        }
+        _ => {
+            cmd.arg("--release");
+        }
+    }
     if let Flavor::Bench { target_dir } = flavor {
-        cmd.args(["--features", "mechfmu/bench", "--target-dir"])
-            .arg(target_dir);
+        cmd.args([
+            "--features",
+            "mechfmu/bench,mechfmu/describe",
+            "--target-dir",
+        ])
+        .arg(target_dir);
     }
     if let Some(path) = manifest_path {
         cmd.arg("--manifest-path").arg(path);

@@ -37,11 +37,12 @@ pub(crate) fn select(
 
 /// Which binaries to build.
 pub(crate) enum Flavor<'a> {
-    /// What an FMU ships: the FMI functions and the documented extras.
+    /// What an FMU ships: the FMI functions alone.
     Shipped,
     /// With the runtime's `bench` feature (the entry points `mechfmu bench` times the parts
-    /// of a step with), in a target directory of its own so the shipped build is untouched;
-    /// for this machine only.
+    /// of a step with) and its `describe` feature (the benchmark reads the FMI 3.0 model
+    /// description from the binary; no describing build of its own), in a target directory
+    /// of its own so the shipped build is untouched; for this machine only.
     Bench { target_dir: &'a Path },
 }
 
@@ -56,15 +57,20 @@ pub(crate) enum Platforms {
     Chosen(Vec<Platform>),
 }
 
-/// One mechanism crate's shared library for each platform built.
+/// One mechanism crate's shared library for each platform built, and the library the FMU's
+/// texts are read from.
 pub(crate) struct Built {
     pub krate: MechanismCrate,
     pub libraries: BTreeMap<Platform, PathBuf>,
+    /// This machine's library with the runtime's `describe` feature, never shipped: the one
+    /// the `mechfmu` command loads to read what the binary says of itself (model
+    /// descriptions, documentation, interface page), or, for a system's declaration, its
+    /// own library.
+    pub describing: PathBuf,
 }
 
 impl Built {
-    /// This machine's library: the one the `mechfmu` command loads to read what the binary
-    /// says of itself (model description, documentation, interface page).
+    /// This machine's shipped library.
     pub fn host_library(&self) -> &Path {
         let host = Platform::host().expect("checked by built_libraries");
         &self.libraries[&host]
@@ -138,13 +144,14 @@ pub(crate) fn built_systems(
     }
     let host = [host()?];
     let libraries = cargo::build(systems, manifest_path, flavor, &host, &[])?;
-    libraries_of(systems.to_vec(), &libraries, &host)
+    libraries_of(systems.to_vec(), &libraries, &libraries, &host)
 }
 
 /// The systems among `systems` that are one FMU (their feature `fmu`), built in release mode
 /// for `platforms` and this machine with that feature on, in a cargo invocation of their own
-/// (there their components export nothing, which would not do for the mechanisms' own FMUs):
-/// each binary is the system's FMU's.
+/// (there their components export nothing, which would not do for the mechanisms' own FMUs),
+/// and for this machine with the runtime's `describe` feature too: each binary is the
+/// system's FMU's.
 pub(crate) fn built_system_fmus(
     systems: &[MechanismCrate],
     manifest_path: Option<&Path>,
@@ -161,7 +168,8 @@ pub(crate) fn built_system_fmus(
         .map(|s| format!("{}/{}", s.package, workspace::SYSTEM_FMU_FEATURE))
         .collect();
     let libraries = cargo::build(&one_fmu, manifest_path, flavor, &targets, &features)?;
-    libraries_of(one_fmu, &libraries, &targets)
+    let describing = describing(&one_fmu, manifest_path, flavor, &libraries, &features)?;
+    libraries_of(one_fmu, &libraries, &describing, &targets)
 }
 
 /// `platforms` and this machine's, in order: the binaries built (the command reads what this
@@ -175,12 +183,37 @@ fn with_host(platforms: &[Platform], host: Platform) -> Vec<Platform> {
     targets
 }
 
-/// Each crate of `crates` with its library for each of `targets`, among those cargo built.
+/// The libraries of `crates` to read their FMUs' texts from: the describing build's, or, for
+/// the benchmark, whose binaries carry the extras, this machine's among `built`.
+fn describing(
+    crates: &[MechanismCrate],
+    manifest_path: Option<&Path>,
+    flavor: &Flavor,
+    built: &[cargo::Library],
+    features: &[String],
+) -> Result<Vec<cargo::Library>, String> {
+    match flavor {
+        Flavor::Shipped => cargo::describe(crates, manifest_path, flavor, host()?, features),
+        Flavor::Bench { .. } => Ok(built.to_vec()),
+    }
+}
+
+/// Each crate of `crates` with its library for each of `targets` among the `libraries`
+/// cargo built, and its describing library among `describing` (this machine's).
 fn libraries_of(
     crates: Vec<MechanismCrate>,
     libraries: &[cargo::Library],
+    describing: &[cargo::Library],
     targets: &[Platform],
 ) -> Result<Vec<Built>, String> {
+    let missing = |p: Platform, krate: &MechanismCrate| {
+        format!(
+            "cargo built no {} shared library for `{}`",
+            p.tuple(),
+            krate.package
+        )
+    };
+    let host = host()?;
     crates
         .into_iter()
         .map(|krate| {
@@ -190,22 +223,24 @@ fn libraries_of(
                 .map(|l| (l.platform, l.path.clone()))
                 .collect();
             if let Some(p) = targets.iter().find(|p| !mine.contains_key(p)) {
-                return Err(format!(
-                    "cargo built no {} shared library for `{}`",
-                    p.tuple(),
-                    krate.package
-                ));
+                return Err(missing(*p, &krate));
             }
+            let describing = (describing.iter())
+                .find(|l| l.package == krate.package && l.platform == host)
+                .map(|l| l.path.clone())
+                .ok_or_else(|| missing(host, &krate))?;
             Ok(Built {
                 krate,
                 libraries: mine,
+                describing,
             })
         })
         .collect()
 }
 
 /// The mechanism crates named (every one when `names` is empty), built in release mode
-/// for this machine and for `platforms`.
+/// for this machine and for `platforms`, and for this machine with the runtime's
+/// `describe` feature.
 pub(crate) fn built_libraries(
     names: &[String],
     manifest_path: Option<&Path>,
@@ -215,5 +250,6 @@ pub(crate) fn built_libraries(
     let targets = with_host(platforms, host()?);
     let selected = select(mechanism_crates(manifest_path)?, names)?;
     let libraries = cargo::build(&selected, manifest_path, flavor, &targets, &[])?;
-    libraries_of(selected, &libraries, &targets)
+    let describing = describing(&selected, manifest_path, flavor, &libraries, &[])?;
+    libraries_of(selected, &libraries, &describing, &targets)
 }

@@ -1,8 +1,8 @@
 //! `mechfmu docs`: the interface page of every mechanism (variables, units, defaults,
 //! equations) as Markdown, `<out>/<Name>.md`. Each page is rendered by the mechanism's own
-//! shipped binary (`mechfmu_interface`, exported by `export_fmu!`), as `mechfmu build` asks
-//! the binary for its modelDescription and documentation: the tool never renders a
-//! mechanism itself. Each crate's `interface_is_current` test checks the same page.
+//! describing binary (`mechfmu_interface`, exported by `export_fmu!` with the `describe`
+//! feature), as `mechfmu build` asks it for its modelDescription and documentation: the
+//! tool never renders a mechanism itself. Each crate's `interface_is_current` test checks the same page.
 //!
 //! And the index of the mechanisms, a table of each one's page and what it is (its
 //! package's description), in the workspace's `README.md` and in `<out>/README.md`, between
@@ -54,7 +54,7 @@ pub fn run(args: Args) -> Result<(), String> {
     }
     let mut not_current = Vec::new();
     for b in &built {
-        let (c, library) = (&b.krate, b.host_library());
+        let (c, library) = (&b.krate, b.describing.as_path());
         let page = interface_of(library)?;
         let path = args.out.join(format!("{}.md", c.model));
         let state = state_of(&path, &page)?;

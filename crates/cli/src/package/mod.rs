@@ -49,7 +49,7 @@ pub fn write_fmus(
     let systems: Vec<(Built, Declaration)> = built_systems(&system_crates, manifest_path, &flavor)?
         .into_iter()
         .map(|b| {
-            let json = Library::open(b.host_library())?.text(Extra::SystemDeclaration)?;
+            let json = Library::open(&b.describing)?.text(Extra::SystemDeclaration)?;
             Declaration::parse(&json).map(|d| (b, d))
         })
         .collect::<Result<_, String>>()?;
@@ -166,8 +166,9 @@ pub struct Packaged {
 }
 
 /// Packages the libraries of `built` for `platforms` as an FMU of `version` (in [`folder`]
-/// of `out`): asks this machine's binary for its own modelDescription of that version, so
-/// the XML and the binaries can never disagree, and for its documentation; checks every
+/// of `out`): asks this machine's describing binary (the same declaration compiled with the
+/// extras) for its modelDescription of that version, so the XML and the binaries can never
+/// disagree, and for its documentation; checks every
 /// binary (see [`binaries::check`]); adds the reference results found in the crate's
 /// `reference/` (see [`references`]).
 pub fn package_fmu(
@@ -178,7 +179,7 @@ pub fn package_fmu(
 ) -> Result<Packaged, String> {
     let model = &built.krate.model;
     let host = built.host_library();
-    let library = Library::open(host)?;
+    let library = Library::open(&built.describing)?;
     let xml = library.text(Extra::ModelDescription(version))?;
     let read = |path: &Path| {
         std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))
