@@ -43,6 +43,13 @@ impl Binary {
         })
     }
 
+    /// The value reference of the FMU's first output: what an importer's loop reads.
+    pub fn first_output(&self) -> Result<u32, String> {
+        (self.description.with_causality("output").first())
+            .map(|v| v.vr)
+            .ok_or_else(|| "the FMU has no output".into())
+    }
+
     /// Whether the binary exports mechfmu's counters and `mechfmu_bench`.
     pub fn has_counters(&self) -> bool {
         self.fmi2.has_bench()

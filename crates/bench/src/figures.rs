@@ -1,6 +1,7 @@
 //! Everything measured for one mechanism ([`Figures`]), and the native runs that measure it.
 
 use crate::binary::Binary;
+use crate::c_step;
 use crate::clock::{self, Stat};
 use crate::effort::Effort;
 use crate::instructions;
@@ -40,6 +41,9 @@ pub struct Figures {
     pub default_tol: f64,
     /// ns per cycle set inputs + `fmi2DoStep` + get outputs at the default step/tolerance.
     pub cycle: Stat,
+    /// ns per `fmi2DoStep` + one `fmi2GetReal` at [`c_step::AGAINST_C`]: what is held
+    /// against the C step.
+    pub step_get: Stat,
     /// One derivative evaluation through Model Exchange (None: the FMU has none).
     pub model_exchange: Option<model_exchange::MeFigures>,
     pub instructions: Option<instructions::Counts>,
@@ -99,6 +103,7 @@ pub fn measure(
         default_h: d.step,
         default_tol: d.tolerance,
         cycle: Stat::of(&[]),
+        step_get: Stat::of(&[]),
         model_exchange: me,
         instructions: None,
         me_instructions: None,
@@ -148,6 +153,7 @@ fn with_calls(
         },
         set_inputs,
         cycle: native::cycle(binary, d.step, d.tolerance, effort)?,
+        step_get: native::step_get(binary, c_step::AGAINST_C, effort)?,
         ..figures
     })
 }

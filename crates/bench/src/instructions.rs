@@ -7,6 +7,7 @@
 //! between `k = 3` and `k = 1` divided by the work done removes start-up and loading.
 
 use crate::binary::Binary;
+use crate::c_step;
 use crate::effort::{steps_per_run, Effort};
 use crate::instance::Instance;
 use crate::model_exchange;
@@ -22,6 +23,11 @@ use std::process::Command;
 pub enum Probe {
     /// A run of `fmi2DoStep` over the default experiment.
     Step,
+    /// The same run with one `fmi2GetReal` (the first output) after every step: what an
+    /// importer's loop does, held against the C step.
+    StepGet,
+    /// The same run of the C step (the Oscillator's, [`crate::c_step`]; no FMU).
+    CStep,
     /// The same run of `fmi3DoStep` (an FMI 3.0 instance of the same binary).
     Fmi3Step,
     /// As many model evaluations alone as a run of steps does.
@@ -53,6 +59,8 @@ pub struct Counts {
     pub tol: f64,
     /// Per `fmi2DoStep`, everything.
     pub per_step: f64,
+    /// Per `fmi2DoStep` and one `fmi2GetReal` of the first output: an importer's loop.
+    pub step_get_per_step: f64,
     /// Per `fmi2DoStep`, the parts alone (as in [`crate::native::StepFigures`]).
     pub rhs_per_step: f64,
     pub callback_per_step: f64,
@@ -85,6 +93,7 @@ impl Counts {
         serde_json::json!({
             "h": self.h, "tol": self.tol,
             "instructions_per_step": self.per_step,
+            "instructions_per_step_and_get_real": self.step_get_per_step,
             "split_per_step": {
                 "rhs": self.split().rhs, "copying": self.split().copying,
                 "solver": self.split().solver, "step": self.split().step, "fmi": self.split().fmi,
@@ -188,6 +197,7 @@ pub fn count(
         h,
         tol,
         per_step: diff(Probe::Step)? / steps as f64,
+        step_get_per_step: diff(Probe::StepGet)? / steps as f64,
         rhs_per_step: diff(Probe::Eval)? / steps as f64,
         callback_per_step: diff(Probe::Rhs)? / steps as f64,
         integrate_per_step: diff(Probe::Integrate)? / steps as f64,
@@ -198,6 +208,32 @@ pub fn count(
             false => None,
         },
     })
+}
+
+/// Instructions per communication step of the C step ([`crate::c_step`]) at `(h, tol)`,
+/// over `steps` steps (the Oscillator's run), under valgrind.
+pub fn count_c_step(
+    command: &ProbeCommand,
+    (h, tol): (f64, f64),
+    steps: usize,
+) -> Result<f64, String> {
+    let per = |repeat: usize| -> Result<u64, String> {
+        let args = ProbeArgs {
+            probe: Some(Probe::CStep),
+            probe_so: None,
+            probe_xml: None,
+            probe_h: h,
+            probe_tol: tol,
+            probe_repeat: repeat,
+            probe_max_steps: steps,
+        };
+        let mut args_of_command = command.args.clone();
+        args_of_command.extend(args.command_line());
+        instructions(&command.program, &args_of_command)
+    };
+    let one = per(1)?;
+    let three = per(3)?;
+    Ok(three.saturating_sub(one) as f64 / 2.0 / steps as f64)
 }
 
 /// Instructions per derivative evaluation of Model Exchange (through the API, by the
@@ -302,13 +338,20 @@ impl ProbeArgs {
 
     /// The probe itself (run under valgrind): `probe_repeat` repetitions of `probe`.
     pub fn run(&self) -> Result<(), String> {
+        let (h, tol, repeat) = (self.probe_h, self.probe_tol, self.probe_repeat);
+        let max_steps = self.probe_max_steps;
+        if self.probe == Some(Probe::CStep) {
+            // the same warm-up run as the FMUs' probes, so that it cancels in the difference
+            for _ in 0..=repeat {
+                std::hint::black_box(c_step::run(h, tol, max_steps)?);
+            }
+            return Ok(());
+        }
         let (Some(probe), Some(so), Some(xml)) = (self.probe, &self.probe_so, &self.probe_xml)
         else {
             return Err("--probe needs --probe-so and --probe-xml".into());
         };
         let binary = Binary::load(so, xml)?;
-        let (h, tol, repeat) = (self.probe_h, self.probe_tol, self.probe_repeat);
-        let max_steps = self.probe_max_steps;
         match probe {
             Probe::MeApi | Probe::MeSimulation | Probe::MeEquations => {
                 probe_model_exchange(&binary, probe, tol, repeat, max_steps)
@@ -338,6 +381,12 @@ fn probe_co_simulation(
                 native::step_run(&mut inst, tol, h, n, false)?;
             }
         }
+        Probe::StepGet => {
+            let output = binary.first_output()?;
+            for _ in 0..repeat {
+                native::step_get_run(&mut inst, tol, h, n, output)?;
+            }
+        }
         Probe::Eval | Probe::Rhs | Probe::Integrate | Probe::SimStep => {
             let span = n as f64 * h;
             let (part, count, h) = match probe {
@@ -364,9 +413,11 @@ fn probe_co_simulation(
             }
         }
         Probe::MeApi | Probe::MeSimulation | Probe::MeEquations | Probe::Fmi3Step => {}
+        Probe::CStep => {}
     }
     Ok(())
 }
+
 /// The Model Exchange probes: `repeat` walks from the initial point (after the same
 /// warm-up in every probe: one walk of the equations, which leaves the instance where it
 /// was).

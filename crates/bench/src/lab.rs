@@ -4,6 +4,7 @@
 
 use crate::binary::Binary;
 use crate::build_time::clean_build;
+use crate::c_step;
 use crate::effort::{steps_per_run, Effort};
 use crate::energies::{self, TwinProbe};
 use crate::figures;
@@ -11,7 +12,7 @@ use crate::instructions::{self, ProbeCommand};
 use crate::precision::{self, Problem};
 use crate::progress;
 use crate::python;
-use crate::report::Report;
+use crate::report::{CStep, Report};
 use mechfmu_host::archive::{self, Extracted};
 use std::path::PathBuf;
 
@@ -51,6 +52,14 @@ pub fn run(plan: &Plan) -> Result<Report, String> {
         ..Report::default()
     };
     let loaded = measure(plan, &mut report)?;
+    if !plan.me_only {
+        progress::show("the C step");
+        let (h, tol) = c_step::AGAINST_C;
+        report.c_step = Some(CStep {
+            ns: c_step::ns_per_step(h, tol, c_step::STEPS, plan.effort.runs)?,
+            instructions: None,
+        });
+    }
     if !plan.me_only {
         progress::show("catch_unwind");
         report.catch_unwind = Some(figures::catch_unwind_cost(plan.effort.runs));
@@ -145,6 +154,14 @@ fn count_instructions(
     report: &mut Report,
 ) -> Result<(), String> {
     let effort = plan.effort;
+    if let Some(c) = &mut report.c_step {
+        progress::show("the C step: instructions under valgrind");
+        c.instructions = Some(instructions::count_c_step(
+            command,
+            c_step::AGAINST_C,
+            c_step::STEPS,
+        )?);
+    }
     for (m, l) in report.mechanisms.iter_mut().zip(loaded) {
         if !plan.me_only {
             progress::show(&format!("{}: instructions under valgrind", m.name));

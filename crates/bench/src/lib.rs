@@ -29,6 +29,8 @@
 //! - [`python`] (`scripts/bench_fmpy.py`): µs per step under FMPy's low-level loop, and
 //!   scipy `solve_ivp` on the Oscillator for the [`precision`] diagram.
 //! - [`build_time`]: a clean release build of every FMU for every platform, timed.
+//! - [`c_step`]: the yardstick, the Oscillator's step written plainly in C (an adaptive
+//!   Dormand–Prince with DOPRI5's control), timed and counted like the FMUs' steps.
 //!
 //! Times are thread CPU time ([`clock`]), medians of repeated runs ([`effort`]: how many,
 //! on which instances); [`figures`] gathers them per mechanism; [`report`] prints the table
@@ -36,6 +38,7 @@
 
 pub mod binary;
 pub mod build_time;
+pub mod c_step;
 pub mod clock;
 pub mod effort;
 pub mod energies;

@@ -224,6 +224,47 @@ pub fn step_run(
     step_loop(inst, h, n, false)
 }
 
+/// One run as an importer's loop makes it: `fmi2DoStep` and one `fmi2GetReal` of `output`
+/// per step, after an untimed (re)initialization; CPU ns and the sum of the values read.
+pub fn step_get_run(
+    inst: &mut Instance,
+    tol: f64,
+    h: f64,
+    n: usize,
+    output: u32,
+) -> Result<(f64, f64), String> {
+    let start = inst.binary.description.start;
+    inst.start(tol, start, &[], true)?;
+    let (mut t, mut sum, mut value) = (start, 0.0, [0.0]);
+    let t0 = cpu_ns();
+    for _ in 0..n {
+        let status = inst.do_step(t, h);
+        if status > fmi2Warning {
+            return Err(step_failed("fmi2DoStep", t, h, status, || inst.messages()));
+        }
+        inst.get_real(&[output], &mut value);
+        sum += value[0];
+        t += h;
+    }
+    Ok(((cpu_ns() - t0) as f64, sum))
+}
+
+/// ns per `fmi2DoStep` + one `fmi2GetReal` (of the first output) at `(h, tol)`: the median
+/// of `effort.runs` runs of [`step_get_run`].
+pub fn step_get(binary: &Binary, (h, tol): (f64, f64), effort: Effort) -> Result<Stat, String> {
+    let n = steps_per_run(binary, h, effort);
+    let output = binary.first_output()?;
+    let mut inst = Instance::new(binary)?;
+    step_get_run(&mut inst, tol, h, n, output)?; // warm-up
+    let mut samples = Vec::with_capacity(effort.runs);
+    for _ in 0..effort.runs {
+        let (ns, sum) = step_get_run(&mut inst, tol, h, n, output)?;
+        std::hint::black_box(sum);
+        samples.push(ns / n as f64);
+    }
+    Ok(Stat::of(&samples))
+}
+
 /// ns per `fmi2DoStep` at each `(h, tol)`, its work, and its parts alone.
 ///
 /// The configurations take turns run by run rather than one after the other: a spell of

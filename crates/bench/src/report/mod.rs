@@ -23,9 +23,20 @@ pub struct Build {
     pub fmus: Vec<(String, u64)>,
 }
 
+/// The C step ([`crate::c_step`]) at [`crate::c_step::AGAINST_C`].
+#[derive(Clone, Copy, Debug)]
+pub struct CStep {
+    /// CPU ns per communication step.
+    pub ns: Stat,
+    /// Instructions per communication step (None: not counted).
+    pub instructions: Option<f64>,
+}
+
 /// Everything one `mechfmu bench` measured.
 #[derive(Clone, Debug, Default)]
 pub struct Report {
+    /// The yardstick: the Oscillator's step written plainly in C.
+    pub c_step: Option<CStep>,
     pub mechanisms: Vec<Figures>,
     /// The native FMU, the FMU under FMPy and scipy, on the Oscillator.
     pub precision: Vec<Point>,
@@ -115,6 +126,7 @@ impl Report {
                     "get_real_many": call(&m.get_many),
                     "set_real_inputs": m.set_inputs.as_ref().map(call),
                     "cycle": { "h": m.default_h, "tol": m.default_tol, "ns": m.cycle.to_json() },
+                    "step_and_get_real_ns": m.step_get.to_json(),
                     "model_exchange": m.model_exchange.as_ref().map(|me| me.to_json()),
                     "model_exchange_instructions": m.me_instructions.map(|c| c.to_json()),
                     "instructions": m.instructions.map(|c| c.to_json()),
@@ -149,6 +161,10 @@ impl Report {
             "runs": self.runs,
             "clock": "thread CPU time (CLOCK_THREAD_CPUTIME_ID); Python: process_time",
             "machine": { "cpus": std::thread::available_parallelism().map(|n| n.get()).unwrap_or(0) },
+            "c_step": self.c_step.map(|c| json!({
+                "h": crate::c_step::AGAINST_C.0, "tol": crate::c_step::AGAINST_C.1,
+                "ns": c.ns.to_json(), "instructions": c.instructions.map(num),
+            })),
             "mechanisms": mechanisms,
             "catch_unwind_ns": self.catch_unwind.map(|(d, g)| json!({ "direct": d.to_json(), "guarded": g.to_json() })),
             "work_precision": precision,

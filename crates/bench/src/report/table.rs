@@ -20,6 +20,7 @@ impl Report {
         self.table_steps(&mut o);
         self.table_model_exchange(&mut o);
         self.table_calls(&mut o);
+        self.table_against_c(&mut o);
         self.table_instructions(&mut o);
         self.table_catch_unwind(&mut o);
         self.table_work_precision(&mut o);
@@ -215,6 +216,58 @@ impl Report {
             let _ = writeln!(o, "  get/set: ns per array call (number of variables); cycle: set inputs + fmi2DoStep + get outputs;");
             let _ = writeln!(o, "  FMPy µs: the same cycle in FMPy's low-level loop (FMU2Slave); share = cycle / FMPy µs.\n");
         }
+    }
+
+    /// Each mechanism's `fmi2DoStep` + one `fmi2GetReal` against the C step: instructions
+    /// and time, and their ratio to the C step's.
+    fn table_against_c(&self, o: &mut String) {
+        let Some(c) = &self.c_step else {
+            return;
+        };
+        let (h, tol) = crate::c_step::AGAINST_C;
+        let _ = writeln!(
+            o,
+            "Against C: fmi2DoStep + one fmi2GetReal (an importer's loop), h = {h:e}, tol = {tol:e};"
+        );
+        let _ = writeln!(
+            o,
+            "  the C step: the Oscillator's Dormand-Prince step written plainly in C (crates/bench/c)"
+        );
+        let _ = writeln!(
+            o,
+            "{:<18} {:>12} {:>7} {:>8} {:>7}",
+            "", "instructions", "× C", "ns", "× C"
+        );
+        let ratio = |x: f64, of: f64| {
+            if x.is_finite() && of.is_finite() && of > 0.0 {
+                format!("{:.2}", x / of)
+            } else {
+                "-".into()
+            }
+        };
+        let c_instructions = c.instructions.unwrap_or(f64::NAN);
+        let _ = writeln!(
+            o,
+            "{:<18} {:>12} {:>7} {:>8.1} {:>7}",
+            "C step",
+            count(c.instructions),
+            ratio(c_instructions, c_instructions),
+            c.ns.median,
+            ratio(c.ns.median, c.ns.median)
+        );
+        for m in &self.mechanisms {
+            let counted = m.instructions.map(|i| i.step_get_per_step);
+            let _ = writeln!(
+                o,
+                "{:<18} {:>12} {:>7} {:>8.1} {:>7}",
+                m.name,
+                count(counted),
+                ratio(counted.unwrap_or(f64::NAN), c_instructions),
+                m.step_get.median,
+                ratio(m.step_get.median, c.ns.median)
+            );
+        }
+        let _ = writeln!(o);
     }
 
     /// Instructions per `fmi2DoStep` and `fmi3DoStep`, and their split (valgrind).

@@ -14,6 +14,9 @@ use crate::precision::{self, FMPY, NATIVE};
 /// medians on a busy 2-core machine).
 const NOISE_NS: f64 = 10.0;
 
+/// The target: the Oscillator's step at most this many times the C step's cost.
+const AGAINST_C_LIMIT: f64 = 1.5;
+
 /// The target: `fmi3DoStep` within this fraction of `fmi2DoStep`.
 const FMI3_LIMIT: f64 = 0.05;
 
@@ -36,10 +39,40 @@ impl Report {
             t.extend(fmi3(m));
             t.extend(calls(m));
         }
+        t.extend(self.against_c());
         t.extend(self.energies.iter().flat_map(from_energies));
         t.extend(self.work_precision());
         t.extend(self.build_targets());
         t
+    }
+
+    /// The Oscillator's `fmi2DoStep` + one `fmi2GetReal` within [`AGAINST_C_LIMIT`] of the
+    /// C step, in instructions and in time.
+    fn against_c(&self) -> Vec<Target> {
+        let (Some(c), Some(m)) = (
+            &self.c_step,
+            self.mechanisms.iter().find(|m| m.name == "Oscillator"),
+        ) else {
+            return Vec::new();
+        };
+        let limit = format!("≤ {AGAINST_C_LIMIT}× the C step");
+        let judge = |what: &str, ours: Option<f64>, theirs: Option<f64>| {
+            let ratio = ours.zip(theirs).map(|(a, b)| a / b);
+            Target {
+                what: format!("Oscillator fmi2DoStep + fmi2GetReal, {what}"),
+                limit: limit.clone(),
+                value: ratio.map_or("not measured".into(), |r| format!("{r:.2}×")),
+                met: ratio.map(|r| r <= AGAINST_C_LIMIT),
+            }
+        };
+        vec![
+            judge(
+                "instructions",
+                m.instructions.map(|i| i.step_get_per_step),
+                c.instructions,
+            ),
+            judge("time", Some(m.step_get.median), Some(c.ns.median)),
+        ]
     }
 
     /// The Oscillator's work–precision, native and under FMPy, against scipy's best.
