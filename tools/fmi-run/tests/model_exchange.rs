@@ -314,12 +314,13 @@ fn the_crane_in_me_locates_where_the_cable_goes_slack() {
 
 #[test]
 fn rigid_body_step_events_renormalize_the_quaternion() {
-    // the heavy top spun at 40 rad/s: RK4 at h = 0.01 lets |q| drift, the FMU asks for a
-    // step event (fmi2CompletedIntegratorStep), renormalizes q in fmi2NewDiscreteStates
+    // the heavy top spun at 40 rad/s without the pull back to the sphere (k_q = 0): RK4 at
+    // h = 0.02 lets |q| drift past the FMU's guard (1e-3), the FMU asks for a step event
+    // (fmi2CompletedIntegratorStep), renormalizes q in fmi2NewDiscreteStates
     // (valuesOfContinuousStatesChanged) and the states are read back
     let json = format!(
-        r#"{{"fmu": {:?}, "relative_tolerance": 1e-10, "stop_time": 20.0, "step_size": 0.01, "steps": 2000,
-            "start_values": {{"M": 1.0, "I_xx": 0.002, "I_yy": 0.002, "I_zz": 0.003, "r_Cz": 0.05,
+        r#"{{"fmu": {:?}, "relative_tolerance": 1e-10, "stop_time": 20.0, "step_size": 0.02, "steps": 1000,
+            "start_values": {{"M": 1.0, "I_xx": 0.002, "I_yy": 0.002, "I_zz": 0.003, "r_Cz": 0.05, "k_q": 0.0,
                 "q_w": {:?}, "q_x": {:?}, "q_y": 0.0, "q_z": 0.0, "w_x": 0.0, "w_y": 0.0, "w_z": 40.0}},
             "record": ["q_w", "q_x", "q_y", "q_z"]}}"#,
         fmu("RigidBody").display().to_string(),
@@ -331,13 +332,13 @@ fn rigid_body_step_events_renormalize_the_quaternion() {
     assert!(stats.step_events > 0, "{stats:?}");
     assert_eq!(stats.state_changes, stats.step_events, "{stats:?}");
     assert_eq!(stats.state_events, 0);
-    // ME passes no tolerance (fixed step): the FMU projects at its default, 1e-6
+    // the guard holds |q| within one RK4 step's drift beyond 1e-3
     let norm_error = table
         .rows
         .iter()
         .map(|r| ((r[1] * r[1] + r[2] * r[2] + r[3] * r[3] + r[4] * r[4]).sqrt() - 1.0).abs())
         .fold(0.0, f64::max);
-    assert!(norm_error < 1e-5, "||q| - 1| reached {norm_error:e}");
+    assert!(norm_error < 2e-3, "||q| - 1| reached {norm_error:e}");
 }
 
 #[test]
