@@ -51,10 +51,9 @@
 //! projection is a step event only as a guard against gross drift:
 //! `fmi2CompletedIntegratorStep` asks for one when `q/|q|` would move a component by more
 //! than 1e-3 ([`mechfmu::simulation::PROJECTION_DRIFT`]), and `fmi2NewDiscreteStates`
-//! projects there. Tied to the tolerance instead, the threshold was crossed every few steps
-//! of CVode, each event restarting it at order 1: more events and a worse answer the tighter
-//! the tolerance. The rotation the outputs show is `q/|q|`'s in
-//! every case.
+//! projects there. A threshold tied to the tolerance would be crossed every few steps of
+//! CVode, each event restarting it at order 1: more events and a worse answer the tighter
+//! the tolerance. The rotation the outputs show is `q/|q|`'s in every case.
 
 #![forbid(unsafe_code)]
 
