@@ -20,6 +20,7 @@ mod dopri5;
 mod initial_step;
 mod locate;
 mod norm;
+mod powers;
 mod runge_kutta;
 #[cfg(test)]
 mod tests;
