@@ -6,9 +6,12 @@ use super::Tolerance;
 /// `b`. Both endpoints of a step are known before its last stage is evaluated, so the
 /// division runs while the model does; the error, known only after that stage, is then
 /// multiplied by it ([`ratio_sq`]) rather than divided on the chain to the next step size.
+/// `a` and `b` are finite (the solver checks every point): a plain comparison picks the
+/// larger, with no NaN case for `max` to handle.
 #[inline(always)]
 pub(crate) fn inverse_scale(tol: Tolerance, a: f64, b: f64) -> f64 {
-    1.0 / (tol.atol + tol.rtol * a.abs().max(b.abs()))
+    let (a, b) = (a.abs(), b.abs());
+    1.0 / (tol.atol + tol.rtol * if a > b { a } else { b })
 }
 
 /// `(num · inv_scale)^2` for `inv_scale` from [`inverse_scale`], with a zero `num` counted

@@ -4,7 +4,10 @@
 
 use super::controller::{Control, Controller};
 use super::initial_step::initial_step;
-use super::{all_finite, OdeSystem, SolverError, SolverMemory, StateVector, StepStats, Tolerance};
+use super::{
+    all_finite, all_finite_entries, OdeSystem, SolverError, SolverMemory, StateVector, StepStats,
+    Tolerance,
+};
 
 /// A leftover shorter than this fraction of the step is absorbed into the step
 /// instead of being taken as a micro-step.
@@ -15,7 +18,9 @@ const DEFAULT_MAX_STEPS: u64 = 1_000_000;
 
 /// Smallest step allowed at time `t`; below it `t + h` no longer moves reliably.
 fn h_min(t: f64) -> f64 {
-    16.0 * f64::EPSILON * t.abs().max(1.0)
+    // `t` is finite: a plain comparison, no NaN case for `max` to handle.
+    let magnitude = t.abs();
+    16.0 * f64::EPSILON * if magnitude > 1.0 { magnitude } else { 1.0 }
 }
 
 /// Whether a step of size `h` ends the `remaining` interval (a leftover below
@@ -41,16 +46,17 @@ pub(crate) fn combine<V: StateVector, const K: usize>(
 ) -> bool {
     let (out, y) = (out.as_mut_slice(), y.as_slice());
     let weights = terms.map(|(a, _)| h * a);
-    let mut finite = true;
+    let term = |j: usize, i: usize| weights[j] * terms[j].1.as_slice()[i];
     for i in 0..V::DIM {
-        let mut earlier = 0.0;
-        for j in 0..K - 1 {
-            earlier += weights[j] * terms[j].1.as_slice()[i];
-        }
-        out[i] = (y[i] + earlier) + weights[K - 1] * terms[K - 1].1.as_slice()[i];
-        finite &= out[i].is_finite();
+        let newest = term(K - 1, i);
+        out[i] = if K == 1 {
+            y[i] + newest
+        } else {
+            let earlier = (1..K - 1).fold(term(0, i), |sum, j| sum + term(j, i));
+            (y[i] + earlier) + newest
+        };
     }
-    finite
+    all_finite_entries(out)
 }
 
 /// `k = f(t, arg)`, counted. A function rather than a closure in each method's stages so
@@ -129,8 +135,6 @@ pub struct RungeKutta<V: StateVector, T: Method<V>> {
     max_steps: u64,
     mem: SolverMemory,
     pub(crate) method: T,
-    /// rhs evaluations during the current call.
-    evals: u64,
     _state: std::marker::PhantomData<V>,
 }
 
@@ -147,7 +151,6 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
             max_steps: DEFAULT_MAX_STEPS,
             mem: SolverMemory::FRESH,
             method: T::default(),
-            evals: 0,
             _state: std::marker::PhantomData,
         }
     }
@@ -205,9 +208,7 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
             *t = t_end;
             return Ok(stats);
         }
-        self.evals = 0;
         let result = self.run(sys, t, t_end, y, tol, &mut stats);
-        stats.rhs_evals = self.evals;
         result.map(|()| stats)
     }
 
@@ -223,17 +224,22 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
         if !all_finite(y) {
             return Err(SolverError::NonFinite { t: *t });
         }
+        // The rhs evaluations of this call. A local, not a field: a count in memory the
+        // stages reach through `self` is stored after every stage, since any stage may be
+        // the last before a return.
+        let mut evals: u64 = 1;
         sys.rhs_reusing(*t, y.as_slice(), self.method.k1().as_mut_slice());
-        self.evals += 1;
         if !all_finite(self.method.k1()) {
             return Err(SolverError::NonFinite { t: *t });
         }
 
         let mut h = match self.mem.h_next {
-            Some(h) if h.is_finite() && h > 0.0 => h,
+            Some(h) if h > 0.0 && h <= f64::MAX => h,
             _ => {
                 let (k1, probe, f_probe) = self.method.scratch();
-                initial_step(
+                // Its own count: `evals` handed to a function not inlined would live in memory.
+                let mut probes = 0;
+                let h = initial_step(
                     sys,
                     *t,
                     y.as_slice(),
@@ -243,8 +249,10 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
                     T::ORDER,
                     probe.as_mut_slice(),
                     f_probe.as_mut_slice(),
-                    &mut self.evals,
-                )
+                    &mut probes,
+                );
+                evals += probes;
+                h
             }
         };
         let mut controller = Controller::new(T::CONTROL, self.mem.log2_err_prev);
@@ -264,7 +272,11 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
 
             // A step below h_min may not move t at all; only the final remainder may be
             // that short.
-            h = h.max(h_min(*t));
+            // `h` is finite and positive (checked when remembered, or the controller's).
+            let floor = h_min(*t);
+            if h < floor {
+                h = floor;
+            }
             let remaining = t_end - *t;
             let last = reaches(h, remaining);
             // A branch, not a select: the last step's size is the interval's remainder,
@@ -278,8 +290,7 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
                 (h, *t + h)
             };
 
-            let err_squared =
-                (self.method).attempt(sys, *t, h_step, t_new, y, tol, &mut self.evals);
+            let err_squared = (self.method).attempt(sys, *t, h_step, t_new, y, tol, &mut evals);
 
             if !err_squared.is_finite() {
                 stats.rejected += 1;
@@ -305,13 +316,16 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
                 if last && h_new >= h_step {
                     // Clamping, not the error, made this step short: keep the longer
                     // step for the next call.
-                    h_new = h_new.max(h);
+                    if h > h_new {
+                        h_new = h;
+                    }
                 }
                 // The system may refuse the new point (the model stops holding there): then
                 // the integration ends at the last point inside the step where it holds.
                 if let Err(message) = sys.accepted(t_new, self.method.y_new().as_slice()) {
                     let (t0, y0) = (*t, *y);
-                    let (method, evals) = (&mut self.method, &mut self.evals);
+                    // The call ends in an error, whose caller sees no count.
+                    let (method, evals) = (&mut self.method, &mut 0);
                     let (t_stop, y_stop) =
                         super::locate::last_valid_point(sys, (t0, y), t_new, |sys, t_probe| {
                             method.attempt(sys, t0, t_probe - t0, t_probe, &y0, tol, evals);
@@ -331,6 +345,7 @@ impl<V: StateVector, T: Method<V>> RungeKutta<V, T> {
                     ..self.mem
                 };
                 if last {
+                    stats.rhs_evals = evals;
                     return Ok(());
                 }
                 h = h_new;
