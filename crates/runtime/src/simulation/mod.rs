@@ -227,12 +227,19 @@ fn default_tolerance<M: Mechanism>() -> Tolerance {
 
 /// The variable of value reference `vr`, or a message naming the bad reference.
 pub fn variable<M: Mechanism>(vr: u32) -> Result<&'static Variable, String> {
-    M::VARIABLES.get(vr as usize).ok_or_else(|| {
-        format!(
-            "value reference {vr} is not a variable of {} (it has {} real variables, 0..{})",
-            M::NAME,
-            M::VARIABLES.len(),
-            M::VARIABLES.len().saturating_sub(1)
-        )
-    })
+    M::VARIABLES
+        .get(vr as usize)
+        .ok_or_else(|| not_a_variable::<M>(vr))
+}
+
+/// Why `vr` is refused: it is no variable of the mechanism.
+#[cold]
+#[inline(never)]
+fn not_a_variable<M: Mechanism>(vr: u32) -> String {
+    format!(
+        "value reference {vr} is not a variable of {} (it has {} real variables, 0..{})",
+        M::NAME,
+        M::VARIABLES.len(),
+        M::VARIABLES.len().saturating_sub(1)
+    )
 }

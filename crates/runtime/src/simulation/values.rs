@@ -92,12 +92,12 @@ impl<M: Mechanism> Simulation<M> {
     }
 
     /// Reads value references, bringing calculated values up to date first.
+    /// One pass: a reference that is no variable ends it with an error, and what was
+    /// written before it is undefined, as after any call that fails.
     pub fn get_real(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), String> {
-        for &vr in vrs {
-            variable::<M>(vr)?;
-        }
         self.update()?;
         for (&vr, o) in vrs.iter().zip(out.iter_mut()) {
+            variable::<M>(vr)?;
             *o = self.values.get(vr as usize).unwrap_or(f64::NAN);
         }
         Ok(())
