@@ -69,7 +69,7 @@ fn run<M: Mechanism>(values: &[(&str, f64)], stop: f64) -> Result<Trajectory, St
     };
     record(&mut sim, e.start)?;
     let mut stopped = None;
-    let n = ((stop - e.start) / e.step).round() as u64;
+    let n = libm::round((stop - e.start) / e.step) as u64;
     for k in 0..n {
         let t = e.start + k as f64 * e.step;
         let h = (e.start + (k + 1) as f64 * e.step).min(stop) - t;

@@ -149,18 +149,20 @@ pub fn plot(run: &Trajectory, title: &str) -> String {
 }
 
 /// Round tick values covering [lo, hi] (about five) and the decimals to print them with.
+/// Rounding is the `libm` crate's, as everywhere in the library: `f64::floor` and `ceil`
+/// are calls of the C library's on x86-64, which a Windows DLL would import from msvcrt.
 fn ticks(lo: f64, hi: f64) -> (Vec<f64>, usize) {
     let span = (hi - lo).max(f64::MIN_POSITIVE);
     let raw = span / 5.0;
-    let mag = libm::pow(10.0, libm::log10(raw).floor());
+    let mag = libm::pow(10.0, libm::floor(libm::log10(raw)));
     let step = [1.0, 2.0, 5.0, 10.0]
         .iter()
         .map(|m| m * mag)
         .find(|s| span / s <= 6.5)
         .unwrap_or(10.0 * mag);
-    let decimals = (-(libm::log10(step).floor())).max(0.0) as usize;
-    let first = (lo / step).ceil() as i64;
-    let last = (hi / step).floor() as i64;
+    let decimals = (-libm::floor(libm::log10(step))).max(0.0) as usize;
+    let first = libm::ceil(lo / step) as i64;
+    let last = libm::floor(hi / step) as i64;
     let ticks = (first..=last).map(|k| k as f64 * step).collect();
     (ticks, decimals.min(12))
 }
