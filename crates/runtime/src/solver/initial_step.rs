@@ -5,7 +5,7 @@
 //! of an method of order p is about the tolerance. Costs one extra rhs evaluation.
 
 use super::norm::weighted_rms;
-use super::{OdeSystem, Tolerance};
+use super::{all_finite_entries, OdeSystem, Tolerance};
 
 /// Proposes a first step from `(t, y)` with `f0 = f(t, y)`. The probe point stays
 /// within `max_probe` (the distance to the communication point), so the rhs is never
@@ -41,6 +41,10 @@ pub(crate) fn initial_step<S: OdeSystem + ?Sized>(
     // Explicit Euler probe to estimate ‖y''‖.
     for ((y1i, &yi), &fi) in y1.iter_mut().zip(y).zip(f0) {
         *y1i = yi + h_probe * fi;
+    }
+    if !all_finite_entries(y1) {
+        // The probe point overflowed: the rhs is never fed it. Start small, as below.
+        return h_probe;
     }
     sys.rhs(t + h_probe, y1, f1);
     *evals += 1;

@@ -531,6 +531,26 @@ fn a_nan_derivative_at_any_stage_rejects_the_step() {
 }
 
 #[test]
+fn an_initial_step_probe_that_overflows_is_not_evaluated() {
+    // y' = y at y near the largest double: the heuristic's Euler probe y + h·y overflows.
+    struct Growth;
+    impl OdeSystem for Growth {
+        fn rhs(&mut self, _t: f64, y: &[f64], dydt: &mut [f64]) {
+            assert!(y[0].is_finite(), "solver passed a non-finite y");
+            dydt[0] = y[0];
+        }
+    }
+    let mut solver = Dopri5::new();
+    let (mut t, mut y) = (0.0, [1.79e308]);
+    let err = solver
+        .integrate(&mut Growth, &mut t, 1.0, &mut y, tol(1e-6))
+        .unwrap_err();
+    assert!(matches!(err, SolverError::NonFinite { .. }), "{err:?}");
+    assert_eq!(err.t(), t);
+    assert!(y[0].is_finite());
+}
+
+#[test]
 fn nan_at_start_is_reported_without_stepping() {
     struct AlwaysNan;
     impl OdeSystem for AlwaysNan {
