@@ -276,7 +276,7 @@ impl<const N: usize> Rem for Jet<N> {
     /// differentiable).
     #[inline]
     fn rem(self, b: Self) -> Self {
-        self - b.scaled((self.re / b.re).trunc())
+        self - b.scaled(libm::trunc(self.re / b.re))
     }
 }
 

@@ -193,11 +193,12 @@ impl<const N: usize> SupersetOf<f32> for Jet<N> {
 impl<const N: usize> Field for Jet<N> {}
 
 /// A function with no derivative where it is differentiable: its value, as a constant.
+/// The value is `libm`'s: `f64::floor` and its kin are calls of the C library on x86-64.
 macro_rules! constant_of {
     ($($name:ident),*) => {$(
         #[inline]
         fn $name(self) -> Self {
-            Self::constant(self.re.$name())
+            Self::constant(libm::$name(self.re))
         }
     )*};
 }
@@ -237,7 +238,7 @@ impl<const N: usize> ComplexField for Jet<N> {
     }
     constant_of!(floor, ceil, round, trunc);
     fn fract(self) -> Self {
-        self - Self::constant(self.re.trunc())
+        self - Self::constant(libm::trunc(self.re))
     }
     fn mul_add(self, a: Self, b: Self) -> Self {
         self * a + b
