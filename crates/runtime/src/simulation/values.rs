@@ -95,6 +95,7 @@ impl<M: Mechanism> Simulation<M> {
     /// One pass: a reference that is no variable ends it with an error, and what was
     /// written before it is undefined, as after any call that fails.
     pub fn get_real(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), String> {
+        debug_assert_eq!(vrs.len(), out.len(), "one value per reference");
         self.update()?;
         for (&vr, o) in vrs.iter().zip(out.iter_mut()) {
             variable::<M>(vr)?;
