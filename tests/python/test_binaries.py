@@ -42,8 +42,8 @@ STOCK = {
 }
 # the oldest macOS each Mac binary is for (the README says so)
 MACOS = {"x86_64-darwin": "10.12.0", "aarch64-darwin": "11.0.0"}
-# functions of the C library's math that would make a platform's last bit its own (the
-# runtime computes these itself, with the libm crate)
+# functions of the C library's math: most would make a platform's last bit its own, and
+# none may be imported at all (the runtime computes these itself, with the libm crate)
 MATH = {"sin", "cos", "tan", "sincos", "__sincos_stret", "asin", "acos", "atan", "atan2", "exp", "exp2", "exp10",
         "__exp10", "expm1", "log", "log2", "log10", "log1p", "pow", "cbrt", "hypot", "sinh", "cosh", "tanh", "fma",
         "floor", "ceil", "round", "trunc"}

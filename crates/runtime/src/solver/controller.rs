@@ -13,7 +13,7 @@
 //! waits for, so it has no division: `dopri5.f`'s `h / (fac / SAFE)` is `h · SAFE · 2^-x`
 //! here, with the bounds as growth factors (`FAC1`, `FAC2`), and the error norm multiplies
 //! by reciprocal scales computed while the last stage evaluates (measured: 5-15 ns of
-//! every `fmi2DoStep`). Again a few ulp from `dopri5.f`'s arithmetic.
+//! every `fmi2DoStep`). This form alone is a few ulp from `dopri5.f`'s arithmetic.
 //!
 //! Neither is the platform's C library's (glibc, msvcrt, libSystem round differently in
 //! the last bit): they are plain arithmetic, so the step sizes, and with them every

@@ -284,8 +284,8 @@ pub struct SolverMemory {
     /// `FACOLD`), so between about -13.3 and 0: it damps the controller (the "I" of PI).
     /// The floor's for a fresh solver. The logarithm is what the controller computes and
     /// uses, so a memory restored anywhere proposes what it would have where it was saved
-    /// (remembering the norm, a restored controller took `log2` of its square root, which
-    /// differs from half the `log2` of the square in the last bit for ~30 % of norms).
+    /// (remembering the norm, a restored controller would take `log2` of its square root,
+    /// which is not always half the `log2` of the square).
     pub log2_err_prev: f64,
     /// Whether the 8th-order method is running (see [`Solver`]); `h_next` and
     /// `log2_err_prev` are its controller's. False for a fresh solver.
