@@ -19,6 +19,8 @@
 //! the last bit): they are plain arithmetic, so the step sizes, and with them every
 //! trajectory, are the same bits on every platform.
 
+use super::powers::{exp2, log2};
+
 /// A method's controller constants (`dopri5.f` and `dop853.f` defaults).
 #[derive(Clone, Copy, Debug)]
 pub struct Control {
@@ -42,8 +44,6 @@ pub(crate) const ERR_PREV_FLOOR: f64 = 1e-4;
 /// `log2(ERR_PREV_FLOOR)` (checked by a test): the memory of a fresh controller, and of
 /// every step whose error is below the floor.
 pub(crate) const LOG2_ERR_PREV_FLOOR: f64 = -13.287712379549449;
-
-use super::powers::{exp2, log2};
 
 /// Whether `log2_err_prev` is one the controller can remember: between the floor's and 0
 /// (an accepted error norm is at most 1).

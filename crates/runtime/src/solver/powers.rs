@@ -54,7 +54,7 @@ const E6: f64 = E5 * LN_2 / 6.0;
 const E7: f64 = E6 * LN_2 / 7.0;
 
 /// Inputs are clamped to this range, where `2^x` is a normal number with room to spare.
-pub(crate) const EXP2_RANGE: f64 = 512.0;
+const EXP2_RANGE: f64 = 512.0;
 
 /// `2^x` within 7.4e-9 (relative) for `x` in `[-EXP2_RANGE, EXP2_RANGE]`; `x` outside is
 /// clamped into it, and NaN gives NaN.
