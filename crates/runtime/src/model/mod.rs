@@ -13,6 +13,7 @@ mod layout;
 mod order;
 pub(crate) mod scalar;
 mod terminal;
+pub(crate) mod trig;
 pub mod units;
 mod values;
 mod variable;

@@ -1,7 +1,8 @@
 //! The elementary functions on jets: the value and the chain rule with the first two
-//! derivatives, from `libm` (the same bits on every platform).
+//! derivatives, from `libm` and the runtime's `sin_cos` (the same bits on every platform).
 
 use super::Jet;
+use crate::model::trig;
 
 impl<const N: usize> Jet<N> {
     #[inline(always)]
@@ -12,7 +13,7 @@ impl<const N: usize> Jet<N> {
 
     #[inline(always)]
     pub(crate) fn sin_cos_jet(self) -> (Self, Self) {
-        let (s, c) = libm::sincos(self.re);
+        let (s, c) = trig::sin_cos(self.re);
         (self.chain(s, c, -s), self.chain(c, -s, -c))
     }
 
