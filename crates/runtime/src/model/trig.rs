@@ -182,6 +182,16 @@ mod tests {
     }
 
     #[test]
+    fn odd_and_even_bit_for_bit_and_on_the_unit_circle() {
+        for x in points(MEDIUM) {
+            let (s, c) = sin_cos(x);
+            let (sm, cm) = sin_cos(-x);
+            assert_eq!((sm.to_bits(), cm.to_bits()), ((-s).to_bits(), c.to_bits()), "x = {x:e}");
+            assert!((s * s + c * c - 1.0).abs() <= 4.0 * f64::EPSILON, "x = {x:e}");
+        }
+    }
+
+    #[test]
     fn exact_where_the_functions_are() {
         for x in [0.0, -0.0, 1e-300, -1e-300, f64::MIN_POSITIVE, 5e-324] {
             let (s, c) = sin_cos(x);
