@@ -132,6 +132,22 @@ fn a_negative_base_to_a_constant_integer_power_is_its_power() {
 }
 
 #[test]
+fn a_jet_is_exactly_zero_along_what_it_does_not_depend_on() {
+    use nalgebra::ComplexField;
+    // sqrt at 0 has an infinite derivative along v0; along v1 and q0 the product depends on
+    // nothing, and its derivatives there are 0, not ∞ · 0.
+    let root = Jet::<2>::velocity(0, 0.0).sqrt();
+    let y = root * Jet::<2>::coordinate(1, 2.0, 3.0);
+    assert_eq!((y.v[0], y.vp[0]), (f64::INFINITY, f64::INFINITY));
+    assert_eq!(y.vv[0][0], f64::NEG_INFINITY);
+    assert_eq!(
+        (y.v[1], y.q[0], y.vv[0][1], y.vv[1][1], y.vp[1]),
+        (0.0, 0.0, 0.0, 0.0, 0.0)
+    );
+    assert_eq!((y.q[1], y.p), (0.0, 0.0));
+}
+
+#[test]
 fn a_remainder_carries_the_derivatives_of_its_dividend() {
     let (jets, _) = seeded([0.3, -0.7, 1.1, 0.4, 0.9]);
     let x = jets[0] * jets[2] + jets[4];

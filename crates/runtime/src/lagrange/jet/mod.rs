@@ -12,9 +12,9 @@
 //!   from a dropped one.
 //!
 //! It is what a general hyper-dual vector would give with the second derivatives the
-//! equations do not use never computed, in plain arrays, each part marked zero or not, so
-//! that a right-hand side costs one to two and a half times the hand-written equations'
-//! rather than ten (`mechfmu bench --instructions`).
+//! equations do not use never computed, in plain arrays, each entry of each part marked
+//! zero or not, so that a right-hand side costs one to two and a half times the
+//! hand-written equations' rather than ten (`mechfmu bench --instructions`).
 
 mod functions;
 mod traits;
@@ -23,17 +23,15 @@ use std::ops::{
     Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Rem, RemAssign, Sub, SubAssign,
 };
 
-/// Which parts of a jet may be nonzero: bits of [`Jet::parts`]. A part whose bit is clear is
-/// all zeros, and the arithmetic skips it. The bits are integers, so where `T` is inlined into
-/// the solver the compiler knows them and drops the skipped work altogether (it cannot drop
-/// a product by a zero derivative: `x * 0.0` is not `0.0` when `x` is infinite or NaN).
-mod part {
-    pub const V: u8 = 1;
-    pub const Q: u8 = 2;
-    pub const P: u8 = 4;
-    pub const VV: u8 = 8;
-    pub const VP: u8 = 16;
-}
+/// Which entries of a jet's parts may be nonzero: one bit per index (bit `i` for `v[i]`,
+/// `q[i]`, `vp[i]`; for `vv`, bit `i` when row and column `i` may hold nonzeros, so `vv[i][j]`
+/// may be nonzero only where both bits are set). An entry whose bit is clear is zero, and the
+/// arithmetic skips it. The masks are integers, so where `T` is inlined into the solver the
+/// compiler knows them and drops the skipped work altogether: a jet of one coordinate
+/// multiplies one entry of each part, not `N` (it cannot drop a product by a zero
+/// derivative: `x * 0.0` is not `0.0` when `x` is infinite or NaN). With more than 64
+/// coordinates every bit stands for every index: the parts are skipped whole or not at all.
+type Mask = u64;
 
 /// A value with its derivatives for Lagrange's equations in `N` coordinates (see the module).
 #[derive(Clone, Copy, Debug)]
@@ -49,8 +47,32 @@ pub struct Jet<const N: usize> {
     pub(crate) vv: [[f64; N]; N],
     /// `∂/∂q̇_i` of the derivative along the path.
     pub(crate) vp: [f64; N],
-    /// Which parts may be nonzero (bits of `part`); the others are zeros.
-    parts: u8,
+    /// Where `v`, `q`, `vv` and `vp` may be nonzero (see [`Mask`]), and whether `p` may be.
+    v_mask: Mask,
+    q_mask: Mask,
+    vv_mask: Mask,
+    vp_mask: Mask,
+    has_p: bool,
+}
+
+/// Whether index `i` may be nonzero in a part with mask `mask`.
+#[inline(always)]
+fn may<const N: usize>(mask: Mask, i: usize) -> bool {
+    if N > Mask::BITS as usize {
+        mask != 0
+    } else {
+        (mask >> i) & 1 == 1
+    }
+}
+
+/// The mask of index `i` alone.
+#[inline(always)]
+fn only<const N: usize>(i: usize) -> Mask {
+    if N > Mask::BITS as usize {
+        Mask::MAX
+    } else {
+        1 << i
+    }
 }
 
 impl<const N: usize> Jet<N> {
@@ -64,7 +86,11 @@ impl<const N: usize> Jet<N> {
             p: 0.0,
             vv: [[0.0; N]; N],
             vp: [0.0; N],
-            parts: 0,
+            v_mask: 0,
+            q_mask: 0,
+            vv_mask: 0,
+            vp_mask: 0,
+            has_p: false,
         }
     }
 
@@ -73,7 +99,7 @@ impl<const N: usize> Jet<N> {
     pub fn velocity(i: usize, q_dot: f64) -> Self {
         let mut jet = Self::constant(q_dot);
         jet.v[i] = 1.0;
-        jet.parts = part::V;
+        jet.v_mask = only::<N>(i);
         jet
     }
 
@@ -82,8 +108,9 @@ impl<const N: usize> Jet<N> {
     pub fn coordinate(i: usize, q: f64, q_dot: f64) -> Self {
         let mut jet = Self::constant(q);
         jet.q[i] = 1.0;
+        jet.q_mask = only::<N>(i);
         jet.p = q_dot;
-        jet.parts = part::Q | part::P;
+        jet.has_p = true;
         jet
     }
 
@@ -92,44 +119,49 @@ impl<const N: usize> Jet<N> {
     pub fn time(t: f64) -> Self {
         let mut jet = Self::constant(t);
         jet.p = 1.0;
-        jet.parts = part::P;
+        jet.has_p = true;
         jet
     }
 
+    /// Whether every derivative is zero.
     #[inline(always)]
-    fn has(&self, bits: u8) -> bool {
-        self.parts & bits != 0
+    pub(crate) fn is_constant(&self) -> bool {
+        (self.v_mask | self.q_mask | self.vv_mask | self.vp_mask) == 0 && !self.has_p
     }
 
     /// `f(self)` by the chain rule, from `f`, `f'` and `f''` at the value.
     #[inline(always)]
     pub(crate) fn chain(self, f0: f64, f1: f64, f2: f64) -> Self {
-        let mut out = Self::constant(f0);
-        out.parts = self.parts;
-        if self.has(part::V) {
-            out.v = self.v.map(|d| f1 * d);
-            out.parts |= part::VV;
+        let mut out = self.scaled(f1);
+        out.re = f0;
+        // The second-order terms f'' a' a' the first derivatives add.
+        if self.v_mask != 0 {
+            out.vv_mask |= self.v_mask;
             for i in 0..N {
                 for j in i..N {
-                    out.vv[i][j] = f1 * self.vv[i][j] + f2 * self.v[i] * self.v[j];
+                    if may::<N>(self.v_mask, i) && may::<N>(self.v_mask, j) {
+                        let square = f2 * self.v[i] * self.v[j];
+                        out.vv[i][j] = if may::<N>(self.vv_mask, i) && may::<N>(self.vv_mask, j) {
+                            out.vv[i][j] + square
+                        } else {
+                            square
+                        };
+                    }
                 }
             }
-        } else if self.has(part::VV) {
-            out.vv = self.vv.map(|row| row.map(|d| f1 * d));
-        }
-        if self.has(part::Q) {
-            out.q = self.q.map(|d| f1 * d);
-        }
-        if self.has(part::P) {
-            out.p = f1 * self.p;
-        }
-        if self.has(part::V) && self.has(part::P) {
-            out.parts |= part::VP;
-            for i in 0..N {
-                out.vp[i] = f1 * self.vp[i] + f2 * self.v[i] * self.p;
+            if self.has_p {
+                out.vp_mask |= self.v_mask;
+                for i in 0..N {
+                    if may::<N>(self.v_mask, i) {
+                        let cross = f2 * self.v[i] * self.p;
+                        out.vp[i] = if may::<N>(self.vp_mask, i) {
+                            out.vp[i] + cross
+                        } else {
+                            cross
+                        };
+                    }
+                }
             }
-        } else if self.has(part::VP) {
-            out.vp = self.vp.map(|d| f1 * d);
         }
         out
     }
@@ -137,32 +169,36 @@ impl<const N: usize> Jet<N> {
     /// `self` times the constant `c`.
     #[inline(always)]
     fn scaled(self, c: f64) -> Self {
-        let mut out = Self::constant(self.re * c);
-        out.parts = self.parts;
-        if self.has(part::V) {
-            out.v = self.v.map(|d| c * d);
+        let mut out = self;
+        out.re = self.re * c;
+        for i in 0..N {
+            if may::<N>(self.v_mask, i) {
+                out.v[i] = c * self.v[i];
+            }
+            if may::<N>(self.q_mask, i) {
+                out.q[i] = c * self.q[i];
+            }
+            if may::<N>(self.vp_mask, i) {
+                out.vp[i] = c * self.vp[i];
+            }
+            for j in i..N {
+                if may::<N>(self.vv_mask, i) && may::<N>(self.vv_mask, j) {
+                    out.vv[i][j] = c * self.vv[i][j];
+                }
+            }
         }
-        if self.has(part::Q) {
-            out.q = self.q.map(|d| c * d);
-        }
-        if self.has(part::P) {
+        if self.has_p {
             out.p = c * self.p;
-        }
-        if self.has(part::VV) {
-            out.vv = self.vv.map(|row| row.map(|d| c * d));
-        }
-        if self.has(part::VP) {
-            out.vp = self.vp.map(|d| c * d);
         }
         out
     }
 }
 
-/// `a + b`, part by part, adding only where both have the part.
+/// `a + b` where `a` and `b` may be nonzero as their masks say: added where both may be.
 #[inline(always)]
-fn sum<const K: usize>(a: [f64; K], a_has: bool, b: [f64; K], b_has: bool) -> [f64; K] {
-    match (a_has, b_has) {
-        (true, true) => std::array::from_fn(|i| a[i] + b[i]),
+fn sum(a: f64, a_may: bool, b: f64, b_may: bool) -> f64 {
+    match (a_may, b_may) {
+        (true, true) => a + b,
         (true, false) => a,
         _ => b,
     }
@@ -173,23 +209,28 @@ impl<const N: usize> Add for Jet<N> {
     #[inline(always)]
     fn add(self, b: Self) -> Self {
         let a = self;
-        let both = |bits| (a.has(bits), b.has(bits));
-        let (av, bv) = both(part::V);
-        let (aq, bq) = both(part::Q);
-        let (ap, bp) = both(part::P);
-        let (avv, bvv) = both(part::VV);
-        let (avp, bvp) = both(part::VP);
         let mut out = Self::constant(a.re + b.re);
-        out.parts = a.parts | b.parts;
-        out.v = sum(a.v, av, b.v, bv);
-        out.q = sum(a.q, aq, b.q, bq);
-        out.p = sum([a.p], ap, [b.p], bp)[0];
-        out.vp = sum(a.vp, avp, b.vp, bvp);
-        out.vv = match (avv, bvv) {
-            (true, true) => std::array::from_fn(|i| sum(a.vv[i], true, b.vv[i], true)),
-            (true, false) => a.vv,
-            _ => b.vv,
-        };
+        for i in 0..N {
+            out.v[i] = sum(a.v[i], may::<N>(a.v_mask, i), b.v[i], may::<N>(b.v_mask, i));
+            out.q[i] = sum(a.q[i], may::<N>(a.q_mask, i), b.q[i], may::<N>(b.q_mask, i));
+            out.vp[i] = sum(
+                a.vp[i],
+                may::<N>(a.vp_mask, i),
+                b.vp[i],
+                may::<N>(b.vp_mask, i),
+            );
+            for j in i..N {
+                let a_may = may::<N>(a.vv_mask, i) && may::<N>(a.vv_mask, j);
+                let b_may = may::<N>(b.vv_mask, i) && may::<N>(b.vv_mask, j);
+                out.vv[i][j] = sum(a.vv[i][j], a_may, b.vv[i][j], b_may);
+            }
+        }
+        out.p = sum(a.p, a.has_p, b.p, b.has_p);
+        out.v_mask = a.v_mask | b.v_mask;
+        out.q_mask = a.q_mask | b.q_mask;
+        out.vv_mask = a.vv_mask | b.vv_mask;
+        out.vp_mask = a.vp_mask | b.vp_mask;
+        out.has_p = a.has_p | b.has_p;
         out
     }
 }
@@ -212,41 +253,60 @@ impl<const N: usize> Sub for Jet<N> {
 
 impl<const N: usize> Mul for Jet<N> {
     type Output = Self;
-    /// The product rule, to the parts kept, on the parts either factor has.
+    /// The product rule, to the parts kept, on the entries either factor may have.
     #[inline(always)]
     fn mul(self, b: Self) -> Self {
         let a = self;
-        if a.parts == 0 {
+        if a.is_constant() {
             return b.scaled(a.re);
         }
-        if b.parts == 0 {
+        if b.is_constant() {
             return a.scaled(b.re);
         }
         // (a0 + a') (b0 + b') = a0 b0 + a0 b' + b0 a' + a' b': the first-order parts of the
         // last term are the only second-order products kept (v v and v p).
         let mut out = a.scaled(b.re) + b.scaled(a.re);
         out.re = a.re * b.re;
-        if a.has(part::V) && b.has(part::V) {
-            out.parts |= part::VV;
+        if a.v_mask != 0 && b.v_mask != 0 {
+            let before = out.vv_mask;
+            out.vv_mask |= a.v_mask | b.v_mask;
             for i in 0..N {
                 for j in i..N {
-                    out.vv[i][j] += a.v[i] * b.v[j] + a.v[j] * b.v[i];
+                    // a_i b_j + a_j b_i, from the terms that may be nonzero.
+                    let ab = may::<N>(a.v_mask, i) && may::<N>(b.v_mask, j);
+                    let ba = may::<N>(a.v_mask, j) && may::<N>(b.v_mask, i);
+                    let cross = match (ab, ba) {
+                        (true, true) => a.v[i] * b.v[j] + a.v[j] * b.v[i],
+                        (true, false) => a.v[i] * b.v[j],
+                        (false, true) => a.v[j] * b.v[i],
+                        (false, false) => continue,
+                    };
+                    out.vv[i][j] = if may::<N>(before, i) && may::<N>(before, j) {
+                        out.vv[i][j] + cross
+                    } else {
+                        cross
+                    };
                 }
             }
         }
-        let (avbp, apbv) = (
-            a.has(part::V) && b.has(part::P),
-            a.has(part::P) && b.has(part::V),
-        );
+        let (avbp, apbv) = (a.v_mask != 0 && b.has_p, a.has_p && b.v_mask != 0);
         if avbp || apbv {
-            out.parts |= part::VP;
+            let before = out.vp_mask;
+            out.vp_mask |= (if avbp { a.v_mask } else { 0 }) | (if apbv { b.v_mask } else { 0 });
             for i in 0..N {
-                let cross = match (avbp, apbv) {
+                let ap = avbp && may::<N>(a.v_mask, i);
+                let pa = apbv && may::<N>(b.v_mask, i);
+                let cross = match (ap, pa) {
                     (true, true) => a.v[i] * b.p + a.p * b.v[i],
                     (true, false) => a.v[i] * b.p,
-                    _ => a.p * b.v[i],
+                    (false, true) => a.p * b.v[i],
+                    (false, false) => continue,
                 };
-                out.vp[i] += cross;
+                out.vp[i] = if may::<N>(before, i) {
+                    out.vp[i] + cross
+                } else {
+                    cross
+                };
             }
         }
         out
@@ -259,7 +319,7 @@ impl<const N: usize> Div for Jet<N> {
     #[allow(clippy::suspicious_arithmetic_impl)]
     #[inline(always)]
     fn div(self, b: Self) -> Self {
-        let mut out = if b.parts == 0 {
+        let mut out = if b.is_constant() {
             self.scaled(1.0 / b.re)
         } else {
             self * b.recip_jet()

@@ -330,7 +330,7 @@ impl<const N: usize> ComplexField for Jet<N> {
         self.powi_jet(n)
     }
     fn powf(self, n: Self) -> Self {
-        if n.parts == 0 {
+        if n.is_constant() {
             self.powf_constant(n.re)
         } else {
             (self.ln_jet() * n).exp_jet()
