@@ -11,10 +11,11 @@
 //! the solver's stages, which cost more than the call saves.
 //!
 //! - `|x| ≤ π/4`: the polynomials directly.
-//! - `|x| < 10^6`: `x = n π/2 + r`, `n` rounded from `x · 2/π`, `r` to about 120 bits as
-//!   the sum `hi + lo` of two doubles (Cody and Waite: `π/2` split in three parts whose
-//!   first two have 33 bits, so that `n` times them is exact for `|n| < 2^20`), then the
-//!   quadrant `n mod 4` picks and signs the two.
+//! - `|x| < 10^6`: `x = n π/2 + r`, `n` rounded from `x · 2/π`, `r` as the sum `hi + lo`
+//!   of two doubles (Cody and Waite: `π/2` split in four parts whose first three have 33
+//!   bits, so that `n` times them is exact for `|n| < 2^20`), then the quadrant `n mod 4`
+//!   picks and signs the two. Where `r` is smallest against `n` (about `2^-52`), three
+//!   parts would leave an error of an ulp.
 //! - beyond: Payne and Hanek's reduction, `x · 2/π` modulo 4 from only the 192 bits of
 //!   `2/π` that matter at `x`'s exponent, multiplied exactly in integers; `r` to about 120
 //!   bits. NaN for infinities and NaN.
@@ -28,12 +29,14 @@
 
 use std::f64::consts::{FRAC_2_PI, FRAC_PI_4};
 
-/// `π/2 = P1 + P2 + P3` to 2^-122: `P1` and `P2` have 33 significant bits, `P3` 53.
+/// `π/2 = P1 + P2 + P3 + P4` to 2^-159: `P1`, `P2` and `P3` have 33 significant bits, `P4`
+/// 53.
 const P1: f64 = f64::from_bits(0x3ff9_21fb_5440_0000);
 const P2: f64 = f64::from_bits(0x3dd0_b461_1a60_0000);
-const P3: f64 = f64::from_bits(0x3ba3_198a_2e03_7073);
+const P3: f64 = f64::from_bits(0x3ba3_198a_2e00_0000);
+const P4: f64 = f64::from_bits(0x397b_839a_2520_49c1);
 
-/// Below this, `|n| < 2^20`, so `n · P1` and `n · P2` are exact.
+/// Below this, `|n| < 2^20`, so `n · P1`, `n · P2` and `n · P3` are exact.
 const MEDIUM: f64 = 1.0e6;
 
 /// Below this, `x³/6` and `x²/2` are under half an ulp of `x` and of 1.
@@ -100,9 +103,12 @@ pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
 fn reduce(x: f64, n: f64) -> (f64, f64) {
     // Exact: n P1 has at most 53 bits, and x is within a factor 2 of it.
     let r = x - n * P1;
-    // n P2 is exact; the subtraction's rounding error is recovered (Knuth's two-sum).
-    let (y, error) = two_sum(r, -(n * P2));
-    two_sum(y, error - n * P3)
+    // n P2 and n P3 are exact; the subtractions' rounding errors are recovered (Knuth's
+    // two-sum). Only n P4 (2^-83 at most) rounds, by 2^-136, and the errors' sum, by 2^-105
+    // of r: far below an ulp of any r above 2^-80.
+    let (y, first_error) = two_sum(r, -(n * P2));
+    let (y, second_error) = two_sum(y, -(n * P3));
+    two_sum(y, (first_error + second_error) - n * P4)
 }
 
 /// `a + b` and its rounding error, exactly.
@@ -290,6 +296,14 @@ mod tests {
         // Mostly the same bits: an ulp apart only where either rounds a near tie.
         assert!(equal * 100 >= count * 95, "{equal} of {count} identical");
         assert_eq!(worst, 1);
+    }
+
+    #[test]
+    fn the_closest_approaches_to_multiples_of_half_pi_below_a_million_are_correctly_rounded() {
+        // Where x - n π/2 is smallest against n (about 2^-52), the reduction's own error
+        // would show; the exact values are mpmath's, rounded.
+        assert_eq!(sin_cos(413441.44719405076).1, -2.2756539951781544e-16);
+        assert_eq!(sin_cos(826882.8943881015).0, -4.551307990356309e-16);
     }
 
     #[test]
