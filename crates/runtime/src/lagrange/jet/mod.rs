@@ -13,8 +13,8 @@
 //!
 //! It is what a general hyper-dual vector would give with the second derivatives the
 //! equations do not use never computed, in plain arrays, each entry of each part marked
-//! zero or not, so that a right-hand side costs one to two and a half times the
-//! hand-written equations' rather than ten (`mechfmu bench --instructions`).
+//! zero or not, so that a step costs 1.2 to 1.9 times the hand-written equations' rather
+//! than ten (`mechfmu bench --instructions`).
 
 mod functions;
 mod traits;
