@@ -3,8 +3,8 @@
 //! beyond), and made once for two calls on one angle.
 //!
 //! Equations take both of an angle almost always, often of several angles per evaluation,
-//! and evaluate them at every stage of every step: in a double pendulum they were a quarter
-//! of a step. Here the argument is reduced once and both polynomials share its square.
+//! and evaluate them at every stage of every step: with a library's `sincos`, a quarter of
+//! a double pendulum's step. Here the argument is reduced once and both polynomials share its square.
 //!
 //! `#[inline]`, not `always`: inlined everywhere, it made the equations that take an
 //! occasional sine (the Oscillator's forcing) too large for the compiler to inline them into
