@@ -220,3 +220,41 @@ fn fmi3_derivatives_by_the_time_are_the_forcing_rate() {
         fmu.messages()
     );
 }
+
+#[test]
+fn derivatives_that_overflow_are_errors_naming_the_variable() {
+    // ẍ = (… - c ẋ - k x) / m: seeds of 1e308 on x and ẋ overflow to an infinity, which
+    // is no derivative; the messages name variables, not the version's value references.
+    use mechfmu::fmi3::ffi::{fmi3Error, fmi3OK};
+    let mut fmu = Fmu::new();
+    fmu.initialize(None, 0.0, &[]).unwrap();
+    let (x, v, x_ddot) = (Fmu::vr("x"), Fmu::vr("x_dot"), Fmu::vr("x_ddot"));
+    let mut d = [f64::NAN];
+    let status = fmu.directional_derivative(&[x_ddot], &[x, v], &[1e308, 1e308], &mut d);
+    assert_eq!(status, fmi2Error, "{d:?}");
+    assert!(fmu.logged("the derivative of `x_ddot` is not a finite number"));
+
+    let mut fmu = mechfmu_testkit::fmi3::Fmi3Harness::<Oscillator>::new();
+    fmu.initialize(None, 0.0, &[]).unwrap();
+    let (x, v, x_ddot, m) = (fmu.vr("x"), fmu.vr("x_dot"), fmu.vr("x_ddot"), fmu.vr("m"));
+    let status = fmu.directional_derivative(&[x_ddot], &[x, v], &[1e308, 1e308], &mut d);
+    assert_eq!(status, fmi3Error, "{d:?}");
+    assert!(fmu.logged("the derivative of `x_ddot` is not a finite number"));
+    assert_eq!(
+        fmu.directional_derivative(&[x_ddot], &[x, v], &[1.0, 1.0], &mut d),
+        fmi3OK
+    );
+    assert_eq!(
+        fmu.directional_derivative(&[x_ddot], &[m], &[1.0], &mut d),
+        fmi3Error
+    );
+    assert!(
+        fmu.logged("known `m` is neither a state nor an input"),
+        "{:?}",
+        fmu.messages()
+    );
+    assert!(!fmu
+        .messages()
+        .iter()
+        .any(|m| m.2.contains("value reference")));
+}

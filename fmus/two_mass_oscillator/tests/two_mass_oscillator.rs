@@ -231,3 +231,22 @@ fn invalid_parameters_are_rejected_at_initialization() {
 fn conforms() {
     mechfmu_testkit::conformance::check::<TwoMassOscillator>();
 }
+
+/// `K` is computed from the stiffnesses: setting it is refused for that, whatever its
+/// values (a non-symmetric matrix included), in every state before and after
+/// initialization.
+#[test]
+fn fmi3_the_calculated_stiffness_matrix_cannot_be_set() {
+    use mechfmu::fmi3::ffi::fmi3Error;
+    let mut fmu = mechfmu_testkit::fmi3::Fmi3Harness::<TwoMassOscillator>::new();
+    let k = fmu.vr("K");
+    for values in [[1.0, 2.0, 3.0, 4.0], [1.0, 2.0, 2.0, 4.0]] {
+        assert_eq!(fmu.set_float64(&[k], &values), fmi3Error);
+        assert!(
+            fmu.logged("cannot be set (it is computed by the model)"),
+            "{:?}",
+            fmu.messages()
+        );
+        assert!(!fmu.logged("must be equal"), "{:?}", fmu.messages());
+    }
+}

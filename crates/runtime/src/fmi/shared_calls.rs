@@ -10,7 +10,7 @@ use super::logger::Logger;
 use super::machine::{Interface, ModelState};
 use super::{Status, Version, DISCARD, OK, WARNING};
 use crate::model::{event_indicator_references, Layout, Mechanism, SetPhase};
-use crate::simulation::StepFailure;
+use crate::simulation::{Simulation, StepFailure};
 
 /// Panics are caught at the boundary and reported through the importer's logger; the default
 /// hook would also print them to the importer's stderr. The FMU binary has its own copy of
@@ -137,14 +137,23 @@ pub fn get_real<M: Mechanism>(inst: &mut Instance<M>, vr: &[u32], value: &mut [f
 
 /// Sets scalars by value reference, as the instance's state allows.
 pub fn set_real<M: Mechanism>(inst: &mut Instance<M>, vr: &[u32], value: &[f64]) -> Outcome {
-    let phase = match inst.state {
+    inst.sim.set_real(vr, value, set_phase(inst))?;
+    Ok(OK)
+}
+
+/// Why `set_real` would refuse these values, without setting any.
+pub fn check_set_real<M: Mechanism>(inst: &Instance<M>, vr: &[u32], value: &[f64]) -> Outcome {
+    Simulation::<M>::check_set(vr, value, set_phase(inst))?;
+    Ok(OK)
+}
+
+fn set_phase<M: Mechanism>(inst: &Instance<M>) -> SetPhase {
+    match inst.state {
         ModelState::Instantiated => SetPhase::Instantiated,
         ModelState::InitializationMode => SetPhase::Initialization,
         ModelState::ContinuousTimeMode => SetPhase::ContinuousTime,
         _ => SetPhase::Running,
-    };
-    inst.sim.set_real(vr, value, phase)?;
-    Ok(OK)
+    }
 }
 
 /// A get or set of a type this FMU has no variables of: only the empty call succeeds.
@@ -215,11 +224,12 @@ pub fn directional_derivative<M: Mechanism>(
     }
     inst.sim
         .directional_derivative(unknowns, knowns, seed, time_seed, sensitivity)?;
-    // Seeds near the overflow limit give inf - inf: refuse, rather than return NaN.
-    if let Some(i) = sensitivity.iter().position(|x| x.is_nan()) {
+    // Seeds near the overflow limit give an infinity, or inf - inf: refuse, rather than
+    // return a number that is none.
+    if let Some(i) = sensitivity.iter().position(|x| !x.is_finite()) {
         return Err(error(format!(
-            "the derivative of value reference {} is not a number (a seed too large to multiply?)",
-            unknowns[i]
+            "the derivative of `{}` is not a finite number (a seed too large to multiply?)",
+            M::VARIABLES[unknowns[i] as usize].name
         )));
     }
     Ok(OK)
@@ -233,11 +243,11 @@ pub fn output_derivatives<M: Mechanism>(
     value: &mut [f64],
 ) -> Outcome {
     inst.sim.output_derivatives(vr, order, value)?;
-    // Input derivatives near the overflow limit give inf - inf: refuse, not NaN.
-    if let Some(i) = value.iter().position(|x| x.is_nan()) {
+    // Input derivatives near the overflow limit give an infinity, or inf - inf: refuse.
+    if let Some(i) = value.iter().position(|x| !x.is_finite()) {
         return Err(error(format!(
-            "the derivative of value reference {} is not a number (input derivatives too large?)",
-            vr[i]
+            "the derivative of `{}` is not a finite number (input derivatives too large?)",
+            M::VARIABLES[vr[i] as usize].name
         )));
     }
     Ok(OK)

@@ -106,6 +106,8 @@ pub fn set_float64<M: Mechanism>(
         // One scalar at several places (a symmetric matrix's off-diagonal, or a variable
         // named twice in one call) takes one value.
         if let Some((first, second)) = disagreeing(&scalars, values) {
+            // A variable that cannot be set at all is refused for that.
+            shared_calls::check_set_real(inst, &scalars, values)?;
             return Err(error(format!(
                 "{} = {} and {} = {} are the same variable `{}`: they must be equal",
                 value_name(shapes, vrs, first),

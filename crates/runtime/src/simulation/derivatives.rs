@@ -21,7 +21,7 @@ impl<M: Mechanism> Simulation<M> {
             let v = variable::<M>(vr)?;
             if !(v.is_state() || v.causality == Causality::Input) {
                 return Err(format!(
-                    "known `{}` (value reference {vr}) is neither a state nor an input: derivatives are taken with respect to states and inputs",
+                    "known `{}` is neither a state nor an input: derivatives are taken with respect to states and inputs",
                     v.name
                 ));
             }
@@ -30,7 +30,7 @@ impl<M: Mechanism> Simulation<M> {
             let v = variable::<M>(vr)?;
             if v.variability != Variability::Continuous {
                 return Err(format!(
-                    "unknown `{}` (value reference {vr}) is a parameter: it does not depend on states or inputs",
+                    "unknown `{}` is a parameter: it does not depend on states or inputs",
                     v.name
                 ));
             }
@@ -60,10 +60,7 @@ impl<M: Mechanism> Simulation<M> {
         for (&vr, &order) in vrs.iter().zip(orders) {
             let v = variable::<M>(vr)?;
             if v.causality != Causality::Output {
-                return Err(format!(
-                    "`{}` (value reference {vr}) is not an output",
-                    v.name
-                ));
+                return Err(format!("`{}` is not an output", v.name));
             }
             if order != 1 {
                 return Err(format!(

@@ -6,16 +6,16 @@ use super::{variable, Freshness, Simulation};
 use crate::model::{evaluate_all, Mechanism, SetPhase, ValueSet};
 
 impl<M: Mechanism> Simulation<M> {
-    /// Sets value references to values, checking each is settable in `phase` and finite.
-    /// All or nothing: on error no value has changed.
-    pub fn set_real(&mut self, vrs: &[u32], values: &[f64], phase: SetPhase) -> Result<(), String> {
-        self.held = None;
+    /// Whether every value reference may be set to its value in `phase`: settable then,
+    /// finite, and (after initialization) a parameter's value within its bounds. Returns
+    /// whether a parameter is among them.
+    pub fn check_set(vrs: &[u32], values: &[f64], phase: SetPhase) -> Result<bool, String> {
         let mut sets_parameter = false;
         for (&vr, &value) in vrs.iter().zip(values) {
             let var = variable::<M>(vr)?;
             if !var.settable(phase) {
                 return Err(format!(
-                    "variable `{}` (value reference {vr}) cannot be set {}",
+                    "variable `{}` cannot be set {}",
                     var.name,
                     match phase {
                         SetPhase::Running =>
@@ -36,6 +36,14 @@ impl<M: Mechanism> Simulation<M> {
                 }
             }
         }
+        Ok(sets_parameter)
+    }
+
+    /// Sets value references to values, checking each is settable in `phase` and finite.
+    /// All or nothing: on error no value has changed.
+    pub fn set_real(&mut self, vrs: &[u32], values: &[f64], phase: SetPhase) -> Result<(), String> {
+        self.held = None;
+        let sets_parameter = Self::check_set(vrs, values, phase)?;
         let running = phase.initialized();
         // What to go back to if the calculated parameters cannot be computed: only a
         // parameter set while running can cause that (inputs alone, set at every step by
@@ -217,10 +225,7 @@ impl<M: Mechanism> Simulation<M> {
     ) -> Result<(usize, usize), String> {
         let var = variable::<M>(vr)?;
         let Some(i) = self.layout.input_index(vr as usize) else {
-            return Err(format!(
-                "variable `{}` (value reference {vr}) is not an input",
-                var.name
-            ));
+            return Err(format!("variable `{}` is not an input", var.name));
         };
         if !(1..=2).contains(&order) {
             return Err(format!(
