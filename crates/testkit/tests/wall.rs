@@ -108,6 +108,29 @@ fn a_null_category_is_named_as_one() {
     );
 }
 
+/// A call that names an unknown category changes none: the error categories it would
+/// switch off stay on, so its own error and the next ones are logged.
+#[test]
+fn an_unknown_category_changes_no_category() {
+    let fmu = started();
+    let categories = [c"logStatusError".as_ptr(), c"noSuchCategory".as_ptr()];
+    let status = unsafe {
+        functions::fmi2SetDebugLogging::<Decay>(fmu.component(), fmi2False, 2, categories.as_ptr())
+    };
+    assert_eq!(status, fmi2Error);
+    assert!(
+        fmu.logged("unknown log category \"noSuchCategory\""),
+        "{:?}",
+        fmu.messages()
+    );
+    let mut value = [0.0];
+    let status = unsafe {
+        functions::fmi2GetReal::<Decay>(fmu.component(), [12345].as_ptr(), 1, value.as_mut_ptr())
+    };
+    assert_eq!(status, fmi2Error);
+    assert!(fmu.logged("value reference 12345"), "{:?}", fmu.messages());
+}
+
 /// An importer's garbage GUID pointer is not read when the name or the type is refused
 /// first (reading it would fault: it points nowhere).
 #[test]
@@ -145,6 +168,32 @@ fn the_guid_is_read_only_once_the_name_and_the_type_are_accepted() {
     );
     assert!(
         messages[1].contains("neither fmi2ModelExchange (0) nor fmi2CoSimulation (1)"),
+        "{messages:?}"
+    );
+}
+
+/// A GUID that is no UTF-8 text is not called NULL: the message says what was expected.
+#[test]
+fn a_guid_that_is_not_text_is_named_as_one() {
+    let log = MessageLog::new();
+    let component = unsafe {
+        functions::fmi2Instantiate::<Decay>(
+            c"decay".as_ptr(),
+            fmi2CoSimulation,
+            c"\xff\xfe".as_ptr(),
+            std::ptr::null(),
+            log.callbacks(),
+            fmi2False,
+            fmi2False,
+        )
+    };
+    assert!(component.is_null());
+    let messages: Vec<String> = log.messages().into_iter().map(|(_, _, m)| m).collect();
+    let expected = mechfmu::contract::guid::<Decay>();
+    assert!(
+        messages[0].contains(&format!(
+            "fmuGUID is NULL or not UTF-8 (expected \"{expected}\")"
+        )),
         "{messages:?}"
     );
 }

@@ -92,25 +92,29 @@ impl Logger {
         }
     }
 
-    /// `fmi2SetDebugLogging`: no categories means all of them.
+    /// `fmi2SetDebugLogging`: no categories means all of them. All or nothing: with an
+    /// unknown name among them no category changes, so the error it returns is logged as
+    /// the categories were before (an error category switched off by the same call would
+    /// swallow it).
     pub fn set_categories(&mut self, on: bool, categories: &[&str]) -> Result<(), String> {
+        let mut enabled = self.enabled;
         if categories.is_empty() {
-            self.enabled = [on; 5];
-            return Ok(());
+            enabled = [on; 5];
         }
         for name in categories {
             match LOG_CATEGORIES.iter().position(|(c, _)| c == name) {
-                Some(5) => self.enabled = [on; 5],
-                Some(i) => self.enabled[i] = on,
+                Some(5) => enabled = [on; 5],
+                Some(i) => enabled[i] = on,
                 None => {
                     let known: Vec<&str> = LOG_CATEGORIES.iter().map(|c| c.0).collect();
                     return Err(format!(
-                        "unknown log category \"{name}\" (known: {})",
+                        "unknown log category \"{name}\" (known: {}); no category changed",
                         known.join(", ")
                     ));
                 }
             }
         }
+        self.enabled = enabled;
         Ok(())
     }
 

@@ -53,7 +53,12 @@ pub fn instantiate<'a, M: Mechanism>(
                 ),
             ))
         }
-        None => return Err((logger, format!("{argument} is NULL"))),
+        None => {
+            return Err((
+                logger,
+                format!("{argument} is NULL or not UTF-8 (expected \"{expected}\")"),
+            ))
+        }
     }
     let layout = Layout::new(M::VARIABLES).and_then(|layout| {
         event_indicator_references(M::VARIABLES, M::EVENT_INDICATORS).map(|_| layout)

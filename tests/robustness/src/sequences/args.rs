@@ -281,16 +281,19 @@ impl<S: Standard> Sequence<'_, S> {
             inst.categories = [on; 5];
             return;
         }
+        // All or nothing: an unknown name leaves every category as it was.
+        let mut categories = inst.categories;
         for n in names.iter().flatten() {
             match crate::importer::CATEGORIES
                 .iter()
                 .position(|c| c.as_bytes() == n.as_bytes())
             {
-                Some(5) => inst.categories = [on; 5],
-                Some(k) => inst.categories[k] = on,
-                None => break,
+                Some(5) => categories = [on; 5],
+                Some(k) => categories[k] = on,
+                None => return,
             }
         }
+        inst.categories = categories;
     }
 }
 
