@@ -1,7 +1,7 @@
 """Opening an FMU for validation, or saying in words why it cannot be opened.
 
 :func:`open_fmu` checks, in this order, what every later check and run takes for granted:
-the file is a zip archive and reads to its end; it has a well-formed ``modelDescription.xml``
+the file is a zip archive that reads to its end and extracts inside its folder; it has a well-formed ``modelDescription.xml``
 of FMI 2.0 or 3.0 with a ``<CoSimulation>`` interface; it has a binary for this machine,
 named after the model identifier; FMPy loads that binary; and it instantiates with the
 model description's GUID (instantiation token). The first of these that fails raises
@@ -20,7 +20,7 @@ from . import fmulog
 from .fmu import Fmu
 from .host import HOST_EXTENSION, HOST_FOLDER
 
-__all__ = ["BrokenFmu", "open_fmu", "OPENS"]
+__all__ = ["BrokenFmu", "escaping_entry", "open_fmu", "OPENS"]
 
 #: the check column of the row of an FMU that cannot be opened
 OPENS = "check: the FMU opens and instantiates"
@@ -44,10 +44,29 @@ def _describe_archive(path: Path) -> None:
     try:
         with zipfile.ZipFile(path) as z:
             bad = z.testzip()
+            names = z.namelist()
     except (zipfile.BadZipFile, EOFError, zlib.error, OSError) as e:
         raise BrokenFmu(f"the zip archive is truncated or damaged ({e})") from None
     if bad is not None:
         raise BrokenFmu(f"the zip archive is damaged: {bad} fails its CRC check")
+    escaping = escaping_entry(names)
+    if escaping is not None:
+        raise BrokenFmu(f"the zip archive has an entry outside the FMU's folder: {escaping!r} "
+                        "(an importer that extracts it would write there)")
+
+
+def escaping_entry(names: list[str]) -> str | None:
+    """The first archive entry of ``names`` that lands outside the folder the archive is
+    extracted into, if any."""
+    return next((n for n in names if _escapes(n)), None)
+
+
+def _escapes(name: str) -> bool:
+    """Whether the archive entry ``name`` lands outside the folder it is extracted into: an
+    absolute path (``/x``, ``\\x``, ``C:x``) or one with a ``..`` part (either separator, as
+    Windows reads both)."""
+    parts = name.replace("\\", "/").split("/")
+    return name.startswith(("/", "\\")) or (len(name) > 1 and name[1] == ":") or ".." in parts
 
 
 def _model_description(path: Path) -> ET.Element:

@@ -383,3 +383,27 @@ system = "Pair"
     (crate / "src" / "lib.rs").write_text(SYSTEM_OF_FILES.replace("spring.F_a => a.F", "spring.F_c => a.F"))
     done = subprocess.run(build, cwd=crate, env=env, capture_output=True, text=True, timeout=1800)
     assert done.returncode != 0 and "F_c" in done.stderr, done.stderr[-3000:]
+
+
+def test_an_ssp_whose_component_would_extract_outside_its_folder_is_refused(tmp_path):
+    """An importer extracts each component's FMU: one with an entry up the tree would write
+    outside its folder, so the SSP is refused before any importer runs it."""
+    original = ssp_path("TwoOscillators")
+    hostile = tmp_path / "TwoOscillators.ssp"
+    with zipfile.ZipFile(original) as src, zipfile.ZipFile(hostile, "w") as dst:
+        for name in src.namelist():
+            data = src.read(name)
+            if name == "resources/SpringDamper.fmu":
+                fmu = tmp_path / "SpringDamper.fmu"
+                fmu.write_bytes(data)
+                with zipfile.ZipFile(fmu, "a") as z:
+                    z.writestr("resources/../../escaped.txt", "outside\n")
+                data = fmu.read_bytes()
+            dst.writestr(name, data)
+    with pytest.raises(ValueError, match=r"resources/SpringDamper\.fmu has an entry outside the FMU's folder: "
+                                         r"'resources/\.\./\.\./escaped\.txt'"):
+        archive.read(hostile, tmp_path / "ssp")
+    with pytest.raises(ValueError, match=r"the SSP has an entry outside its folder: '\.\./x'"):
+        with zipfile.ZipFile(hostile, "a") as z:
+            z.writestr("../x", "outside\n")
+        archive.read(hostile, tmp_path / "ssp2")

@@ -170,7 +170,19 @@ def _broken(kind: str, good: Path, directory: Path) -> Path:
         build(directory, name=path.name, xml=(SOURCE / "modelDescription.xml").read_text()[:900])
     elif kind == "refuses to instantiate":
         build(directory, "-DREFUSE_INSTANTIATE", name=path.name)
+    elif kind in ESCAPING:
+        files = {f"{REF_DIR}/{n}": text for n, text in REFERENCE.items()}
+        build(directory, name=path.name, files={**files, ESCAPING[kind]: "written outside\n"})
     return path
+
+
+#: entries an importer that extracts the archive would write outside its folder with
+ESCAPING = {
+    "entry up the tree": "../" * 12 + "tmp/mechfmu-escaped.txt",
+    "entry up through a subfolder": "resources/../../escaped.txt",
+    "absolute entry": "/tmp/mechfmu-escaped.txt",
+    "Windows entry up the tree": "resources\\..\\..\\escaped.txt",
+}
 
 
 BROKEN = {
@@ -179,6 +191,8 @@ BROKEN = {
     "no Linux binary": r"no binary for linux64 in the archive \(it has: win64\)",
     "damaged modelDescription.xml": r"modelDescription\.xml is not well-formed XML \(.*line \d+",
     "refuses to instantiate": r"fmi2Instantiate returned NULL for the modelDescription's GUID \{5f1c1e9a-",
+    **{kind: r"the zip archive has an entry outside the FMU's folder: '" + re.escape(name.replace("\\", "\\\\"))
+       for kind, name in ESCAPING.items()},
 }
 
 

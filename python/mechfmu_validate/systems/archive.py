@@ -10,6 +10,8 @@ from pathlib import Path
 
 from lxml import etree
 
+from ..opening import escaping_entry
+
 SSD = "{http://ssp-standard.org/SSP1/SystemStructureDescription}"
 SSV = "{http://ssp-standard.org/SSP1/SystemStructureParameterValues}"
 OSP = "{http://opensimulationplatform.com/SSP/OSPAnnotations}"
@@ -49,6 +51,9 @@ class Ssp:
 def read(path: Path, folder: Path) -> Ssp:
     """The SSP at ``path``, extracted to ``folder``."""
     with zipfile.ZipFile(path) as z:
+        outside = escaping_entry(z.namelist())
+        if outside is not None:
+            raise ValueError(f"the SSP has an entry outside its folder: {outside!r}")
         z.extractall(folder)
     root = etree.parse(str(folder / DEFAULT_SSD)).getroot()
     system = root.find(f"{SSD}System")
@@ -56,6 +61,13 @@ def read(path: Path, folder: Path) -> Ssp:
                   for c in system.iterfind(f"{SSD}Elements/{SSD}Component")]
     connections = [((c.get("startElement"), c.get("startConnector")), (c.get("endElement"), c.get("endConnector")))
                    for c in system.iterfind(f"{SSD}Connections/{SSD}Connection")]
+    for c in components:
+        # An importer extracts each component's FMU: none may write outside its folder.
+        with zipfile.ZipFile(folder / c.source) as z:
+            outside = escaping_entry(z.namelist())
+        if outside is not None:
+            raise ValueError(f"{c.source} has an entry outside the FMU's folder: {outside!r} "
+                             "(an importer that extracts it would write there)")
     ssp = Ssp(path, folder, system.get("name"), components, connections)
     experiment = root.find(f"{SSD}DefaultExperiment")
     if experiment is not None:
