@@ -292,6 +292,10 @@ def _install_exit_on_termination() -> None:
     """SIGTERM and SIGHUP end this process through ``SystemExit``, so that a validation's
     ``finally`` ends its child and removes its directory (the main thread only)."""
     def leave(number, _frame):
+        # once: a second signal (the parent-death signal after a SIGTERM) would cut the
+        # clean-up short
+        for other in (signal.SIGTERM, signal.SIGHUP, signal.SIGINT):
+            signal.signal(other, signal.SIG_IGN)
         raise SystemExit(128 + number)
 
     try:

@@ -245,3 +245,43 @@ def test_a_result_the_parent_cannot_read_keeps_the_rows_and_is_one_fail_row():
     [stopped] = rows[1:]
     assert stopped["case"] == STOPPED and not stopped["passed"]
     assert "sent a result that cannot be read (ModuleNotFoundError" in stopped["problems"][0], stopped
+
+
+def test_sigterm_to_the_mechfmu_command_reaches_the_validation(fmi_run, tmp_path):
+    """`mechfmu validate` (the Rust command) passes SIGTERM on to the Python side it runs and
+    waits for it: the validation's child ends and its files are removed before the command
+    ends; killed outright, the command takes the validation with it."""
+    hanging = build(tmp_path / "hang", "-DHANG_AT=1.0")
+    for how in ("terminate", "kill"):
+        tmp = tmp_path / f"tmpdir-{how}"
+        tmp.mkdir()
+        env = dict(os.environ, TMPDIR=str(tmp), **{FMI_RUN_ENV: str(fmi_run)})
+        command = subprocess.Popen([str(REPO / "target/release/mechfmu"), "validate", str(hanging), "--no-fmi-crate",
+                                    "--time-limit", "60"], cwd=REPO, env=env, stdout=subprocess.DEVNULL,
+                                   stderr=subprocess.DEVNULL)
+        deadline = time.monotonic() + 120
+        python = []
+        while not python and time.monotonic() < deadline and command.poll() is None:
+            time.sleep(0.2)
+            python = [p for p in _children_of(command.pid) if _descendants(p)]
+        assert python, "the validation never started its child"
+        [validation] = python
+        [child] = _descendants(validation)
+        time.sleep(2)  # into the FMU's run
+        getattr(command, how)()
+        command.wait(timeout=60)
+        if how == "terminate":
+            assert _gone(validation) and _gone(child), "the command ended before the validation"
+            assert not list(tmp.iterdir()), [p.name for p in tmp.iterdir()]
+        assert _wait_gone(validation) and _wait_gone(child), f"the validation outlived the command ({how})"
+
+
+def _children_of(pid: int) -> list[int]:
+    found = []
+    for entry in Path("/proc").iterdir():
+        try:
+            if int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1]) == pid:
+                found.append(int(entry.name))
+        except (OSError, ValueError):
+            continue
+    return found

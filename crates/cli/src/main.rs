@@ -6,7 +6,7 @@
 //! from them. Loading a built FMU is `mechfmu-host`'s; the benchmark lab and the sweep's
 //! native engine are crates of their own, `mechfmu-bench` and `mechfmu-sweep-worker`.
 
-#![forbid(unsafe_code)]
+#![deny(unsafe_code)]
 
 mod build;
 mod commands;

@@ -12,6 +12,7 @@
 //! works on the checkout's files works on the copy's, and a copy never changes under a
 //! command that wrote it.
 
+mod child;
 pub mod python;
 
 use std::ffi::OsString;

@@ -82,10 +82,11 @@ fn run(cmd: &mut Command, what: &str) -> Result<(), String> {
     }
 }
 
-/// Runs `command` (the venv's interpreter on one of mechfmu's packages) to its end: its exit
-/// status, or why it could not start.
+/// Runs `command` (the venv's interpreter on one of mechfmu's packages) to its end, passing
+/// on the signals that end this command ([`child`](super::child)): its exit status, or why
+/// it could not start.
 pub fn exit_status(command: &mut Command) -> Result<ExitStatus, String> {
-    command.status().map_err(|e| {
+    super::child::run(command).map_err(|e| {
         let program = Path::new(command.get_program());
         format!("cannot run {}: {e}", program.display())
     })
