@@ -153,7 +153,9 @@ impl<M: Mechanism> Simulation<M> {
         // All or nothing: computed values that are not numbers are refused, not returned.
         let before = self.values.clone();
         let result = M::calculate(&mut self.values).and_then(|()| {
+            self.mark_computed_derivatives();
             self.evaluate_at_point();
+            self.check_derivatives_computed()?;
             self.check_computed()
         });
         if let Err(message) = result {
@@ -161,6 +163,33 @@ impl<M: Mechanism> Simulation<M> {
             return Err(message);
         }
         self.freshness = Freshness::Current;
+        Ok(())
+    }
+
+    /// The derivatives the equations compute (not a state, an input or a parameter) before
+    /// they do: [`UNCOMPUTED`], which only a derivative the equations never set still holds.
+    fn mark_computed_derivatives(&mut self) {
+        for &d in &self.layout.derivatives {
+            if computed::<M>(d) {
+                self.values.set(d, UNCOMPUTED);
+            }
+        }
+    }
+
+    /// Every derivative the equations compute was set by them: one forgotten would hold what
+    /// it held before every evaluation, a silent constant.
+    fn check_derivatives_computed(&self) -> Result<(), String> {
+        let layout = &self.layout;
+        for (&state, &d) in layout.states.iter().zip(&layout.derivatives) {
+            let held = self.values.get(d).map(f64::to_bits);
+            if computed::<M>(d) && held == Some(UNCOMPUTED.to_bits()) {
+                return Err(format!(
+                    "the equations never set `{}`, the derivative of `{}`: `evaluate` must compute the derivative of every state",
+                    M::VARIABLES[d].name,
+                    M::VARIABLES[state].name
+                ));
+            }
+        }
         Ok(())
     }
 
@@ -241,4 +270,19 @@ impl<M: Mechanism> Simulation<M> {
         }
         Ok((i, order as usize - 1))
     }
+}
+
+/// A NaN no arithmetic makes (its payload spells "uncomp"): what a derivative the equations
+/// compute holds before the first evaluation with new parameters.
+const UNCOMPUTED: f64 = f64::from_bits(0x7ffc_756e_636f_6d70);
+
+/// Whether the equations compute variable `vr`, a derivative: it is no state, input or
+/// parameter, whose values come from elsewhere.
+fn computed<M: Mechanism>(vr: usize) -> bool {
+    let var = &M::VARIABLES[vr];
+    !var.is_state()
+        && matches!(
+            var.causality,
+            crate::model::Causality::Local | crate::model::Causality::Output
+        )
 }
