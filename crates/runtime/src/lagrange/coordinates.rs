@@ -198,3 +198,25 @@ const fn mistake(name: &str) -> ConstMessage {
     message.push("coordinate ").quoted(name);
     message
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_misspelled_coordinate_is_named_with_the_nearest_name() {
+        // Two letters swapped is one edit: `tehta` is near `theta`.
+        const PENDULUM: &[Variable] = &[
+            Variable::state("rad", 0.5, "theta_dot").named("theta", ""),
+            Variable::state("rad/s", 0.0, "theta_ddot").named("theta_dot", ""),
+            Variable::output("rad/s2").named("theta_ddot", ""),
+        ];
+        let message = resolve_one(PENDULUM, &[Coordinate::free("tehta")], 0)
+            .err()
+            .map(|m| m.as_str().to_string());
+        assert_eq!(
+            message.as_deref(),
+            Some("coordinate `tehta` names no declared variable (did you mean `theta`?)")
+        );
+    }
+}

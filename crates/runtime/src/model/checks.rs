@@ -64,7 +64,7 @@ pub const fn variable_mistake(
             None => {
                 m.quoted(derivative)
                     .push(" as its derivative, but no variable has that name");
-                if let Some(close) = closest_name(variables, derivative) {
+                if let Some(close) = closest_name_but(variables, derivative, v.name) {
                     m.push(" (did you mean ").quoted(close).push("?)");
                 }
                 return Some(m);
@@ -146,8 +146,18 @@ pub(crate) const fn position(variables: &[Variable], name: &str) -> Option<usize
 }
 
 /// The declared name nearest to a misspelled `name` (at most a third of its letters, and
-/// at least one, changed, added or removed), if one is.
+/// at least one, changed, added, removed or swapped with its neighbour), if one is.
 pub(crate) const fn closest_name(variables: &[Variable], name: &str) -> Option<&'static str> {
+    closest_name_but(variables, name, "")
+}
+
+/// As [`closest_name`], never proposing `excluded` (a state's own name for its derivative:
+/// a state cannot be its own derivative).
+pub(crate) const fn closest_name_but(
+    variables: &[Variable],
+    name: &str,
+    excluded: &str,
+) -> Option<&'static str> {
     let limit = if name.len() / 3 > 1 {
         name.len() / 3
     } else {
@@ -156,6 +166,10 @@ pub(crate) const fn closest_name(variables: &[Variable], name: &str) -> Option<&
     let mut best: Option<(&'static str, usize)> = None;
     let mut i = 0;
     while i < variables.len() {
+        if str_eq(variables[i].name, excluded) {
+            i += 1;
+            continue;
+        }
         if let Some(d) = edit_distance(variables[i].name, name) {
             let better = match best {
                 Some((_, best_distance)) => d < best_distance,
@@ -180,6 +194,9 @@ pub(crate) const fn edit_distance(a: &str, b: &str) -> Option<usize> {
     if a.len() >= MAX || b.len() >= MAX {
         return None;
     }
+    // Rows i-2, i-1 and i of the distance table (optimal string alignment: a swap of two
+    // neighbouring letters is one edit, as in `tehta` for `theta`).
+    let mut before = [0usize; MAX];
     let mut previous = [0usize; MAX];
     let mut current = [0usize; MAX];
     let mut j = 0;
@@ -202,9 +219,18 @@ pub(crate) const fn edit_distance(a: &str, b: &str) -> Option<usize> {
             if insertion < d {
                 d = insertion;
             }
+            if i > 1
+                && j > 1
+                && a[i - 1] == b[j - 2]
+                && a[i - 2] == b[j - 1]
+                && before[j - 2] + 1 < d
+            {
+                d = before[j - 2] + 1;
+            }
             current[j] = d;
             j += 1;
         }
+        before = previous;
         previous = current;
         i += 1;
     }
@@ -274,9 +300,27 @@ mod tests {
     }
 
     #[test]
+    fn the_nearest_name_of_a_derivative_is_never_the_state_itself() {
+        // `r_ddt` is one edit from both `r_dot` (the state) and `r_ddot`.
+        const SPRING: &[Variable] = &[
+            Variable::state("m", 1.0, "r_dot").named("r", ""),
+            Variable::state("m/s", 0.0, "r_ddt").named("r_dot", ""),
+            Variable::output("m/s2").named("r_ddot", ""),
+        ];
+        let mistake = variable_mistake(SPRING, 1, "").map(|m| m.as_str().to_string());
+        assert_eq!(
+            mistake.as_deref(),
+            Some("state `r_dot` names `r_ddt` as its derivative, but no variable has that name (did you mean `r_ddot`?)")
+        );
+    }
+
+    #[test]
     fn edit_distances() {
         assert_eq!(edit_distance("x_ddot", "x_dddot"), Some(1));
         assert_eq!(edit_distance("theta", "thetta"), Some(1));
+        assert_eq!(edit_distance("theta", "tehta"), Some(1));
+        assert_eq!(edit_distance("ab", "ba"), Some(1));
+        assert_eq!(edit_distance("abc", "ca"), Some(3));
         assert_eq!(edit_distance("", "abc"), Some(3));
         assert_eq!(edit_distance("kitten", "sitting"), Some(3));
         assert_eq!(edit_distance(&"a".repeat(64), "a"), None);
