@@ -277,6 +277,15 @@ def test_the_command_passes_junit_through_and_says_what_failed(good, tmp_path):
     assert re.search(rf"^FAIL {re.escape(broken.name)} / {OPENS}", proc.stdout, re.M), proc.stdout[-3000:]
     assert "validation failed" in proc.stderr and "table above" in proc.stderr, proc.stderr[-2000:]
     assert int(ET.parse(junit).getroot().get("failures")) == 1
+    assert proc.returncode == 1
+
+
+def test_the_command_names_a_missing_fmu_as_a_usage_error(tmp_path):
+    """Exit status 2, as for any usage error, and the path named."""
+    missing = tmp_path / "Missing.fmu"
+    proc = subprocess.run(["cargo", "run", "--release", "--quiet", "--", "validate", str(missing)], cwd=REPO,
+                          capture_output=True, text=True, timeout=1200)
+    assert proc.returncode == 2 and f"{missing} does not exist" in proc.stderr, (proc.returncode, proc.stderr)
 
 
 

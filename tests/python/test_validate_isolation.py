@@ -271,6 +271,7 @@ def test_sigterm_to_the_mechfmu_command_reaches_the_validation(fmi_run, tmp_path
         getattr(command, how)()
         command.wait(timeout=60)
         if how == "terminate":
+            assert command.returncode == 128 + signal.SIGTERM, command.returncode
             assert _gone(validation) and _gone(child), "the command ended before the validation"
             assert not list(tmp.iterdir()), [p.name for p in tmp.iterdir()]
         assert _wait_gone(validation) and _wait_gone(child), f"the validation outlived the command ({how})"

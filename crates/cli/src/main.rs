@@ -67,7 +67,7 @@ fn main() -> ExitCode {
         Cmd::Bench(args) => bench::run(args),
         Cmd::New(args) => new::run(args),
         Cmd::Sweep(args) => sweep::run(args),
-        Cmd::Validate(args) => validate::run(args),
+        Cmd::Validate(args) => return validate::main(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

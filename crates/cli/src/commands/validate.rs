@@ -25,7 +25,7 @@
 use crate::build::workspace::{cargo, fmu_crates, target_directory, MechanismCrate};
 use crate::home::python::{ensure_venv, exit_status};
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, ExitCode, ExitStatus};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -95,21 +95,40 @@ fn home() -> Result<PathBuf, String> {
     crate::home::root()
 }
 
-pub fn run(args: Args) -> Result<(), String> {
-    let home = home()?;
+/// `mechfmu validate`, ending with the exit status docs/validate.md gives: the Python
+/// side's (0 all rows pass, 1 a row fails, 3 the validator failed, 128 + a signal's number
+/// when one ended it), 2 for arguments that name nothing to validate, 1 when the validation
+/// cannot be set up.
+pub fn main(args: Args) -> ExitCode {
+    match run(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err((message, status)) => {
+            eprintln!("error: {message}");
+            ExitCode::from(status)
+        }
+    }
+}
+
+/// A usage error: the arguments name nothing to validate.
+const USAGE: u8 = 2;
+
+fn run(args: Args) -> Result<(), (String, u8)> {
+    let failed = |message: String| (message, 1);
+    let home = home().map_err(failed)?;
     if !home.join("python/mechfmu_validate/__init__.py").is_file() {
-        return Err(format!(
+        return Err(failed(format!(
             "mechfmu's Python package is not at {}/python/mechfmu_validate (run a mechfmu built from its source tree)",
             home.display()
-        ));
+        )));
     }
-    let crates = workspace_crates(&args)?;
+    let usage = |message: String| (message, USAGE);
+    let crates = workspace_crates(&args).map_err(usage)?;
     let py = if args.write_references {
-        references_arguments(&crates, &args)?
+        references_arguments(&crates, &args).map_err(usage)?
     } else {
-        validation_arguments(&crates, &args)?
+        validation_arguments(&crates, &args).map_err(usage)?
     };
-    let python = ensure_venv(&home)?;
+    let python = ensure_venv(&home).map_err(failed)?;
     // without a path, the Python side fails the fmi-crate rows, saying why
     let fmi_run = if args.write_references || args.no_fmi_crate {
         None
@@ -132,21 +151,32 @@ pub fn run(args: Args) -> Result<(), String> {
     if let Some(path) = &fmi_run {
         command.env(FMI_RUN_ENV, path);
     }
-    let status = exit_status(&mut command)?;
+    let status = exit_status(&mut command).map_err(failed)?;
     // the Python side's exit status: 1 after printing a table with FAIL rows (an FMU that
     // cannot be opened is one of them), 3 when the validator itself failed
-    match status.code() {
-        Some(0) => Ok(()),
+    let message = match status.code() {
+        Some(0) => return Ok(()),
         Some(1) if !args.write_references => {
-            Err("validation failed (see the FAIL rows in the table above)".into())
+            "validation failed (see the FAIL rows in the table above)".to_string()
         }
-        Some(1) => Err("writing the references failed (see the messages above)".into()),
-        Some(3) => Err(
+        Some(1) => "writing the references failed (see the messages above)".to_string(),
+        Some(3) => {
             "the validator failed (the traceback above): a bug of mechfmu's, not of the FMUs"
-                .into(),
-        ),
-        _ => Err(format!("python -m mechfmu_validate ended with {status}")),
+                .to_string()
+        }
+        _ => format!("python -m mechfmu_validate ended with {status}"),
+    };
+    Err((message, ended_with(status)))
+}
+
+/// This command's exit status for the child's: the same code, or 128 + the number of the
+/// signal that ended it (as a shell reports it).
+fn ended_with(status: ExitStatus) -> u8 {
+    #[cfg(unix)]
+    if let Some(signal) = std::os::unix::process::ExitStatusExt::signal(&status) {
+        return (128 + signal).clamp(0, 255) as u8;
     }
+    status.code().map_or(1, |code| code.clamp(1, 255) as u8)
 }
 
 /// The workspace's crates that build one FMU each, mechanisms and systems (none, with a note,
