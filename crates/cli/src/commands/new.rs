@@ -13,7 +13,8 @@ pub struct Args {
     /// Where to create the crate (default: ./<snake_case_name>).
     #[arg(long)]
     path: Option<PathBuf>,
-    /// The mechfmu checkout to depend on (default: the one this command was built from).
+    /// The mechfmu checkout to depend on (default: the checkout this command runs from, or
+    /// the copy of mechfmu's crates an installed command writes to its data folder).
     #[arg(long, conflicts_with = "git")]
     mechfmu_path: Option<PathBuf>,
     /// Depend on mechfmu from a git repository instead of a path.
