@@ -92,6 +92,9 @@ pub struct Simulation<M: Mechanism> {
     /// once known: forgotten by everything that sets inputs, their derivatives or values.
     held: Option<bool>,
     counters: Counters,
+    /// The variable the last failed step's equations gave no number for, and its value:
+    /// kept here, set only on that path, so that a step that succeeds carries nothing more.
+    no_number: Option<(usize, f64)>,
 }
 
 impl<M: Mechanism> Clone for Simulation<M> {
@@ -109,6 +112,7 @@ impl<M: Mechanism> Clone for Simulation<M> {
             indicators: self.indicators.clone(),
             held: self.held,
             counters: self.counters,
+            no_number: self.no_number,
         }
     }
 }
@@ -141,6 +145,7 @@ impl<M: Mechanism> Simulation<M> {
                 .unwrap_or_default(),
             held: None,
             counters: Counters::default(),
+            no_number: None,
         };
         sim.reset();
         sim

@@ -86,6 +86,9 @@ impl<M: Mechanism> Simulation<M> {
             Err(SolverError::NonFinite { .. }) => M::diagnose(system.values),
             _ => None,
         };
+        if let Err(SolverError::NonFinite { .. }) = &result {
+            self.no_number = first_no_number::<M>(system.values);
+        }
         if result.is_err() || M::State::DIM == 0 {
             system.evaluate_at(time, &y);
         }
@@ -141,14 +144,24 @@ impl<M: Mechanism> Simulation<M> {
                 self.counters.rejected += stats.rejected;
                 Ok(stats)
             }
-            Err(e) => Err(StepFailure::Stopped {
-                time,
-                limit: matches!(e, SolverError::Stopped { .. }),
-                message: match diagnosis {
-                    Some(why) => format!("{}: {why}", describe(&e)),
-                    None => describe(&e),
-                },
-            }),
+            Err(e) => {
+                let no_number = matches!(e, SolverError::NonFinite { .. });
+                Err(StepFailure::Stopped {
+                    time,
+                    limit: matches!(e, SolverError::Stopped { .. }),
+                    message: match (diagnosis, self.no_number.take().filter(|_| no_number)) {
+                        (Some(why), _) => format!("{}: {why}", describe(&e)),
+                        (None, Some((vr, x))) => {
+                            format!(
+                                "{}: `{}` evaluated to {x}",
+                                describe(&e),
+                                M::VARIABLES[vr].name
+                            )
+                        }
+                        (None, None) => describe(&e),
+                    },
+                })
+            }
         }
     }
 
@@ -216,6 +229,17 @@ pub(super) fn complete_point<M: Mechanism>(values: &mut M::Values<f64>) {
         M::evaluate(values);
     }
     M::outputs(values);
+}
+
+/// The first continuous variable the last evaluation gave no number for, and its value:
+/// the solver stops at the first stage such a derivative makes non-finite, so the values
+/// still hold it.
+#[cold]
+#[inline(never)]
+fn first_no_number<M: Mechanism>(values: &M::Values<f64>) -> Option<(usize, f64)> {
+    (M::VARIABLES.iter().enumerate())
+        .filter(|(_, v)| v.variability == crate::model::Variability::Continuous)
+        .find_map(|(vr, _)| values.get(vr).filter(|x| !x.is_finite()).map(|x| (vr, x)))
 }
 
 fn describe(e: &SolverError) -> String {

@@ -469,8 +469,10 @@ fn a_step_never_ends_on_a_derivative_or_an_output_that_is_not_a_number() {
         let finite = (0..Cliff::VARIABLES.len()).all(|vr| values.get(vr).unwrap().is_finite());
         assert!(finite, "{message}: {values:?}");
         if stopped_in_solver {
-            // Stopped just short of t_end, on the straight line x = (t_end - t) / t_end.
+            // Stopped just short of t_end, on the straight line x = (t_end - t) / t_end,
+            // naming the derivative that gave no number.
             assert!(time > at && time < t_end, "{time}: {message}");
+            assert!(message.contains(": `v` evaluated to "), "{message}");
             assert!(
                 (values.x - (t_end - time) / t_end).abs() < 1e-9,
                 "{values:?}"
