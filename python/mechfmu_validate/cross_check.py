@@ -181,8 +181,11 @@ def not_validated(path: Path) -> str | None:
         return f"FMI {version or '(no version given)'} is not validated here (FMI 2.0 and 3.0 are)"
     if md.coSimulation is not None:
         return None
-    return ("Model Exchange only: mechfmu validate opens and checks every FMU through its Co-Simulation "
-            "interface, which this one does not have")
+    offered = [name for name, interface in (("Model Exchange", md.modelExchange),
+                                            ("Scheduled Execution", getattr(md, "scheduledExecution", None)))
+               if interface is not None]
+    return (f"{' and '.join(offered) or 'no interface'} only: mechfmu validate opens and checks every FMU "
+            "through its Co-Simulation interface, which this one does not have")
 
 
 def skip_row(path: Path, why: str) -> Row:

@@ -18,6 +18,7 @@ import re
 import shutil
 import subprocess
 import warnings
+import zipfile
 from pathlib import Path
 
 import pytest
@@ -138,6 +139,21 @@ def test_a_reference_that_cannot_be_run_is_a_skip_and_nothing_simulated_fails(tm
     assert "starts at t = 1" in skipped["problems"][0]
     [failed] = [r for r in rows if not r["passed"]]
     assert failed["case"] == "(nothing simulated)" and "a SKIP row says why" in failed["problems"][0]
+
+
+def test_a_scheduled_execution_only_fmu_is_said_to_be_one(tmp_path):
+    """The SKIP's reason names the interface the FMU has (as the Reference-FMUs' Clocks)."""
+    md = ('<?xml version="1.0" encoding="UTF-8"?>\n'
+          '<fmiModelDescription fmiVersion="3.0" modelName="Clocks" instantiationToken="{x}">\n'
+          '  <ScheduledExecution modelIdentifier="Clocks"/>\n'
+          '  <ModelVariables><Float64 name="time" valueReference="0" causality="independent"/></ModelVariables>\n'
+          '  <ModelStructure/>\n'
+          '</fmiModelDescription>\n')
+    fmu = tmp_path / "Clocks.fmu"
+    with zipfile.ZipFile(fmu, "w") as z:
+        z.writestr("modelDescription.xml", md)
+    why = cross_check.not_validated(fmu)
+    assert why is not None and why.startswith("Scheduled Execution only:"), why
 
 
 def test_a_model_exchange_only_fmu_given_alone_is_a_skip_and_nothing_simulated_fails(tmp_path, fmi_run):
