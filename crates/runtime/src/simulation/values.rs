@@ -205,16 +205,34 @@ impl<M: Mechanism> Simulation<M> {
                 x.is_nan()
             };
             if bad {
-                let why = M::diagnose(&self.values).map(|why| format!(": {why}"));
+                // The mechanism's account of why, else the point: the states.
+                let why = match M::diagnose(&self.values) {
+                    Some(why) => format!(": {why}"),
+                    None => self.states_said(),
+                };
                 return Err(format!(
-                    "`{}` evaluates to {x} at t = {} with these parameters and inputs{}",
+                    "`{}` evaluates to {x} at t = {} with these parameters and inputs{why}",
                     var.name,
                     self.time(),
-                    why.unwrap_or_default()
                 ));
             }
         }
         Ok(())
+    }
+
+    /// `, where r = 0, theta = 0.8`: the states' values, as a message continues.
+    fn states_said(&self) -> String {
+        let said: Vec<String> = (self.layout.states.iter())
+            .map(|&vr| {
+                let x = self.values.get(vr).unwrap_or(f64::NAN);
+                format!("{} = {x}", M::VARIABLES[vr].name)
+            })
+            .collect();
+        if said.is_empty() {
+            String::new()
+        } else {
+            format!(", where {}", said.join(", "))
+        }
     }
 
     /// Derivatives and all outputs at the current time, states and (held) inputs.

@@ -1,5 +1,6 @@
-//! A derivative the equations never set is an error at initialization naming it, not a
-//! silent constant: a user's mechanism that forgets one compiles, so the runtime checks.
+//! Equations that give no derivative at the start: one never set fails the initialization,
+//! naming it (a user's mechanism that forgets one compiles, so the runtime checks), and one
+//! that is no number says at which states.
 
 use mechfmu::model::{Experiment, Mechanism, Scalar, Variable};
 use mechfmu_testkit::harness::{Harness, ONE_SECOND};
@@ -67,4 +68,35 @@ fn a_derivative_set_passes_and_swings() {
     fmu.initialize(None, 0.0, &[]).unwrap();
     fmu.step_to(0.5, 0.1).unwrap();
     assert!(fmu.get("theta") < 0.8 && fmu.get("theta_dot") < 0.0);
+}
+
+mechfmu::mechanism! {
+    /// x' = 1 / x: no number at x = 0.
+    pub struct Inverse / InverseValues {
+        /// Position
+        x: Variable::state("m", 0.0, "x_dot"),
+        /// Velocity
+        x_dot: Variable::output("m/s"),
+    }
+}
+
+impl Mechanism for Inverse {
+    const EXPERIMENT: Experiment = ONE_SECOND;
+    fn evaluate<S: Scalar>(v: &mut InverseValues<S>) {
+        v.x_dot = S::one() / v.x;
+    }
+}
+
+/// Equations that give no number at the start say where: the states' values.
+#[test]
+fn no_number_at_the_start_names_the_states() {
+    let mut fmu = Harness::<Inverse>::new();
+    assert!(fmu.initialize(None, 0.0, &[]).is_err());
+    assert!(
+        fmu.logged(
+            "`x_dot` evaluates to inf at t = 0 with these parameters and inputs, where x = 0"
+        ),
+        "{:?}",
+        fmu.messages()
+    );
 }
