@@ -1,7 +1,8 @@
 """Opening an FMU for validation, or saying in words why it cannot be opened.
 
 :func:`open_fmu` checks, in this order, what every later check and run takes for granted:
-the file is a zip archive that reads to its end and extracts inside its folder; it has a well-formed ``modelDescription.xml``
+the file is a zip archive that reads to its end, extracts inside its folder and names each
+file once; it has a well-formed ``modelDescription.xml``
 of FMI 2.0 or 3.0 with a ``<CoSimulation>`` interface; it has a binary for this machine,
 named after the model identifier; FMPy loads that binary; and it instantiates with the
 model description's GUID (instantiation token). The first of these that fails raises
@@ -53,6 +54,10 @@ def _describe_archive(path: Path) -> None:
     if escaping is not None:
         raise BrokenFmu(f"the zip archive has an entry outside the FMU's folder: {escaping!r} "
                         "(an importer that extracts it would write there)")
+    seen: set[str] = set()
+    twice = next((n for n in names if n in seen or seen.add(n)), None)
+    if twice is not None:
+        raise BrokenFmu(f"the zip archive has two entries named {twice!r} (importers may read either)")
 
 
 def escaping_entry(names: list[str]) -> str | None:

@@ -27,6 +27,7 @@ import os
 import re
 import subprocess
 import sys
+import warnings
 import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
@@ -170,6 +171,11 @@ def _broken(kind: str, good: Path, directory: Path) -> Path:
         build(directory, name=path.name, xml=(SOURCE / "modelDescription.xml").read_text()[:900])
     elif kind == "refuses to instantiate":
         build(directory, "-DREFUSE_INSTANTIATE", name=path.name)
+    elif kind == "two model descriptions":
+        build(directory, name=path.name)
+        with warnings.catch_warnings(), zipfile.ZipFile(path, "a") as z:
+            warnings.simplefilter("ignore")  # zipfile's "Duplicate name": the point
+            z.writestr("modelDescription.xml", (SOURCE / "modelDescription.xml").read_text().replace("5f1c1e9a", "00000000"))
     elif kind in ESCAPING:
         files = {f"{REF_DIR}/{n}": text for n, text in REFERENCE.items()}
         build(directory, name=path.name, files={**files, ESCAPING[kind]: "written outside\n"})
@@ -191,6 +197,7 @@ BROKEN = {
     "no Linux binary": r"no binary for linux64 in the archive \(it has: win64\)",
     "damaged modelDescription.xml": r"modelDescription\.xml is not well-formed XML \(.*line \d+",
     "refuses to instantiate": r"fmi2Instantiate returned NULL for the modelDescription's GUID \{5f1c1e9a-",
+    "two model descriptions": r"the zip archive has two entries named 'modelDescription\.xml'",
     **{kind: r"the zip archive has an entry outside the FMU's folder: '" + re.escape(name.replace("\\", "\\\\"))
        for kind, name in ESCAPING.items()},
 }
