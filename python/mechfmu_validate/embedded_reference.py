@@ -214,6 +214,10 @@ def read_table(fmu: Fmu, name: str, renames: dict[str, str] | None = None,
         names += [(renames or {}).get(e, e) for e in elements]
         columns += list(zip(*values))
     table = np.array(columns, dtype=float).T
+    if not np.all(np.isfinite(table)):
+        row, col = (int(k) for k in np.argwhere(~np.isfinite(table))[0])
+        raise ReferenceProblem(f"{name}: line {row + 2}: {names[col]} = {table[row, col]}, which is no number "
+                               "to compare a result with")
     if np.any(np.diff(table[:, 0]) < 0):
         raise ReferenceProblem(f"{name}: time decreases at line {int(np.argmax(np.diff(table[:, 0]) < 0)) + 3}")
     return names, table, left_out

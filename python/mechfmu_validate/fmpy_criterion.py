@@ -100,6 +100,14 @@ def criterion_row(fmu_name: str, ref: EmbeddedReference, result: Result | None, 
     if not_finite:  # FMPy's band test lets NaN through (NaN < min is false)
         problems.append(f"{', '.join(not_finite)}: samples that are not finite (NaN or infinite); FMPy's band test "
                         "does not see them, a result must not have them")
+    # validate_result looks only at the signals the result has: one it lacks is every sample
+    # outside its band
+    missing = [n for n in ref.table.dtype.names[1:] if n not in result]
+    if missing:
+        problems.append(f"{', '.join(missing)}: in the reference, not in the result: the criterion judges every "
+                        "signal of the reference")
+        outside.update(dict.fromkeys(missing, 1.0))
+        worst = max(outside, key=outside.get)
     row.update(max_error=outside[worst] if worst else 0.0, passed=not problems, problems=problems,
                signals={n: dict(max_error=f, tolerance=LIMIT, passed=f <= LIMIT) for n, f in outside.items()})
     if worst:

@@ -269,3 +269,29 @@ def test_our_fmus_as_a_cross_check_tree(tmp_path):
     assert passed == [("2.0", "cs"), ("2.0", "me"), ("3.0", "cs"), ("3.0", "me")]
     assert validate_repo(root) == (4, 4, [])  # it counts the FMI 3.0 ones, and checks FMI 1.0 and 2.0 only
     shutil.rmtree(root)
+
+
+def test_fmpy_criterion_fails_a_result_without_a_signal_of_the_reference():
+    """FMPy's validate_result judges the signals a result has: one it lacks must fail the row
+    (the docs' 'when a signal is missing'), as a reference with more columns than the FMU's
+    outputs (the Reference-FMUs' FMI 2.0 Feedthrough, packed with FMI 3.0's results)."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from mechfmu_validate import fmpy_criterion
+
+    t = np.linspace(0.0, 1.0, 101)
+    table = np.zeros(len(t), dtype=[("time", float), ("y", float), ("z", float)])
+    table["time"], table["y"], table["z"] = t, np.sin(t), np.cos(t)
+    ref = SimpleNamespace(table=table, window=(0.0, 1.0), case=SimpleNamespace(name="reference"))
+
+    class Result(dict):
+        time = t
+
+    whole = fmpy_criterion.criterion_row("X", ref, Result(y=np.sin(t), z=np.cos(t)), "FMPy")
+    assert whole["passed"], whole
+    lacking = fmpy_criterion.criterion_row("X", ref, Result(y=np.sin(t)), "FMPy")
+    assert not lacking["passed"] and lacking["max_error"] == 1.0, lacking
+    assert lacking["problems"][-1].startswith("z: in the reference, not in the result"), lacking["problems"]
+    assert not lacking["signals"]["z"]["passed"] and lacking["signals"]["y"]["passed"]

@@ -159,6 +159,22 @@ def test_a_corrupted_reference_fails_naming_the_signal(tmp_path, fmi_run):
         proc.stdout[-3000:]
 
 
+def test_a_reference_without_a_number_fails_naming_where(tmp_path, fmi_run):
+    """A NaN in the exporter's results is the reference's fault, said as such (not an error
+    of inf at that time)."""
+    lines = REFERENCE["FirstOrder_ref.csv"].splitlines()
+    t, y, _ = lines[26].split(",")
+    lines[26] = f"{t},{y},nan"
+    files = {f"{REF_DIR}/FirstOrder_ref.csv": "\n".join(lines) + "\n",
+             **{f"{REF_DIR}/{n}": REFERENCE[n] for n in ("FirstOrder_in.csv", "FirstOrder_ref.opt")}}
+    proc, rows = validate(tmp_path, fmi_run, str(build(tmp_path / "fmu", files=files)))
+    assert proc.returncode == 1
+    [failed] = [r for r in rows if not r["passed"]]
+    assert failed["problems"] == [f"{REF_DIR}/FirstOrder_ref.csv: line 27: z = nan, which is no number to compare a "
+                                  "result with"], \
+        failed
+
+
 def _broken(kind: str, good: Path, directory: Path) -> Path:
     path = directory / f"{kind}.fmu"
     if kind == "not a zip":
